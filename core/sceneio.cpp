@@ -1,0 +1,1195 @@
+#include "core/sceneio.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <new>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace marbles {
+
+namespace {
+
+using Json = nlohmann::json;
+using OrderedJson = nlohmann::ordered_json;
+
+constexpr std::string_view kFormat = "marbles-scene";
+constexpr std::int64_t kVersion = 1;
+
+// ---------------------------------------------------------------------------------------------
+// Text for messages
+
+/// Shortest decimal text that reads back as the same double ("-5", "0.1", "1e+300").
+std::string formatNumber(double v)
+{
+    char buffer[64];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
+    return std::string(buffer, result.ptr);
+}
+
+/// Length of the valid UTF-8 sequence starting at s[i], or 0 when the bytes there are not one.
+std::size_t utf8SequenceLength(std::string_view s, std::size_t i)
+{
+    const auto lead = static_cast<unsigned char>(s[i]);
+    std::size_t length = 0;
+    if (lead >= 0xC2 && lead <= 0xDF)
+        length = 2;
+    else if (lead >= 0xE0 && lead <= 0xEF)
+        length = 3;
+    else if (lead >= 0xF0 && lead <= 0xF4)
+        length = 4;
+    else
+        return 0;
+    if (i + length > s.size())
+        return 0;
+    for (std::size_t k = 1; k < length; ++k) {
+        const auto c = static_cast<unsigned char>(s[i + k]);
+        if (c < 0x80 || c > 0xBF)
+            return 0;
+    }
+    return length;
+}
+
+/// A piece of input made safe to print in one line: control characters and broken UTF-8
+/// become '?', and anything beyond `maxBytes` is cut (at a character boundary) and marked "...".
+std::string printable(std::string_view s, std::size_t maxBytes = 60)
+{
+    std::string out;
+    std::size_t i = 0;
+    while (i < s.size()) {
+        if (out.size() >= maxBytes) {
+            out += "...";
+            break;
+        }
+        const auto c = static_cast<unsigned char>(s[i]);
+        if (c < 0x80) {
+            out += (c < 0x20 || c == 0x7F) ? '?' : static_cast<char>(c);
+            ++i;
+        } else if (const std::size_t n = utf8SequenceLength(s, i); n > 0) {
+            out.append(s.substr(i, n));
+            i += n;
+        } else {
+            out += '?';
+            ++i;
+        }
+    }
+    return out;
+}
+
+/// What a JSON value is, for "got ..." in messages: `string "abc"`, `number 5`, `array`.
+std::string describe(const Json &j)
+{
+    switch (j.type()) {
+    case Json::value_t::null:
+        return "null";
+    case Json::value_t::boolean:
+        return j.get<bool>() ? "boolean true" : "boolean false";
+    case Json::value_t::string:
+        return "string \"" + printable(j.get_ref<const Json::string_t &>()) + "\"";
+    case Json::value_t::number_integer:
+        return "number " + std::to_string(j.get<std::int64_t>());
+    case Json::value_t::number_unsigned:
+        return "number " + std::to_string(j.get<std::uint64_t>());
+    case Json::value_t::number_float:
+        return "number " + formatNumber(j.get<double>());
+    case Json::value_t::array:
+        return "array of " + std::to_string(j.size());
+    case Json::value_t::object:
+        return "object";
+    case Json::value_t::binary:
+    case Json::value_t::discarded:
+        break;
+    }
+    return "an invalid value";
+}
+
+/// 1-based line and column (in bytes) of the byte at `offset` in `text`.
+std::string lineColumn(std::string_view text, std::size_t offset)
+{
+    offset = std::min(offset, text.size());
+    const std::string_view before = text.substr(0, offset);
+    const std::size_t line = 1 + static_cast<std::size_t>(std::count(before.begin(), before.end(), '\n'));
+    const std::size_t lastNewline = before.rfind('\n');
+    const std::size_t column = lastNewline == std::string_view::npos ? offset + 1 : offset - lastNewline;
+    return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Rules shared by the loader, validateParams and setParam: each returns "" or the rule broken.
+
+std::string ruleFinite(double v)
+{
+    return std::isfinite(v) ? std::string() : std::string("must be a finite number");
+}
+
+std::string rulePositive(double v)
+{
+    if (!std::isfinite(v))
+        return ruleFinite(v);
+    return v > 0.0 ? std::string() : std::string("must be > 0");
+}
+
+std::string ruleNonNegative(double v)
+{
+    if (!std::isfinite(v))
+        return ruleFinite(v);
+    return v >= 0.0 ? std::string() : std::string("must be >= 0");
+}
+
+std::string ruleUnitInterval(double v)
+{
+    if (!std::isfinite(v))
+        return ruleFinite(v);
+    return (v >= 0.0 && v <= 1.0) ? std::string() : std::string("must be between 0 and 1");
+}
+
+std::string ruleSubsteps(std::int64_t n)
+{
+    if (n < 1)
+        return "must be >= 1";
+    if (n > kMaxSubsteps)
+        return "must be <= " + std::to_string(kMaxSubsteps);
+    return {};
+}
+
+// The exact model's drag rate is lambda = -ln(1 - k) per frame, which needs k < 1; the impulse
+// model's per-sub-step factor (1 - k)^h needs 1 - k > 0 as well. The book model multiplies by
+// (1 - k) directly, so any k >= 0 is defined there (k > 1 reverses velocities: the book's flaw).
+std::string ruleFrictionForModel(double friction, ModelKind model)
+{
+    if (model != ModelKind::Book && !(friction < 1.0))
+        return "must be < 1 for the " + std::string(modelName(model)) + " model";
+    return {};
+}
+
+bool isHexDigit(char c)
+{
+    return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
+}
+
+bool isColor(std::string_view s)
+{
+    return s.size() == 7 && s[0] == '#' && std::all_of(s.begin() + 1, s.end(), isHexDigit);
+}
+
+/// The keys a scene knows at its top level.
+bool isSceneKey(std::string_view key)
+{
+    return key == "format" || key == "version" || key == "stage" || key == "params" || key == "marbles"
+        || key == "pins" || key == "pushes";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading the JSON tree. A broken rule throws SceneError, which parseScene turns into the message.
+
+struct SceneError {
+    std::string place;
+    std::string rule;
+};
+
+[[noreturn]] void fail(std::string place, std::string rule)
+{
+    throw SceneError{std::move(place), std::move(rule)};
+}
+
+double readNumber(const Json &j, const std::string &place)
+{
+    if (!j.is_number())
+        fail(place, "must be a number, got " + describe(j));
+    const double v = j.get<double>();
+    if (!std::isfinite(v))
+        fail(place, "must be a finite number, got " + formatNumber(v));
+    return v;
+}
+
+double readPositive(const Json &j, const std::string &place)
+{
+    const double v = readNumber(j, place);
+    if (std::string rule = rulePositive(v); !rule.empty())
+        fail(place, rule + ", got " + formatNumber(v));
+    return v;
+}
+
+bool readBool(const Json &j, const std::string &place)
+{
+    if (!j.is_boolean())
+        fail(place, "must be true or false, got " + describe(j));
+    return j.get<bool>();
+}
+
+const std::string &readString(const Json &j, const std::string &place)
+{
+    if (!j.is_string())
+        fail(place, "must be a string, got " + describe(j));
+    return j.get_ref<const Json::string_t &>();
+}
+
+/// An integer in [lo, hi]; a JSON number with a fractional part (2.5) is refused, 2.0 is 2.
+std::int64_t readInteger(const Json &j, const std::string &place, std::int64_t lo, std::int64_t hi)
+{
+    if (!j.is_number())
+        fail(place, "must be an integer, got " + describe(j));
+    if (j.is_number_unsigned()) {
+        const auto u = j.get<std::uint64_t>();
+        if (u > static_cast<std::uint64_t>(hi))
+            fail(place, "must be <= " + std::to_string(hi) + ", got " + std::to_string(u));
+        const auto v = static_cast<std::int64_t>(u);
+        if (v < lo)
+            fail(place, "must be >= " + std::to_string(lo) + ", got " + std::to_string(v));
+        return v;
+    }
+    std::int64_t v = 0;
+    if (j.is_number_integer()) {
+        v = j.get<std::int64_t>();
+    } else {
+        const double d = j.get<double>();
+        if (!std::isfinite(d) || d != std::trunc(d))
+            fail(place, "must be an integer, got " + formatNumber(d));
+        // [-2^63, 2^63) is exactly the range of int64; both bounds are exact doubles.
+        constexpr double kTwo63 = 9223372036854775808.0;
+        if (d < -kTwo63)
+            fail(place, "must be >= " + std::to_string(lo) + ", got " + formatNumber(d));
+        if (d >= kTwo63)
+            fail(place, "must be <= " + std::to_string(hi) + ", got " + formatNumber(d));
+        v = static_cast<std::int64_t>(d);
+    }
+    if (v < lo)
+        fail(place, "must be >= " + std::to_string(lo) + ", got " + std::to_string(v));
+    if (v > hi)
+        fail(place, "must be <= " + std::to_string(hi) + ", got " + std::to_string(v));
+    return v;
+}
+
+const Json &requireObject(const Json &j, const std::string &place)
+{
+    if (!j.is_object())
+        fail(place, "must be an object, got " + describe(j));
+    return j;
+}
+
+const Json &requireArray(const Json &j, const std::string &place)
+{
+    if (!j.is_array())
+        fail(place, "must be an array, got " + describe(j));
+    return j;
+}
+
+std::string member(const std::string &parent, const std::string &key)
+{
+    return parent + "." + printable(key);
+}
+
+std::string element(const std::string &parent, std::size_t index)
+{
+    return parent + "[" + std::to_string(index) + "]";
+}
+
+/// Unknown keys as JSON object text, "" when there are none.
+std::string extraText(const Json &extras)
+{
+    if (extras.empty())
+        return {};
+    return extras.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+void readStage(const Json &j, Stage &stage, std::string &extraJson)
+{
+    requireObject(j, "stage");
+    Json extras = Json::object();
+    for (const auto &[key, value] : j.items()) {
+        const std::string place = member("stage", key);
+        if (key == "width")
+            stage.width = readPositive(value, place);
+        else if (key == "height")
+            stage.height = readPositive(value, place);
+        else if (key == "walls")
+            stage.walls = readBool(value, place);
+        else
+            extras[key] = value;
+    }
+    extraJson = extraText(extras);
+}
+
+void readParams(const Json &j, Params &p, std::string &extraJson)
+{
+    requireObject(j, "params");
+    Json extras = Json::object();
+    for (const auto &[key, value] : j.items()) {
+        const std::string place = member("params", key);
+        if (key == "model") {
+            if (!value.is_string() || !parseModelName(value.get_ref<const Json::string_t &>(), p.model))
+                fail(place, "must be \"book\", \"impulse\" or \"exact\", got " + describe(value));
+        } else if (key == "massScale") {
+            p.massScale = readNumber(value, place);
+        } else if (key == "friction") {
+            p.friction = readNumber(value, place);
+        } else if (key == "zeroThreshold") {
+            p.zeroThreshold = readNumber(value, place);
+        } else if (key == "pushScale") {
+            p.pushScale = readNumber(value, place);
+        } else if (key == "frameMs") {
+            p.frameMs = readNumber(value, place);
+        } else if (key == "restitution") {
+            p.restitution = readNumber(value, place);
+        } else if (key == "gravity") {
+            if (!value.is_array() || value.size() != 2)
+                fail(place, "must be an array of 2 numbers [x, y], got " + describe(value));
+            p.gravity.x = readNumber(value[0], element(place, 0));
+            p.gravity.y = readNumber(value[1], element(place, 1));
+        } else if (key == "substeps") {
+            p.substeps = static_cast<int>(readInteger(value, place, 1, kMaxSubsteps));
+        } else if (key == "shortCircuit") {
+            p.shortCircuit = readBool(value, place);
+        } else {
+            extras[key] = value;
+        }
+    }
+    extraJson = extraText(extras);
+}
+
+void readMarble(const Json &j, const std::string &place, World &world)
+{
+    requireObject(j, place);
+    Vec2 p;
+    Vec2 v;
+    double r = kDefaultMarbleRadius;
+    double m = 0.0;
+    MarbleInfo info;
+    Json extras = Json::object();
+    for (const auto &[key, value] : j.items()) {
+        const std::string at = member(place, key);
+        if (key == "x") {
+            p.x = readNumber(value, at);
+        } else if (key == "y") {
+            p.y = readNumber(value, at);
+        } else if (key == "vx") {
+            v.x = readNumber(value, at);
+        } else if (key == "vy") {
+            v.y = readNumber(value, at);
+        } else if (key == "radius") {
+            r = readPositive(value, at);
+        } else if (key == "mass") {
+            m = readPositive(value, at);
+        } else if (key == "name") {
+            info.name = readString(value, at);
+        } else if (key == "color") {
+            info.color = readString(value, at);
+            if (!isColor(info.color))
+                fail(at, "must be a colour \"#rrggbb\", got " + describe(value));
+        } else {
+            extras[key] = value;
+        }
+    }
+    const int i = world.addMarble(p, r, v, m);
+    info.hasMass = world.info[i].hasMass;
+    info.extraJson = extraText(extras);
+    world.info[i] = std::move(info);
+}
+
+void readPin(const Json &j, const std::string &place, World &world)
+{
+    requireObject(j, place);
+    Vec2 q;
+    Json extras = Json::object();
+    for (const auto &[key, value] : j.items()) {
+        if (key == "x")
+            q.x = readNumber(value, member(place, key));
+        else if (key == "y")
+            q.y = readNumber(value, member(place, key));
+        else
+            extras[key] = value;
+    }
+    const int k = world.addPin(q);
+    world.pinExtraJson[k] = extraText(extras);
+}
+
+// Pushes have no slot for unknown keys in World, so those are read and dropped.
+void readPush(const Json &j, const std::string &place, World &world)
+{
+    requireObject(j, place);
+    Push push;
+    for (const auto &[key, value] : j.items()) {
+        const std::string at = member(place, key);
+        if (key == "frame") {
+            push.frame = readInteger(value, at, 0, std::numeric_limits<std::int64_t>::max());
+        } else if (key == "marble") {
+            const std::int64_t count = world.marbleCount();
+            const std::int64_t m = readInteger(value, at, std::numeric_limits<std::int64_t>::min(),
+                                               std::numeric_limits<std::int64_t>::max());
+            if (count == 0)
+                fail(at, "must name an existing marble, but the scene has none, got " + std::to_string(m));
+            if (m < 0 || m >= count)
+                fail(at, "must name an existing marble (0 to " + std::to_string(count - 1) + "), got "
+                             + std::to_string(m));
+            push.marble = static_cast<int>(m);
+        } else if (key == "x") {
+            push.at.x = readNumber(value, at);
+        } else if (key == "y") {
+            push.at.y = readNumber(value, at);
+        }
+    }
+    // A push that leaves out `marble` means marble 0, which must exist as well.
+    if (!j.contains("marble") && world.marbleCount() == 0)
+        fail(member(place, "marble"), "must name an existing marble, but the scene has none, got 0 (the default)");
+    world.pushes.push_back(push);
+}
+
+/// Builds the scene from a parsed document; throws SceneError.
+World readScene(const Json &doc)
+{
+    if (!doc.is_object())
+        fail("top level", "must be a JSON object (a scene), got " + describe(doc));
+
+    const auto format = doc.find("format");
+    if (format == doc.end())
+        fail("format", "is required and must be \"marbles-scene\"");
+    if (!format->is_string() || format->get_ref<const Json::string_t &>() != kFormat)
+        fail("format", "must be \"marbles-scene\", got " + describe(*format));
+
+    const auto version = doc.find("version");
+    if (version == doc.end())
+        fail("version", "is required and must be 1");
+    if (!version->is_number() || version->get<double>() != static_cast<double>(kVersion))
+        fail("version", "must be 1 (the only version this program reads), got " + describe(*version));
+
+    World world;
+    if (const auto it = doc.find("stage"); it != doc.end())
+        readStage(*it, world.stage, world.stageExtraJson);
+    if (const auto it = doc.find("params"); it != doc.end()) {
+        readParams(*it, world.params, world.paramsExtraJson);
+        if (std::string error = validateParams(world.params); !error.empty()) {
+            const std::size_t split = error.find(": ");
+            fail(error.substr(0, split), error.substr(split + 2));
+        }
+    }
+    // Marbles after params: a marble's derived mass is massScale * radius.
+    if (const auto it = doc.find("marbles"); it != doc.end()) {
+        const Json &list = requireArray(*it, "marbles");
+        for (std::size_t i = 0; i < list.size(); ++i)
+            readMarble(list[i], element("marbles", i), world);
+    }
+    if (const auto it = doc.find("pins"); it != doc.end()) {
+        const Json &list = requireArray(*it, "pins");
+        for (std::size_t i = 0; i < list.size(); ++i)
+            readPin(list[i], element("pins", i), world);
+    }
+    // Pushes after marbles: each must name a marble that exists.
+    if (const auto it = doc.find("pushes"); it != doc.end()) {
+        const Json &list = requireArray(*it, "pushes");
+        for (std::size_t i = 0; i < list.size(); ++i)
+            readPush(list[i], element("pushes", i), world);
+    }
+
+    Json extras = Json::object();
+    for (const auto &[key, value] : doc.items()) {
+        if (!isSceneKey(key))
+            extras[key] = value;
+    }
+    world.sceneExtraJson = extraText(extras);
+    world.frame = 0;
+    return world;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parsing text
+
+/// SAX handler that builds the document with nlohmann's own DOM builder and also tracks where
+/// in the document it is, so that a number nlohmann cannot hold (1e999) is reported by its place
+/// ("marbles[0].x") rather than only by line and column.
+class TrackingBuilder {
+public:
+    explicit TrackingBuilder(Json &root)
+        : m_dom(root, true)
+    {
+    }
+
+    bool null()
+    {
+        countElement();
+        return m_dom.null();
+    }
+    bool boolean(bool b)
+    {
+        countElement();
+        return m_dom.boolean(b);
+    }
+    bool number_integer(Json::number_integer_t v)
+    {
+        countElement();
+        return m_dom.number_integer(v);
+    }
+    bool number_unsigned(Json::number_unsigned_t v)
+    {
+        countElement();
+        return m_dom.number_unsigned(v);
+    }
+    bool number_float(Json::number_float_t v, const Json::string_t &text)
+    {
+        countElement();
+        return m_dom.number_float(v, text);
+    }
+    bool string(Json::string_t &s)
+    {
+        countElement();
+        return m_dom.string(s);
+    }
+    bool binary(Json::binary_t &b)
+    {
+        countElement();
+        return m_dom.binary(b);
+    }
+    bool start_object(std::size_t n)
+    {
+        countElement();
+        m_path.push_back({false, 0, {}});
+        return m_dom.start_object(n);
+    }
+    bool key(Json::string_t &k)
+    {
+        m_path.back().key = k;
+        return m_dom.key(k);
+    }
+    bool end_object()
+    {
+        m_path.pop_back();
+        return m_dom.end_object();
+    }
+    bool start_array(std::size_t n)
+    {
+        countElement();
+        m_path.push_back({true, 0, {}});
+        return m_dom.start_array(n);
+    }
+    bool end_array()
+    {
+        m_path.pop_back();
+        return m_dom.end_array();
+    }
+
+    template<class Exception>
+    bool parse_error(std::size_t position, const std::string &lastToken, const Exception &ex)
+    {
+        m_failed = true;
+        m_position = position;
+        m_lastToken = lastToken;
+        m_errorId = ex.id;
+        m_what = ex.what();
+        m_failedPath = currentPath();
+        return false;
+    }
+
+    bool failed() const { return m_failed; }
+    std::size_t position() const { return m_position; }
+    const std::string &lastToken() const { return m_lastToken; }
+    int errorId() const { return m_errorId; }
+    const std::string &what() const { return m_what; }
+    const std::string &failedPath() const { return m_failedPath; }
+
+private:
+    struct Level {
+        bool isArray = false;
+        std::size_t count = 0; ///< elements begun so far (arrays)
+        std::string key;       ///< key being read (objects)
+    };
+
+    void countElement()
+    {
+        if (!m_path.empty() && m_path.back().isArray)
+            ++m_path.back().count;
+    }
+
+    /// Place of the value being read when the error happened. An open array level points at its
+    /// last begun element, except the innermost one, whose failing element has not begun yet.
+    std::string currentPath() const
+    {
+        std::string path;
+        for (std::size_t k = 0; k < m_path.size(); ++k) {
+            const Level &level = m_path[k];
+            if (level.isArray) {
+                const bool innermost = k + 1 == m_path.size();
+                const std::size_t index = innermost ? level.count : (level.count > 0 ? level.count - 1 : 0);
+                path += "[" + std::to_string(index) + "]";
+            } else {
+                path += (path.empty() ? "" : ".") + printable(level.key);
+            }
+        }
+        return path;
+    }
+
+    nlohmann::detail::json_sax_dom_parser<Json> m_dom;
+    std::vector<Level> m_path;
+    bool m_failed = false;
+    std::size_t m_position = 0;
+    std::string m_lastToken;
+    int m_errorId = 0;
+    std::string m_what;
+    std::string m_failedPath;
+};
+
+/// nlohmann's message without its "[json.exception...] parse error at line L, column C: " head.
+std::string parserDetail(const std::string &what)
+{
+    const std::size_t column = what.find("column ");
+    if (column != std::string::npos) {
+        const std::size_t colon = what.find(": ", column);
+        if (colon != std::string::npos)
+            return printable(what.substr(colon + 2), 160);
+    }
+    const std::size_t bracket = what.find("] ");
+    return printable(bracket == std::string::npos ? what : what.substr(bracket + 2), 160);
+}
+
+/// Cheap scan before nlohmann sees the text: refuses nesting deeper than kMaxSceneNesting,
+/// counting only brackets outside strings (a backslash escapes the next character inside one).
+/// Returns "" or "place: rule".
+std::string checkNesting(std::string_view text)
+{
+    int depth = 0;
+    bool inString = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (inString) {
+            if (c == '\\')
+                ++i;
+            else if (c == '"')
+                inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxSceneNesting)
+                return lineColumn(text, i) + ": arrays and objects are nested deeper than "
+                    + std::to_string(kMaxSceneNesting) + " levels";
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return {};
+}
+
+/// Parses and reads the scene into `world`; returns "" or "place: rule".
+std::string parseInto(std::string_view text, World &world)
+{
+    if (text.size() > kMaxSceneBytes)
+        return "size: a scene must be at most " + std::to_string(kMaxSceneBytes) + " bytes (256 MiB), got "
+            + std::to_string(text.size()) + " bytes";
+    if (text.size() >= 2
+        && ((text[0] == '\xFF' && text[1] == '\xFE') || (text[0] == '\xFE' && text[1] == '\xFF')))
+        return "line 1, column 1: the text is UTF-16 (it starts with a UTF-16 byte order mark); "
+               "a scene file must be UTF-8";
+    std::string_view body = text;
+    if (body.substr(0, 3) == "\xEF\xBB\xBF")
+        body.remove_prefix(3);
+    if (body.find_first_not_of(" \t\r\n") == std::string_view::npos)
+        return "line 1, column 1: the text is empty; a scene file holds a JSON object";
+    if (std::string nesting = checkNesting(text); !nesting.empty())
+        return nesting;
+
+    Json doc;
+    TrackingBuilder builder(doc);
+    const bool parsed = Json::sax_parse(text.data(), text.data() + text.size(), &builder,
+                                        Json::input_format_t::json, true, false);
+    if (!parsed || builder.failed()) {
+        // 406: a number too large for a double (1e999): JSON allows it, a scene does not.
+        if (builder.errorId() == 406) {
+            const std::string &token = builder.lastToken();
+            const std::size_t start = builder.position() >= token.size() ? builder.position() - token.size() : 0;
+            const std::string path = builder.failedPath().empty() ? std::string("value") : builder.failedPath();
+            return path + " (" + lineColumn(text, start) + "): must be a finite number, got " + printable(token);
+        }
+        const std::size_t offset = builder.position() > 0 ? builder.position() - 1 : 0;
+        return lineColumn(text, offset) + ": not valid JSON: " + parserDetail(builder.what());
+    }
+
+    try {
+        world = readScene(doc);
+    } catch (const SceneError &e) {
+        return e.place + ": " + e.rule;
+    }
+    return {};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing
+
+constexpr Json::error_handler_t kReplace = Json::error_handler_t::replace;
+
+/// A double as JSON that reads back bit-identical. Whole numbers below 2^53 are written as
+/// integers (120, not 120.0), which is exact because every such integer is a double; -0.0 keeps
+/// its sign as a float. Everything else uses nlohmann's shortest round-trip form.
+OrderedJson number(double v)
+{
+    constexpr double kTwo53 = 9007199254740992.0;
+    if (std::isfinite(v) && v == std::trunc(v) && std::abs(v) < kTwo53 && !(v == 0.0 && std::signbit(v)))
+        return OrderedJson(static_cast<std::int64_t>(v));
+    return OrderedJson(v);
+}
+
+/// Appends the unknown keys kept in `extraJson` to `object`; known keys already there win.
+void appendExtras(OrderedJson &object, const std::string &extraJson)
+{
+    if (extraJson.empty())
+        return;
+    const OrderedJson extras = OrderedJson::parse(extraJson, nullptr, false);
+    if (!extras.is_object())
+        return;
+    for (const auto &[key, value] : extras.items()) {
+        if (!object.contains(key))
+            object[key] = value;
+    }
+}
+
+std::string dumpValue(const OrderedJson &j)
+{
+    return j.dump(-1, ' ', false, kReplace);
+}
+
+/// `{"x": 120, "y": 200}` on one line.
+std::string inlineObject(const OrderedJson &object)
+{
+    std::string out = "{";
+    bool first = true;
+    for (const auto &[key, value] : object.items()) {
+        out += first ? "" : ", ";
+        first = false;
+        out += dumpValue(OrderedJson(key)) + ": " + dumpValue(value);
+    }
+    return out + "}";
+}
+
+/// One key per line at `indent` + 2 spaces; values compact.
+std::string blockObject(const OrderedJson &object, const std::string &indent)
+{
+    if (object.empty())
+        return "{}";
+    std::string out = "{\n";
+    bool first = true;
+    for (const auto &[key, value] : object.items()) {
+        out += first ? "" : ",\n";
+        first = false;
+        out += indent + "  " + dumpValue(OrderedJson(key)) + ": " + dumpValue(value);
+    }
+    return out + "\n" + indent + "}";
+}
+
+/// One element per line.
+std::string blockArray(const std::vector<OrderedJson> &items, const std::string &indent)
+{
+    if (items.empty())
+        return "[]";
+    std::string out = "[\n";
+    for (std::size_t i = 0; i < items.size(); ++i)
+        out += indent + "  " + inlineObject(items[i]) + (i + 1 < items.size() ? ",\n" : "\n");
+    return out + indent + "]";
+}
+
+/// A pretty-printed value at `indent`: nested lines shifted by the indent. Newlines inside JSON
+/// text only ever come from the pretty printer (strings escape theirs), so shifting them is safe.
+std::string prettyValue(const OrderedJson &value, const std::string &indent)
+{
+    const std::string text = value.dump(2, ' ', false, kReplace);
+    std::string out;
+    out.reserve(text.size());
+    for (char c : text) {
+        out += c;
+        if (c == '\n')
+            out += indent;
+    }
+    return out;
+}
+
+std::string osError(int error)
+{
+    return std::generic_category().message(error);
+}
+
+} // namespace
+
+// -------------------------------------------------------------------------------------------------
+// Public functions
+
+SceneLoad parseScene(std::string_view text, std::string_view source)
+{
+    SceneLoad result;
+    std::string error;
+    try {
+        error = parseInto(text, result.world);
+    } catch (const std::bad_alloc &) {
+        error = "size: not enough memory to read this scene";
+    } catch (const std::exception &e) {
+        error = "scene: cannot be read: " + printable(e.what(), 160);
+    }
+    if (error.empty()) {
+        result.ok = true;
+    } else {
+        result.world = World();
+        result.error = std::string(source) + ": " + error;
+    }
+    return result;
+}
+
+SceneLoad loadSceneFile(const std::string &path)
+{
+    SceneLoad result;
+    auto refuse = [&](const std::string &message) {
+        result.error = path + ": " + message;
+        return result;
+    };
+
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return refuse("cannot open the file: " + osError(errno));
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+
+    struct stat info {};
+    if (::fstat(fd, &info) != 0)
+        return refuse("cannot read the file: " + osError(errno));
+    if (S_ISDIR(info.st_mode))
+        return refuse("cannot read the file: it is a folder, not a scene file");
+    const auto tooLarge = [&](const std::string &size) {
+        return refuse("size: a scene file must be at most " + std::to_string(kMaxSceneBytes)
+                      + " bytes (256 MiB), got " + size);
+    };
+    if (S_ISREG(info.st_mode) && static_cast<std::uint64_t>(info.st_size) > kMaxSceneBytes)
+        return tooLarge(std::to_string(info.st_size) + " bytes");
+
+    // Read in chunks up to one byte past the limit: pipes and devices have no size to check first.
+    std::string text;
+    try {
+        if (S_ISREG(info.st_mode))
+            text.reserve(static_cast<std::size_t>(info.st_size));
+        char buffer[1 << 16];
+        for (;;) {
+            const ssize_t n = ::read(fd, buffer, sizeof buffer);
+            if (n < 0) {
+                if (errno == EINTR)
+                    continue;
+                return refuse("cannot read the file: " + osError(errno));
+            }
+            if (n == 0)
+                break;
+            text.append(buffer, static_cast<std::size_t>(n));
+            if (text.size() > kMaxSceneBytes)
+                return tooLarge("more than that");
+        }
+    } catch (const std::bad_alloc &) {
+        return refuse("size: not enough memory to read this file");
+    }
+    return parseScene(text, path);
+}
+
+std::string sceneToJson(const World &world)
+{
+    OrderedJson stage = OrderedJson::object();
+    stage["width"] = number(world.stage.width);
+    stage["height"] = number(world.stage.height);
+    stage["walls"] = world.stage.walls;
+    appendExtras(stage, world.stageExtraJson);
+
+    const Params &p = world.params;
+    OrderedJson params = OrderedJson::object();
+    params["model"] = std::string(modelName(p.model));
+    params["massScale"] = number(p.massScale);
+    params["friction"] = number(p.friction);
+    params["zeroThreshold"] = number(p.zeroThreshold);
+    params["pushScale"] = number(p.pushScale);
+    params["frameMs"] = number(p.frameMs);
+    params["restitution"] = number(p.restitution);
+    params["gravity"] = OrderedJson::array({number(p.gravity.x), number(p.gravity.y)});
+    params["substeps"] = p.substeps;
+    params["shortCircuit"] = p.shortCircuit;
+    appendExtras(params, world.paramsExtraJson);
+
+    std::vector<OrderedJson> marbles;
+    marbles.reserve(world.radius.size());
+    for (int i = 0; i < world.marbleCount(); ++i) {
+        OrderedJson m = OrderedJson::object();
+        m["x"] = number(world.position[i].x);
+        m["y"] = number(world.position[i].y);
+        m["radius"] = number(world.radius[i]);
+        m["vx"] = number(world.velocity[i].x);
+        m["vy"] = number(world.velocity[i].y);
+        const MarbleInfo *info = static_cast<std::size_t>(i) < world.info.size() ? &world.info[i] : nullptr;
+        if (info && info->hasMass && static_cast<std::size_t>(i) < world.mass.size())
+            m["mass"] = number(world.mass[i]);
+        if (info && !info->name.empty())
+            m["name"] = info->name;
+        if (info && !info->color.empty())
+            m["color"] = info->color;
+        if (info)
+            appendExtras(m, info->extraJson);
+        marbles.push_back(std::move(m));
+    }
+
+    std::vector<OrderedJson> pins;
+    pins.reserve(world.pins.size());
+    for (std::size_t j = 0; j < world.pins.size(); ++j) {
+        OrderedJson q = OrderedJson::object();
+        q["x"] = number(world.pins[j].x);
+        q["y"] = number(world.pins[j].y);
+        if (j < world.pinExtraJson.size())
+            appendExtras(q, world.pinExtraJson[j]);
+        pins.push_back(std::move(q));
+    }
+
+    std::vector<OrderedJson> pushes;
+    pushes.reserve(world.pushes.size());
+    for (const Push &push : world.pushes) {
+        OrderedJson e = OrderedJson::object();
+        e["frame"] = push.frame;
+        e["marble"] = push.marble;
+        e["x"] = number(push.at.x);
+        e["y"] = number(push.at.y);
+        pushes.push_back(std::move(e));
+    }
+
+    std::string out = "{\n";
+    out += "  \"format\": \"marbles-scene\",\n";
+    out += "  \"version\": " + std::to_string(kVersion) + ",\n";
+    out += "  \"stage\": " + blockObject(stage, "  ") + ",\n";
+    out += "  \"params\": " + blockObject(params, "  ") + ",\n";
+    out += "  \"marbles\": " + blockArray(marbles, "  ") + ",\n";
+    out += "  \"pins\": " + blockArray(pins, "  ") + ",\n";
+    out += "  \"pushes\": " + blockArray(pushes, "  ");
+    OrderedJson top = OrderedJson::object();
+    appendExtras(top, world.sceneExtraJson);
+    for (const auto &[key, value] : top.items()) {
+        if (!isSceneKey(key))
+            out += ",\n  " + dumpValue(OrderedJson(key)) + ": " + prettyValue(value, "  ");
+    }
+    out += "\n}\n";
+    return out;
+}
+
+std::string saveSceneFile(const World &world, const std::string &path)
+{
+    const std::string text = sceneToJson(world);
+    // Never write a file this program would refuse to open again.
+    {
+        World check;
+        if (std::string error = parseInto(text, check); !error.empty())
+            return path + ": not saved, the scene would not load back: " + error;
+    }
+
+    namespace fs = std::filesystem;
+    const fs::path target(path);
+    const std::string base = target.filename().string();
+    if (base.empty() || base == "." || base == "..")
+        return path + ": cannot save: not a file name";
+    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+
+    // The temporary file sits beside the target, so the final rename stays within one file
+    // system and is atomic: readers see the old file or the new one, never a mixture.
+    static std::atomic<unsigned> counter{0};
+    std::string temporary;
+    int fd = -1;
+    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+        temporary = (folder / ("." + base + ".tmp-" + std::to_string(::getpid()) + "-"
+                               + std::to_string(counter.fetch_add(1))))
+                        .string();
+        fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0 && errno != EEXIST)
+            return path + ": cannot save: cannot create a temporary file in " + folder.string() + ": " + osError(errno);
+    }
+    if (fd < 0)
+        return path + ": cannot save: cannot create a temporary file in " + folder.string();
+
+    auto abandon = [&](const std::string &what, int error) {
+        ::close(fd);
+        ::unlink(temporary.c_str());
+        return path + ": cannot save: " + what + ": " + osError(error);
+    };
+
+    // Replacing a file keeps its permissions; a new file gets the usual ones (0666 less umask).
+    struct stat existing {};
+    if (::stat(path.c_str(), &existing) == 0 && S_ISREG(existing.st_mode))
+        ::fchmod(fd, existing.st_mode & 07777);
+
+    std::size_t written = 0;
+    while (written < text.size()) {
+        const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            return abandon("writing failed", errno);
+        }
+        written += static_cast<std::size_t>(n);
+    }
+    if (::fsync(fd) != 0)
+        return abandon("flushing to disk failed", errno);
+    if (::close(fd) != 0) {
+        const int error = errno;
+        ::unlink(temporary.c_str());
+        return path + ": cannot save: closing failed: " + osError(error);
+    }
+    if (::rename(temporary.c_str(), path.c_str()) != 0) {
+        const int error = errno;
+        ::unlink(temporary.c_str());
+        return path + ": cannot save: " + osError(error);
+    }
+    // Make the rename itself durable; a failure here cannot undo it, so it is not reported.
+    if (const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dir >= 0) {
+        ::fsync(dir);
+        ::close(dir);
+    }
+    return {};
+}
+
+std::string validateParams(const Params &p)
+{
+    auto check = [](const char *key, const std::string &rule, double v) {
+        return rule.empty() ? std::string() : "params." + std::string(key) + ": " + rule + ", got " + formatNumber(v);
+    };
+    std::string error;
+    ModelKind known;
+    if (!parseModelName(modelName(p.model), known) || known != p.model)
+        return "params.model: must be \"book\", \"impulse\" or \"exact\", got "
+            + std::to_string(static_cast<int>(p.model));
+    if (!(error = check("massScale", rulePositive(p.massScale), p.massScale)).empty())
+        return error;
+    if (!(error = check("friction", ruleNonNegative(p.friction), p.friction)).empty())
+        return error;
+    if (!(error = check("zeroThreshold", ruleNonNegative(p.zeroThreshold), p.zeroThreshold)).empty())
+        return error;
+    if (!(error = check("pushScale", ruleFinite(p.pushScale), p.pushScale)).empty())
+        return error;
+    if (!(error = check("frameMs", rulePositive(p.frameMs), p.frameMs)).empty())
+        return error;
+    if (!(error = check("restitution", ruleUnitInterval(p.restitution), p.restitution)).empty())
+        return error;
+    if (!isFinite(p.gravity))
+        return "params.gravity: must be 2 finite numbers, got [" + formatNumber(p.gravity.x) + ", "
+            + formatNumber(p.gravity.y) + "]";
+    if (std::string rule = ruleSubsteps(p.substeps); !rule.empty())
+        return "params.substeps: " + rule + ", got " + std::to_string(p.substeps);
+    return check("friction", ruleFrictionForModel(p.friction, p.model), p.friction);
+}
+
+namespace {
+
+bool parseDouble(std::string_view text, double &out)
+{
+    if (!text.empty() && text.front() == '+')
+        text.remove_prefix(1);
+    if (text.empty())
+        return false;
+    const auto result = std::from_chars(text.data(), text.data() + text.size(), out);
+    return result.ec == std::errc() && result.ptr == text.data() + text.size();
+}
+
+bool parseInteger(std::string_view text, std::int64_t &out)
+{
+    if (!text.empty() && text.front() == '+')
+        text.remove_prefix(1);
+    if (text.empty())
+        return false;
+    const auto result = std::from_chars(text.data(), text.data() + text.size(), out);
+    return result.ec == std::errc() && result.ptr == text.data() + text.size();
+}
+
+bool parseBool(std::string_view text, bool &out)
+{
+    if (text == "true" || text == "1") {
+        out = true;
+        return true;
+    }
+    if (text == "false" || text == "0") {
+        out = false;
+        return true;
+    }
+    return false;
+}
+
+} // namespace
+
+std::string setParam(World &world, std::string_view key, std::string_view value)
+{
+    const std::string head = printable(key) + "=" + printable(value) + ": ";
+    Params &p = world.params;
+
+    // A number with its one-field rule; `rule` returns "" or the rule broken.
+    auto setNumber = [&](double &target, std::string (*rule)(double)) -> std::string {
+        double v = 0.0;
+        if (!parseDouble(value, v))
+            return head + "must be a number";
+        if (std::string broken = rule(v); !broken.empty())
+            return head + broken;
+        target = v;
+        return {};
+    };
+    auto boolean = [&](bool &target) -> std::string {
+        if (!parseBool(value, target))
+            return head + "must be true, false, 1 or 0";
+        return {};
+    };
+
+    if (key == "model") {
+        if (!parseModelName(value, p.model))
+            return head + "must be \"book\", \"impulse\" or \"exact\"";
+        return {};
+    }
+    if (key == "massScale") {
+        double scale = p.massScale;
+        if (std::string error = setNumber(scale, rulePositive); !error.empty())
+            return error;
+        world.setMassScale(scale);
+        return {};
+    }
+    if (key == "friction")
+        return setNumber(p.friction, ruleNonNegative);
+    if (key == "zeroThreshold")
+        return setNumber(p.zeroThreshold, ruleNonNegative);
+    if (key == "pushScale")
+        return setNumber(p.pushScale, ruleFinite);
+    if (key == "frameMs")
+        return setNumber(p.frameMs, rulePositive);
+    if (key == "restitution")
+        return setNumber(p.restitution, ruleUnitInterval);
+    if (key == "gravity") {
+        const std::size_t comma = value.find(',');
+        Vec2 g;
+        if (comma == std::string_view::npos || !parseDouble(value.substr(0, comma), g.x)
+            || !parseDouble(value.substr(comma + 1), g.y))
+            return head + "must be two numbers \"x,y\"";
+        if (!isFinite(g))
+            return head + "must be two finite numbers";
+        p.gravity = g;
+        return {};
+    }
+    if (key == "substeps") {
+        std::int64_t n = 0;
+        if (!parseInteger(value, n))
+            return head + "must be an integer";
+        if (std::string broken = ruleSubsteps(n); !broken.empty())
+            return head + broken;
+        p.substeps = static_cast<int>(n);
+        return {};
+    }
+    if (key == "shortCircuit")
+        return boolean(p.shortCircuit);
+    if (key == "width")
+        return setNumber(world.stage.width, rulePositive);
+    if (key == "height")
+        return setNumber(world.stage.height, rulePositive);
+    if (key == "walls")
+        return boolean(world.stage.walls);
+    return head + "unknown key; the keys are model, massScale, friction, zeroThreshold, pushScale, frameMs, "
+                  "restitution, gravity, substeps, shortCircuit, width, height and walls";
+}
+
+} // namespace marbles

@@ -1,0 +1,45 @@
+#pragma once
+
+#include "core/world.h"
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+namespace marbles {
+
+/// Largest scene text the loader accepts, in bytes (256 MiB); larger input is refused before it is read whole.
+inline constexpr std::size_t kMaxSceneBytes = std::size_t{256} * 1024 * 1024;
+/// Deepest nesting of JSON arrays and objects the loader accepts (a scene needs 3 levels).
+inline constexpr int kMaxSceneNesting = 256;
+/// Largest `params.substeps` accepted: more would make one impulse-model frame take minutes.
+inline constexpr int kMaxSubsteps = 1000000;
+/// Radius of a marble whose scene entry gives none, px (the INTERFACES.md example marble).
+inline constexpr double kDefaultMarbleRadius = 25.0;
+
+/// Result of loading a scene: `world` holds it (frame 0) when `ok`, otherwise `error` says why.
+struct SceneLoad {
+    bool ok = false;
+    World world;
+    std::string error;
+};
+
+/// Parses scene JSON text. `source` names it in messages: "<source>: <place>: <rule>".
+SceneLoad parseScene(std::string_view text, std::string_view source);
+/// Reads a file and parses it; the message names the file as given. ("-" is not special here.)
+SceneLoad loadSceneFile(const std::string &path);
+/// Serialises a world as a scene file: pretty JSON, unknown keys kept, numbers round-trip exactly.
+std::string sceneToJson(const World &world);
+/// Writes atomically (temporary file in the same folder, flushed, then renamed over the target);
+/// returns "" on success or a message naming the file and the OS error. Never leaves a half-written file.
+std::string saveSceneFile(const World &world, const std::string &path);
+/// Checks params against the rules; returns "" or e.g. "params.friction: must be >= 0, got -1".
+std::string validateParams(const Params &p);
+/// Applies one KEY=VALUE setting (the CLI's --set, also used by the UI): keys are the params keys
+/// (model, massScale, friction, zeroThreshold, pushScale, frameMs, restitution, gravity as "x,y",
+/// substeps, shortCircuit as true/false/1/0) plus stage keys "width", "height", "walls".
+/// massScale refreshes derived masses (World::setMassScale). Returns "" or a message naming the key and value.
+/// Does NOT run the cross-field validation; callers call validateParams after all settings.
+std::string setParam(World &world, std::string_view key, std::string_view value);
+
+} // namespace marbles
