@@ -1,0 +1,349 @@
+// marbles-cli: the headless face of Marbles (INTERFACES.md). Links no Qt.
+
+#include "app/clicommon.h"
+#include "core/presets.h"
+#include "core/sceneio.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <sstream>
+#include <unistd.h>
+
+namespace marbles::cli {
+
+long long parseInteger(std::string_view option, std::string_view text, long long minimum)
+{
+    long long value = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec != std::errc() || end != text.data() + text.size())
+        throw InvalidInput{std::string(option) + ": must be a whole number, got '" + std::string(text) + "'"};
+    if (value < minimum)
+        throw InvalidInput{std::string(option) + ": must be >= " + std::to_string(minimum) + ", got "
+                           + std::string(text)};
+    return value;
+}
+
+double parseNumber(std::string_view option, std::string_view text)
+{
+    const std::string s(text);
+    char *end = nullptr;
+    errno = 0;
+    const double value = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(value))
+        throw InvalidInput{std::string(option) + ": must be a finite number, got '" + s + "'"};
+    return value;
+}
+
+World loadWorld(const std::string &scene, const std::vector<std::string> &settings)
+{
+    World world;
+    constexpr std::string_view presetPrefix = "preset:";
+    if (scene.rfind(presetPrefix, 0) == 0) {
+        const std::string id = scene.substr(presetPrefix.size());
+        if (!makePreset(id, world)) {
+            std::string known;
+            for (const PresetInfo &p : presets())
+                known += (known.empty() ? "" : ", ") + p.id;
+            throw InvalidInput{scene + ": unknown preset (known: " + known + ")"};
+        }
+    } else {
+        SceneLoad load;
+        if (scene == "-") {
+            const std::string text{std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>()};
+            load = parseScene(text, "stdin");
+        } else {
+            load = loadSceneFile(scene);
+        }
+        if (!load.ok)
+            throw InvalidInput{load.error};
+        world = std::move(load.world);
+    }
+    for (const std::string &setting : settings) {
+        const auto eq = setting.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw InvalidInput{"--set " + setting + ": expected KEY=VALUE"};
+        const std::string error = setParam(world, setting.substr(0, eq), setting.substr(eq + 1));
+        if (!error.empty())
+            throw InvalidInput{"--set " + setting + ": " + error};
+    }
+    if (const std::string error = validateParams(world.params); !error.empty())
+        throw InvalidInput{(settings.empty() ? scene : "--set") + ": " + error};
+    return world;
+}
+
+void writeFileAtomically(const std::string &path, const std::string &text)
+{
+    namespace fs = std::filesystem;
+    const fs::path target(path);
+    fs::path temp = target;
+    temp += ".tmp-" + std::to_string(::getpid());
+    {
+        std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+        if (!out)
+            throw InvalidInput{path + ": cannot write: " + std::strerror(errno)};
+        out << text;
+        out.flush();
+        if (!out) {
+            std::error_code ignored;
+            fs::remove(temp, ignored);
+            throw InvalidInput{path + ": write failed: " + std::strerror(errno)};
+        }
+    }
+    std::error_code ec;
+    fs::rename(temp, target, ec);
+    if (ec) {
+        std::error_code ignored;
+        fs::remove(temp, ignored);
+        throw InvalidInput{path + ": cannot write: " + ec.message()};
+    }
+}
+
+namespace {
+
+constexpr const char *usageText =
+    "usage:\n"
+    "  marbles-cli run SCENE [--frames N] [--every K] [--set KEY=VALUE ...] [--out FILE]\n"
+    "  marbles-cli check SCENE [--set KEY=VALUE ...]\n"
+    "  marbles-cli preset list | marbles-cli preset ID [--out FILE]\n"
+    "  marbles-cli gen crowd --n N [--seed S] [--moving FRACTION] [--out FILE]\n"
+    "SCENE is a *.marbles.json file, '-' for standard input, or preset:ID (see 'preset list').\n";
+
+// Reads "--name VALUE" options; positional words are collected in order.
+struct Options {
+    std::vector<std::string> positional;
+    std::vector<std::pair<std::string, std::string>> named;
+
+    const std::string *last(std::string_view name) const
+    {
+        const std::string *found = nullptr;
+        for (const auto &[k, v] : named) {
+            if (k == name)
+                found = &v;
+        }
+        return found;
+    }
+    std::vector<std::string> all(std::string_view name) const
+    {
+        std::vector<std::string> out;
+        for (const auto &[k, v] : named) {
+            if (k == name)
+                out.push_back(v);
+        }
+        return out;
+    }
+};
+
+Options parseOptions(const std::vector<std::string> &args, std::initializer_list<std::string_view> valued,
+                     std::initializer_list<std::string_view> flags = {})
+{
+    Options o;
+    for (std::size_t k = 0; k < args.size(); ++k) {
+        const std::string &a = args[k];
+        if (a.size() > 2 && a.rfind("--", 0) == 0) {
+            std::string name = a;
+            std::string value;
+            bool hasValue = false;
+            if (const auto eq = a.find('='); eq != std::string::npos && name.rfind("--set", 0) != 0) {
+                name = a.substr(0, eq);
+                value = a.substr(eq + 1);
+                hasValue = true;
+            }
+            if (std::find(flags.begin(), flags.end(), name) != flags.end()) {
+                if (hasValue)
+                    throw InvalidInput{name + ": takes no value"};
+                o.named.emplace_back(name, "");
+                continue;
+            }
+            if (std::find(valued.begin(), valued.end(), name) == valued.end())
+                throw InvalidInput{a + ": unknown option"};
+            if (!hasValue) {
+                if (k + 1 >= args.size())
+                    throw InvalidInput{name + ": missing value"};
+                value = args[++k];
+            }
+            o.named.emplace_back(name, value);
+        } else {
+            o.positional.push_back(a);
+        }
+    }
+    return o;
+}
+
+// %.17g: 17 significant digits always round-trip a double exactly.
+void appendNumber(std::string &out, double x)
+{
+    char buf[32];
+    const int len = std::snprintf(buf, sizeof buf, "%.17g", x);
+    out.append(buf, static_cast<std::size_t>(len));
+}
+
+void appendRows(std::string &out, const World &w)
+{
+    for (int i = 0; i < w.marbleCount(); ++i) {
+        out += std::to_string(w.frame);
+        out += ',';
+        out += std::to_string(i);
+        out += ',';
+        appendNumber(out, w.position[i].x);
+        out += ',';
+        appendNumber(out, w.position[i].y);
+        out += ',';
+        appendNumber(out, w.velocity[i].x);
+        out += ',';
+        appendNumber(out, w.velocity[i].y);
+        out += '\n';
+    }
+}
+
+int runCommand(const std::vector<std::string> &args)
+{
+    const Options o = parseOptions(args, {"--frames", "--every", "--set", "--out"});
+    if (o.positional.size() != 1)
+        throw InvalidInput{"run: expected exactly one SCENE, got " + std::to_string(o.positional.size())};
+    const long long frames = o.last("--frames") ? parseInteger("--frames", *o.last("--frames"), 0) : 100;
+    const long long every = o.last("--every") ? parseInteger("--every", *o.last("--every"), 1) : 1;
+    const std::string *outPath = o.last("--out");
+    World world = loadWorld(o.positional.front(), o.all("--set"));
+
+    std::string csv = "frame,marble,x,y,vx,vy\n";
+    std::FILE *stream = outPath ? nullptr : stdout;
+    auto flush = [&](bool force) {
+        if (stream && (force || csv.size() > (1 << 20))) {
+            std::fwrite(csv.data(), 1, csv.size(), stream);
+            csv.clear();
+        }
+    };
+    appendRows(csv, world);
+    int status = ExitOk;
+    std::string failure;
+    for (long long f = 1; f <= frames; ++f) {
+        const StepResult r = world.step();
+        if (!r.finite) {
+            const Vec2 p = world.position[r.badMarble];
+            const Vec2 v = world.velocity[r.badMarble];
+            char state[160];
+            std::snprintf(state, sizeof state, "x=%.6g, y=%.6g, vx=%.6g, vy=%.6g", p.x, p.y, v.x, v.y);
+            failure = "frame " + std::to_string(world.frame) + ": marble " + std::to_string(r.badMarble)
+                      + " left finite numbers (" + state + ")";
+            status = ExitNonFinite;
+            break;
+        }
+        if (f % every == 0)
+            appendRows(csv, world);
+        flush(false);
+    }
+    if (outPath)
+        writeFileAtomically(*outPath, csv);
+    else
+        flush(true);
+    std::fflush(stdout);
+    if (status != ExitOk)
+        std::cerr << "marbles-cli: " << o.positional.front() << ": " << failure << '\n';
+    return status;
+}
+
+int checkCommand(const std::vector<std::string> &args)
+{
+    const Options o = parseOptions(args, {"--set"});
+    if (o.positional.size() != 1)
+        throw InvalidInput{"check: expected exactly one SCENE, got " + std::to_string(o.positional.size())};
+    const World w = loadWorld(o.positional.front(), o.all("--set"));
+    auto plural = [](std::size_t n, const char *word) {
+        const std::string w(word);
+        return std::to_string(n) + " " + w + (n == 1 ? "" : (w.back() == 'h' ? "es" : "s"));
+    };
+    std::ostringstream line;
+    line << o.positional.front() << ": ok: " << plural(w.radius.size(), "marble") << ", "
+         << plural(w.pins.size(), "pin") << ", " << plural(w.pushes.size(), "push") << ", model "
+         << modelName(w.params.model) << ", stage " << w.stage.width << "x" << w.stage.height << " walls "
+         << (w.stage.walls ? "on" : "off") << '\n';
+    std::cout << line.str();
+    return ExitOk;
+}
+
+int presetCommand(const std::vector<std::string> &args)
+{
+    const Options o = parseOptions(args, {"--out"});
+    if (o.positional.size() != 1)
+        throw InvalidInput{"preset: expected 'list' or a preset ID"};
+    if (o.positional.front() == "list") {
+        for (const PresetInfo &p : presets())
+            std::cout << p.id << '\t' << p.title << '\t' << p.description << '\n';
+        return ExitOk;
+    }
+    const World w = loadWorld("preset:" + o.positional.front(), {});
+    const std::string json = sceneToJson(w);
+    if (const std::string *out = o.last("--out"))
+        writeFileAtomically(*out, json);
+    else
+        std::cout << json;
+    return ExitOk;
+}
+
+int genCommand(const std::vector<std::string> &args)
+{
+    const Options o = parseOptions(args, {"--n", "--seed", "--moving", "--out"});
+    if (o.positional.size() != 1 || o.positional.front() != "crowd")
+        throw InvalidInput{"gen: expected 'crowd'"};
+    if (!o.last("--n"))
+        throw InvalidInput{"gen crowd: --n is required"};
+    const long long n = parseInteger("--n", *o.last("--n"), 0);
+    if (n > 10'000'000)
+        throw InvalidInput{"--n: must be <= 10000000, got " + std::to_string(n)};
+    const long long seed = o.last("--seed") ? parseInteger("--seed", *o.last("--seed"), 0) : 1;
+    double moving = 1.0;
+    if (const std::string *m = o.last("--moving")) {
+        moving = parseNumber("--moving", *m);
+        if (moving < 0 || moving > 1)
+            throw InvalidInput{"--moving: must be in [0, 1], got " + *m};
+    }
+    const World w = makeCrowd(static_cast<int>(n), static_cast<std::uint64_t>(seed), moving);
+    const std::string json = sceneToJson(w);
+    if (const std::string *out = o.last("--out"))
+        writeFileAtomically(*out, json);
+    else
+        std::cout << json;
+    return ExitOk;
+}
+
+} // namespace
+
+} // namespace marbles::cli
+
+int main(int argc, char **argv)
+{
+    using namespace marbles::cli;
+    const std::vector<std::string> all(argv + 1, argv + argc);
+    if (all.empty() || all.front() == "--help" || all.front() == "-h" || all.front() == "help") {
+        (all.empty() ? std::cerr : std::cout) << usageText;
+        return all.empty() ? ExitInvalid : ExitOk;
+    }
+    const std::string command = all.front();
+    const std::vector<std::string> args(all.begin() + 1, all.end());
+    try {
+        if (command == "run")
+            return runCommand(args);
+        if (command == "check")
+            return checkCommand(args);
+        if (command == "preset")
+            return presetCommand(args);
+        if (command == "gen")
+            return genCommand(args);
+        throw InvalidInput{"unknown command '" + command + "'\n" + usageText};
+    } catch (const InvalidInput &e) {
+        std::cerr << "marbles-cli: " << e.message << '\n';
+        return ExitInvalid;
+    } catch (const std::exception &e) {
+        std::cerr << "marbles-cli: internal error: " << e.what() << '\n';
+        return ExitInternal;
+    }
+}

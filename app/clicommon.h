@@ -1,0 +1,39 @@
+#pragma once
+
+// Shared pieces of the marbles-cli subcommands: exit codes, argument reading and scene loading.
+
+#include "core/world.h"
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace marbles::cli {
+
+/// Exit codes of INTERFACES.md.
+enum ExitCode : int {
+    ExitOk = 0,
+    ExitInternal = 1,
+    ExitInvalid = 2,
+    ExitNonFinite = 3,
+};
+
+/// Thrown for invalid input or arguments; main() prints the message and exits 2.
+struct InvalidInput {
+    std::string message;
+};
+
+/// Parses a whole non-negative or positive integer option value; throws InvalidInput naming the option.
+long long parseInteger(std::string_view option, std::string_view text, long long minimum);
+/// Parses a finite double option value; throws InvalidInput naming the option.
+double parseNumber(std::string_view option, std::string_view text);
+
+/// Loads SCENE ("-" reads standard input; "preset:ID" builds a built-in preset), applies the
+/// KEY=VALUE settings in order and validates the result; throws InvalidInput with one message.
+World loadWorld(const std::string &scene, const std::vector<std::string> &settings);
+
+/// Writes `text` to `path` atomically (temporary file, then rename); throws InvalidInput on failure.
+void writeFileAtomically(const std::string &path, const std::string &text);
+
+} // namespace marbles::cli

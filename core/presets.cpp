@@ -1,0 +1,195 @@
+#include "core/presets.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace marbles {
+
+std::uint64_t SplitMix64::next()
+{
+    std::uint64_t z = (m_state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+double SplitMix64::uniform()
+{
+    return static_cast<double>(next() >> 11) * 0x1.0p-53;
+}
+
+namespace {
+
+void named(World &w, int i, const char *name, const char *color = "")
+{
+    w.info[i].name = name;
+    w.info[i].color = color;
+}
+
+// Figure 11.8: four blue marbles of different sizes, at rest, with two scripted clicks so that
+// a run shows the push, the friction decay and the book's collision sharing.
+void fourMarbles(World &w)
+{
+    named(w, w.addMarble({180, 300}, 40), "large");
+    named(w, w.addMarble({285, 305}, 20), "small");
+    named(w, w.addMarble({560, 300}, 55), "largest");
+    named(w, w.addMarble({600, 430}, 30), "medium");
+    // Click on the left edge of the large marble: force (35, 0) * 10 / 50 = 7 px/frame^2,
+    // enough to roll it into the small one.
+    w.pushes.push_back({0, 0, {145, 300}});
+    // Later, a click below-right of the medium marble sends it up into the largest one.
+    w.pushes.push_back({150, 3, {608.2, 456.8}});
+}
+
+// Example 2: marbles among pins. The pins stand in a staggered field; the marbles start moving.
+void pinsExample(World &w)
+{
+    for (int row = 0; row < 4; ++row) {
+        for (int col = 0; col < 6; ++col) {
+            const double x = 140 + col * 105 + (row % 2) * 52.5;
+            const double y = 140 + row * 105;
+            w.addPin({x, y});
+        }
+    }
+    named(w, w.addMarble({90, 90}, 22, {7.5, 4.0}), "blue");
+    named(w, w.addMarble({700, 520}, 30, {-6.0, -5.5}), "big");
+    named(w, w.addMarble({400, 70}, 16, {1.0, 8.0}), "small");
+    w.params.friction = 0.02;
+}
+
+// Example 3: marbles of different masses. A light marble runs into a heavy one at rest and
+// bounces back; a heavy one runs into two light ones and sends them flying.
+void massesExample(World &w)
+{
+    named(w, w.addMarble({120, 180}, 12, {9, 0}), "light");
+    named(w, w.addMarble({420, 180}, 60), "heavy");
+    named(w, w.addMarble({140, 430}, 50, {6, 0}), "heavy mover");
+    named(w, w.addMarble({440, 420}, 15), "light A");
+    named(w, w.addMarble({480, 450}, 15), "light B");
+    w.params.friction = 0.02;
+}
+
+// A row of five equal marbles just touching (distance = sum of radii is not a hit), and a
+// sixth rolling into the row. Without friction the exact model passes the momentum along the
+// row, as the real toy does; the book model shows something else.
+void newtonsCradle(World &w)
+{
+    const double r = 20;
+    for (int k = 0; k < 5; ++k)
+        w.addMarble({400 + 2 * r * k, 300}, r);
+    named(w, w.addMarble({150, 300}, r, {6, 0}), "striker");
+    w.params.friction = 0;
+    w.params.zeroThreshold = 0;
+}
+
+// A Pachinko board: staggered rows of pins and marbles falling under gravity.
+void pachinko(World &w)
+{
+    for (int row = 0; row < 8; ++row) {
+        const double y = 140 + row * 55;
+        const double offset = (row % 2) * 25;
+        for (double x = 50 + offset; x < 760; x += 50)
+            w.addPin({x, y});
+    }
+    SplitMix64 rng(11);
+    for (int k = 0; k < 8; ++k)
+        w.addMarble({120 + k * 80 + rng.uniform(-10, 10), 40 + rng.uniform(0, 40)}, 9,
+                    {rng.uniform(-1, 1), 0});
+    w.params.gravity = {0, 0.15};
+    w.params.friction = 0.01;
+    w.params.restitution = 0.8;
+    w.params.substeps = 4;
+}
+
+struct PresetEntry {
+    PresetInfo info;
+    void (*build)(World &);
+};
+
+const std::vector<PresetEntry> &entries()
+{
+    static const std::vector<PresetEntry> list = {
+        {{"four-marbles", "Four marbles (Figure 11.8)",
+          "Four marbles of different sizes; click one to push it, heavier ones move less."},
+         fourMarbles},
+        {{"pins", "Marbles among pins (Example 2)",
+          "Marbles bounce off fixed pins: the velocity is reflected about the line to the pin."},
+         pinsExample},
+        {{"masses", "Different masses (Example 3)",
+          "Light and heavy marbles collide and share the speed by their mass ratio."},
+         massesExample},
+        {{"newtons-cradle", "Newton's cradle",
+          "A row of touching marbles struck at one end: compare how each model passes the momentum on."},
+         newtonsCradle},
+        {{"pachinko", "Pachinko board", "Marbles fall under gravity through staggered rows of pins."},
+         pachinko},
+    };
+    return list;
+}
+
+} // namespace
+
+const std::vector<PresetInfo> &presets()
+{
+    static const std::vector<PresetInfo> list = [] {
+        std::vector<PresetInfo> out;
+        for (const PresetEntry &e : entries())
+            out.push_back(e.info);
+        return out;
+    }();
+    return list;
+}
+
+bool makePreset(std::string_view id, World &out)
+{
+    for (const PresetEntry &e : entries()) {
+        if (e.info.id == id) {
+            World w;
+            e.build(w);
+            w.refreshMasses();
+            out = std::move(w);
+            return true;
+        }
+    }
+    return false;
+}
+
+World defaultScene()
+{
+    World w;
+    makePreset(presets().front().id, w);
+    return w;
+}
+
+World makeCrowd(int n, std::uint64_t seed, double movingFraction)
+{
+    World w;
+    n = std::max(n, 0);
+    constexpr double cell = 30.0;
+    const int columns = std::max(1, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n)))));
+    const int rows = std::max(1, (n + columns - 1) / columns);
+    w.stage = {columns * cell, rows * cell, true};
+    w.params.model = ModelKind::Exact;
+    w.params.friction = 0.0;
+    w.params.zeroThreshold = 0.0;
+    w.params.restitution = 1.0;
+
+    w.position.reserve(n);
+    SplitMix64 rng(seed);
+    for (int k = 0; k < n; ++k) {
+        const double r = rng.uniform(4.0, 12.0);
+        // Jitter keeps the marble inside its own cell, so the scene starts without overlaps.
+        const double slack = cell / 2 - r;
+        const double x = (k % columns + 0.5) * cell + rng.uniform(-slack, slack);
+        const double y = (k / columns + 0.5) * cell + rng.uniform(-slack, slack);
+        const double speed = rng.uniform(0.0, 4.17);
+        const double angle = rng.uniform(0.0, 2 * std::numbers::pi);
+        const bool moving = rng.uniform() < movingFraction;
+        const Vec2 v = moving ? Vec2{speed * std::cos(angle), speed * std::sin(angle)} : Vec2{};
+        w.addMarble({x, y}, r, v, std::numbers::pi * r * r);
+    }
+    return w;
+}
+
+} // namespace marbles

@@ -1,0 +1,50 @@
+#pragma once
+
+#include "core/world.h"
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace marbles {
+
+/// A built-in scene, shared by the app's Presets menu, the tests and the benchmarks.
+struct PresetInfo {
+    std::string id;          ///< "four-marbles", "pins", "masses", "newtons-cradle", "pachinko"
+    std::string title;       ///< menu text
+    std::string description; ///< one sentence for a teacher
+};
+
+/// The built-in presets, in menu order; the first is the default scene.
+const std::vector<PresetInfo> &presets();
+
+/// Builds preset `id` into `out` (replacing it); false for an unknown id.
+bool makePreset(std::string_view id, World &out);
+
+/// The default scene: the chapter's four marbles of different sizes (Figure 11.8).
+World defaultScene();
+
+/// The "crowd" reference scene: n marbles, radii uniform in [4, 12] px, one per 30-px grid cell
+/// with jitter (packing about 0.24), walls on, e = 1, friction 0, zero threshold 0, speeds
+/// uniform in [0, 4.17] px/frame in random directions, mass pi r^2. Only a fraction
+/// `movingFraction` of the marbles (chosen at random) moves; the rest start at rest.
+/// The same (n, seed, movingFraction) gives the same scene on every machine.
+World makeCrowd(int n, std::uint64_t seed, double movingFraction = 1.0);
+
+/// A small deterministic random source (SplitMix64), identical on every platform.
+class SplitMix64 {
+public:
+    explicit SplitMix64(std::uint64_t seed) : m_state(seed) {}
+    /// Next 64 random bits.
+    std::uint64_t next();
+    /// Uniform in [0, 1), 53 random bits.
+    double uniform();
+    /// Uniform in [lo, hi).
+    double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+
+private:
+    std::uint64_t m_state;
+};
+
+} // namespace marbles

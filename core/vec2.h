@@ -1,0 +1,42 @@
+#pragma once
+
+#include <cmath>
+
+namespace marbles {
+
+/// A 2-D vector in stage coordinates: px, px/frame or px/frame^2 depending on use.
+/// y grows downwards (screen convention).
+struct Vec2 {
+    double x = 0.0;
+    double y = 0.0;
+
+    friend constexpr bool operator==(const Vec2 &, const Vec2 &) = default;
+};
+
+/// Euclidean length, computed as the book's dist(0, 0, x, y): sqrt(x*x + y*y), no fused multiply-add.
+inline double length(Vec2 u)
+{
+    return std::sqrt(u.x * u.x + u.y * u.y);
+}
+
+/// Distance between two points, as the book's dist(): sqrt((a.x-b.x)^2 + (a.y-b.y)^2).
+inline double distance(Vec2 a, Vec2 b)
+{
+    const double dx = a.x - b.x;
+    const double dy = a.y - b.y;
+    return std::sqrt(dx * dx + dy * dy);
+}
+
+/// Dot product, the book's dotProduct(): (a.x * b.x) + (a.y * b.y).
+inline double dot(Vec2 a, Vec2 b)
+{
+    return a.x * b.x + a.y * b.y;
+}
+
+/// True when both components are finite (neither NaN nor infinite).
+inline bool isFinite(Vec2 u)
+{
+    return std::isfinite(u.x) && std::isfinite(u.y);
+}
+
+} // namespace marbles

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Installs the dependencies, builds Marbles and runs every test:
+#   1. the Qt Test suites (core, CLI and UI on the offscreen platform) in a RelWithDebInfo build;
+#   2. the same suites under AddressSanitizer and UndefinedBehaviorSanitizer;
+#   3. the libFuzzer target for the scene loader, for MARBLES_FUZZ_SECONDS (default 60) seconds.
+# Set MARBLES_SKIP_SANITIZERS=1 or MARBLES_FUZZ_SECONDS=0 to skip a stage while developing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+jobs=${MARBLES_JOBS:-2}
+
+bash tools/install-deps.sh
+
+section() { printf '\n==== %s ====\n' "$*"; }
+
+section "build (RelWithDebInfo)"
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
+cmake --build build -j "$jobs"
+
+section "tests"
+QT_QPA_PLATFORM=offscreen ctest --test-dir build --output-on-failure -j "$jobs"
+
+section "marbles-cli smoke run of the default preset"
+./build/app/marbles-cli run preset:four-marbles --frames 200 --every 50 | tail -n 4
+
+if [ "${MARBLES_SKIP_SANITIZERS:-0}" != "1" ]; then
+    section "tests under AddressSanitizer + UndefinedBehaviorSanitizer"
+    cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DMARBLES_SANITIZE=ON
+    cmake --build build-asan -j "$jobs"
+    ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
+    LSAN_OPTIONS=suppressions=$root/tools/lsan.supp:print_suppressions=0 \
+    UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    QT_QPA_PLATFORM=offscreen ctest --test-dir build-asan --output-on-failure -j "$jobs"
+fi
+
+fuzz_seconds=${MARBLES_FUZZ_SECONDS:-60}
+if [ "$fuzz_seconds" != "0" ]; then
+    section "libFuzzer: scene loader for ${fuzz_seconds}s"
+    CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        -DMARBLES_FUZZ=ON -DMARBLES_BUILD_UI=OFF -DMARBLES_BUILD_TESTS=OFF
+    cmake --build build-fuzz -j "$jobs" --target fuzz_sceneio
+    corpus=$(mktemp -d)
+    cp fuzz/corpus/* "$corpus"/
+    mkdir -p build-fuzz/artifacts
+    ./build-fuzz/fuzz/fuzz_sceneio -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=10 \
+        -artifact_prefix=build-fuzz/artifacts/ -print_final_stats=1 "$corpus" 2>&1 | tail -n 15
+    rm -rf "$corpus"
+fi
+
+section "all tests passed"
