@@ -1,0 +1,364 @@
+#include "ui/parametersdock.h"
+
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QLocale>
+#include <QScrollArea>
+#include <QSignalBlocker>
+#include <QSpinBox>
+#include <QStandardItemModel>
+#include <QVBoxLayout>
+
+#include <algorithm>
+#include <cmath>
+
+namespace marbles {
+
+namespace {
+
+/// A double spin box that keeps many decimals internally but shows only the ones that matter:
+/// 0.01 reads "0.01", 20 reads "20", 0.125 reads "0.125" (up to decimals() digits).
+class AdaptiveSpinBox : public QDoubleSpinBox {
+public:
+    explicit AdaptiveSpinBox(QWidget *parent = nullptr)
+        : QDoubleSpinBox(parent)
+    {
+        setDecimals(6);
+        // valueChanged only on Enter, focus loss, arrows or the wheel: typing "0.25" is one edit,
+        // not three ("0", "0.2", "0.25").
+        setKeyboardTracking(false);
+        setAccelerated(true);
+    }
+
+    QString textFromValue(double value) const override
+    {
+        QLocale loc = locale();
+        loc.setNumberOptions(loc.numberOptions() | QLocale::OmitGroupSeparator);
+        QString text = loc.toString(value, 'f', decimals());
+        const QString point = loc.decimalPoint();
+        if (text.contains(point)) {
+            const QString zero = loc.zeroDigit();
+            while (text.endsWith(zero))
+                text.chop(zero.size());
+            if (text.endsWith(point))
+                text.chop(point.size());
+        }
+        return text;
+    }
+};
+
+/// The text setParam() reads for a number: the shortest decimal that round-trips, C locale.
+QString numberText(double value)
+{
+    return QString::number(value, 'g', QLocale::FloatingPointShortest);
+}
+
+/// Small grey word-wrapped text under a field: the plain-words meaning of the parameter.
+QLabel *explanationLabel(const QString &text, QWidget *parent)
+{
+    auto *label = new QLabel(text, parent);
+    label->setWordWrap(true);
+    QFont font = label->font();
+    font.setPointSizeF(font.pointSizeF() * 0.9);
+    label->setFont(font);
+    label->setForegroundRole(QPalette::PlaceholderText);
+    label->setContentsMargins(0, 0, 0, 6);
+    return label;
+}
+
+constexpr int kModelRole = Qt::UserRole; ///< model box item data: the setParam() value
+
+// Tooltips for fields the current model ignores: they say why the field is disabled.
+const char *const kRestitutionUnused =
+    "Not used by the book model: its collisions share the speed by the chapter's mass ratio instead.";
+const char *const kSubstepsUnused = "Only the impulse model divides a frame into sub-steps.";
+const char *const kShortCircuitUnused = "Only the book model can stop testing a marble after its first hit.";
+
+} // namespace
+
+ParametersDock::ParametersDock(QWidget *parent)
+    : QDockWidget(tr("Parameters"), parent)
+{
+    setObjectName(QStringLiteral("parametersDock"));
+    buildUi();
+    setParams(Params{});
+}
+
+void ParametersDock::buildUi()
+{
+    auto *page = new QWidget;
+    auto *form = new QFormLayout(page);
+    form->setFieldGrowthPolicy(QFormLayout::AllNonFixedFieldsGrow);
+    form->setRowWrapPolicy(QFormLayout::DontWrapRows);
+    form->setVerticalSpacing(2);
+
+    // One row: label, field (formula in the tooltip of both), then the explanation under it.
+    auto addField = [&](const QString &label, QWidget *field, const QString &formula, const QString &explanation) {
+        field->setToolTip(formula);
+        auto *labelWidget = new QLabel(label, page);
+        labelWidget->setBuddy(field);
+        labelWidget->setToolTip(formula);
+        form->addRow(labelWidget, field);
+        auto *help = explanationLabel(explanation, page);
+        help->setObjectName(field->objectName() + QStringLiteral("Help"));
+        form->addRow(help);
+    };
+    auto makeSpin = [&](const char *name, double min, double max, double step, const QString &suffix) {
+        auto *spin = new AdaptiveSpinBox(page);
+        spin->setObjectName(QString::fromLatin1(name));
+        spin->setRange(min, max);
+        spin->setSingleStep(step);
+        spin->setSuffix(suffix);
+        return spin;
+    };
+
+    // The chapter's constants first, in the order the chapter introduces them.
+    m_massScale = makeSpin("massScaleEdit", 0.000001, 1000.0, 0.05, tr(" per px"));
+    addField(tr("&Mass scale"), m_massScale, tr("m = massScale \u00d7 r"),
+             tr("Mass per pixel of radius: bigger marbles are heavier."));
+
+    m_friction = makeSpin("frictionEdit", 0.0, kBookFrictionMax, 0.01, QString());
+    addField(tr("&Friction"), m_friction, tr("a += \u2212v \u00d7 k"),
+             tr("Fraction of its speed a marble loses to air each frame."));
+    m_frictionWarning = new QLabel(page);
+    m_frictionWarning->setObjectName(QStringLiteral("frictionWarning"));
+    m_frictionWarning->setWordWrap(true);
+    m_frictionWarning->setTextFormat(Qt::PlainText);
+    m_frictionWarning->setContentsMargins(0, 0, 0, 6);
+    form->addRow(m_frictionWarning);
+
+    m_zeroThreshold = makeSpin("zeroThresholdEdit", 0.0, 1000.0, 0.005, tr(" px/frame"));
+    addField(tr("&Zero threshold"), m_zeroThreshold,
+             tr("if \u2212Z \u2264 v.x \u2264 Z then v.x = 0 (the same for v.y)"),
+             tr("Slower than this, a marble's speed snaps to exactly zero, so it comes to rest."));
+
+    m_pushScale = makeSpin("pushScaleEdit", 0.0, 1000000.0, 1.0, QString());
+    addField(tr("&Push scale"), m_pushScale, tr("a += (p \u2212 click) \u00d7 pushScale / m"),
+             tr("How hard a click pushes; clicking further from the centre pushes harder."));
+
+    m_frameMs = makeSpin("frameMsEdit", 0.1, 10000.0, 1.0, tr(" ms"));
+    addField(tr("F&rame interval"), m_frameMs, tr("one frame lasts frameMs ms of real time; the physics counts frames"),
+             tr("Real time between two frames: changes how fast the run plays, not its physics."));
+
+    // The models and what only they use.
+    m_model = new QComboBox(page);
+    m_model->setObjectName(QStringLiteral("modelEdit"));
+    m_model->addItem(tr("Book (the chapter's code)"), QStringLiteral("book"));
+    m_model->addItem(tr("Impulse (what games do)"), QStringLiteral("impulse"));
+    m_model->addItem(tr("Exact (the reference)"), QStringLiteral("exact"));
+    addField(tr("M&odel"), m_model,
+             tr("book: the chapter, step by step, flaws included\n"
+                "impulse: sub-steps with momentum-conserving impulses\n"
+                "exact: continuous time, collisions at their exact moment"),
+             tr("Which physics moves the marbles: the book's, a game engine's, or the exact one."));
+
+    m_restitution = makeSpin("restitutionEdit", 0.0, 1.0, 0.05, QString());
+    addField(tr("&Restitution"), m_restitution, tr("v\u2099' = \u2212e \u00d7 v\u2099 (normal speed after a hit)"),
+             tr("Bounciness: 1 keeps all the speed along the hit, 0 stops it."));
+
+    auto *gravity = new QWidget(page);
+    gravity->setObjectName(QStringLiteral("gravityEdit"));
+    auto *gravityRow = new QHBoxLayout(gravity);
+    gravityRow->setContentsMargins(0, 0, 0, 0);
+    m_gravityX = makeSpin("gravityXEdit", -1000.0, 1000.0, 0.05, QString());
+    m_gravityY = makeSpin("gravityYEdit", -1000.0, 1000.0, 0.05, QString());
+    m_gravityX->setPrefix(QStringLiteral("x "));
+    m_gravityY->setPrefix(QStringLiteral("y "));
+    gravityRow->addWidget(m_gravityX);
+    gravityRow->addWidget(m_gravityY);
+    gravity->setFocusProxy(m_gravityX);
+    const QString gravityFormula = tr("a += g (px/frame\u00b2) every frame");
+    m_gravityX->setToolTip(gravityFormula);
+    m_gravityY->setToolTip(gravityFormula);
+    addField(tr("&Gravity"), gravity, gravityFormula,
+             tr("A steady pull on every marble, in px/frame\u00b2; y points down the screen."));
+
+    m_substeps = new QSpinBox(page);
+    m_substeps->setObjectName(QStringLiteral("substepsEdit"));
+    m_substeps->setRange(1, 1000);
+    m_substeps->setKeyboardTracking(false);
+    m_substeps->setAccelerated(true);
+    addField(tr("&Substeps"), m_substeps, tr("h = 1 / substeps frame"),
+             tr("Smaller steps inside each frame: more accurate, but slower."));
+
+    m_shortCircuit = new QCheckBox(tr("Stop at the first hit"), page);
+    m_shortCircuit->setObjectName(QStringLiteral("shortCircuitEdit"));
+    addField(tr("S&hort circuit"), m_shortCircuit, tr("after a marble's first hit, skip its remaining tests this frame"),
+             tr("The book's shortcut: a marble checks no more walls, pins or marbles once it hits one."));
+
+    // Remember each field's own tooltip: a disabled field shows why instead, and gets it back.
+    for (QWidget *w : {static_cast<QWidget *>(m_restitution), static_cast<QWidget *>(m_substeps),
+                       static_cast<QWidget *>(m_shortCircuit)})
+        w->setProperty("formulaToolTip", w->toolTip());
+
+    auto *scroll = new QScrollArea(this);
+    scroll->setWidgetResizable(true);
+    scroll->setFrameShape(QFrame::NoFrame);
+    scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+    scroll->setWidget(page);
+    setWidget(scroll);
+
+    connect(m_massScale, &QDoubleSpinBox::valueChanged, this,
+            [this](double v) { onDoubleEdited(QStringLiteral("massScale"), v); });
+    connect(m_friction, &QDoubleSpinBox::valueChanged, this,
+            [this](double v) { onDoubleEdited(QStringLiteral("friction"), v); });
+    connect(m_zeroThreshold, &QDoubleSpinBox::valueChanged, this,
+            [this](double v) { onDoubleEdited(QStringLiteral("zeroThreshold"), v); });
+    connect(m_pushScale, &QDoubleSpinBox::valueChanged, this,
+            [this](double v) { onDoubleEdited(QStringLiteral("pushScale"), v); });
+    connect(m_frameMs, &QDoubleSpinBox::valueChanged, this,
+            [this](double v) { onDoubleEdited(QStringLiteral("frameMs"), v); });
+    connect(m_restitution, &QDoubleSpinBox::valueChanged, this,
+            [this](double v) { onDoubleEdited(QStringLiteral("restitution"), v); });
+    connect(m_gravityX, &QDoubleSpinBox::valueChanged, this, &ParametersDock::onGravityEdited);
+    connect(m_gravityY, &QDoubleSpinBox::valueChanged, this, &ParametersDock::onGravityEdited);
+    connect(m_substeps, &QSpinBox::valueChanged, this,
+            [this](int v) { emit paramEdited(QStringLiteral("substeps"), QString::number(v)); });
+    connect(m_shortCircuit, &QCheckBox::toggled, this, [this](bool on) {
+        emit paramEdited(QStringLiteral("shortCircuit"), on ? QStringLiteral("true") : QStringLiteral("false"));
+    });
+    connect(m_model, &QComboBox::activated, this, &ParametersDock::onModelActivated);
+}
+
+void ParametersDock::setParams(const Params &params)
+{
+    const QSignalBlocker b1(m_massScale), b2(m_friction), b3(m_zeroThreshold), b4(m_pushScale), b5(m_frameMs),
+        b6(m_model), b7(m_restitution), b8(m_gravityX), b9(m_gravityY), b10(m_substeps), b11(m_shortCircuit);
+
+    m_model->setCurrentIndex(m_model->findData(QString::fromLatin1(modelName(params.model))));
+    m_currentModel = params.model;
+    // The friction range depends on the model: set it before the value so the value is not clamped.
+    updateForModel(params.model);
+    // A scene may hold a book friction above the field's usual maximum: widen it rather than show a wrong value.
+    if (params.model == ModelKind::Book && params.friction > m_friction->maximum())
+        m_friction->setMaximum(params.friction);
+
+    m_massScale->setValue(params.massScale);
+    m_friction->setValue(params.friction);
+    m_zeroThreshold->setValue(params.zeroThreshold);
+    m_pushScale->setValue(params.pushScale);
+    m_frameMs->setValue(params.frameMs);
+    m_restitution->setValue(params.restitution);
+    m_gravityX->setValue(params.gravity.x);
+    m_gravityY->setValue(params.gravity.y);
+    m_substeps->setValue(params.substeps);
+    m_shortCircuit->setChecked(params.shortCircuit);
+
+    updateFrictionWarning();
+    updateModelChoices();
+}
+
+Params ParametersDock::shownParams() const
+{
+    Params p;
+    p.model = shownModel();
+    p.massScale = m_massScale->value();
+    p.friction = m_friction->value();
+    p.zeroThreshold = m_zeroThreshold->value();
+    p.pushScale = m_pushScale->value();
+    p.frameMs = m_frameMs->value();
+    p.restitution = m_restitution->value();
+    p.gravity = {m_gravityX->value(), m_gravityY->value()};
+    p.substeps = m_substeps->value();
+    p.shortCircuit = m_shortCircuit->isChecked();
+    return p;
+}
+
+ModelKind ParametersDock::shownModel() const
+{
+    ModelKind kind = ModelKind::Book;
+    parseModelName(m_model->currentData(kModelRole).toString().toStdString(), kind);
+    return kind;
+}
+
+void ParametersDock::updateForModel(ModelKind model)
+{
+    const bool book = model == ModelKind::Book;
+    const bool impulse = model == ModelKind::Impulse;
+
+    {
+        // The friction cap changes with the model: the exact and impulse models need k < 1
+        // (their drag factor is (1 - k) per frame, raised to fractional powers).
+        const QSignalBlocker block(m_friction);
+        m_friction->setMaximum(book ? std::max(kBookFrictionMax, m_friction->value()) : kDampedFrictionMax);
+    }
+
+    auto enable = [](QWidget *w, bool on, const char *why) {
+        w->setEnabled(on);
+        w->setToolTip(on ? w->property("formulaToolTip").toString() : tr(why));
+    };
+    enable(m_restitution, !book, kRestitutionUnused);
+    enable(m_substeps, impulse, kSubstepsUnused);
+    enable(m_shortCircuit, book, kShortCircuitUnused);
+    updateFrictionWarning();
+}
+
+void ParametersDock::updateFrictionWarning()
+{
+    // The book's update is v' = v + (-v k) = (1 - k) v each frame. For 1 < k <= 2 the factor
+    // (1 - k) lies in [-1, 0): the velocity reverses every frame while it shrinks (or, at k = 2,
+    // keeps its size). For k > 2, |1 - k| > 1: each frame multiplies the speed, so it grows
+    // without bound. The exact and impulse models refuse k >= 1, so only the book can show this.
+    const double k = m_friction->value();
+    QString text;
+    QColor colour;
+    if (shownModel() == ModelKind::Book && k > 2.0) {
+        text = tr("\u26a0 The book's update is unstable: speeds grow without bound (|1 \u2212 k| > 1).");
+        colour = QColor(0xc6, 0x28, 0x28);
+    } else if (shownModel() == ModelKind::Book && k > 1.0) {
+        text = tr("\u26a0 Velocity flips sign every frame (1 \u2212 k < 0).");
+        colour = QColor(0xb3, 0x5c, 0x00);
+    }
+    m_frictionWarning->setText(text);
+    m_frictionWarning->setStyleSheet(
+        text.isEmpty() ? QString() : QStringLiteral("QLabel { color: %1; font-weight: bold; }").arg(colour.name()));
+    m_frictionWarning->setVisible(!text.isEmpty());
+}
+
+void ParametersDock::updateModelChoices()
+{
+    // The exact and impulse models need friction < 1: while it is higher, they cannot be chosen.
+    auto *items = qobject_cast<QStandardItemModel *>(m_model->model());
+    if (!items)
+        return;
+    const bool damped = m_friction->value() < 1.0;
+    for (int row = 0; row < items->rowCount(); ++row) {
+        QStandardItem *item = items->item(row);
+        if (item->data(kModelRole).toString() == QLatin1String("book"))
+            continue;
+        item->setEnabled(damped);
+        item->setToolTip(damped ? QString() : tr("Needs friction below 1: lower the friction first."));
+    }
+}
+
+void ParametersDock::onDoubleEdited(const QString &key, double value)
+{
+    if (key == QLatin1String("friction")) {
+        updateFrictionWarning();
+        updateModelChoices();
+    }
+    emit paramEdited(key, numberText(value));
+}
+
+void ParametersDock::onGravityEdited()
+{
+    emit paramEdited(QStringLiteral("gravity"),
+                     numberText(m_gravityX->value()) + QLatin1Char(',') + numberText(m_gravityY->value()));
+}
+
+void ParametersDock::onModelActivated(int index)
+{
+    const QString key = m_model->itemData(index, kModelRole).toString();
+    ModelKind kind = ModelKind::Book;
+    if (!parseModelName(key.toStdString(), kind) || kind == m_currentModel)
+        return;
+    m_currentModel = kind;
+    updateForModel(kind);
+    emit paramEdited(QStringLiteral("model"), key);
+}
+
+} // namespace marbles

@@ -1,0 +1,71 @@
+#pragma once
+
+#include "core/world.h"
+
+#include <QDockWidget>
+#include <QString>
+
+class QCheckBox;
+class QComboBox;
+class QDoubleSpinBox;
+class QLabel;
+class QSpinBox;
+
+namespace marbles {
+
+/// The Parameters dock: one field per scene parameter, each with its formula in a tooltip and
+/// a one-line explanation for a teacher. Edits apply at once (no Apply button): every user
+/// change is announced with paramEdited(), which the main window turns into an undo command.
+/// Values the model would refuse cannot be entered (ranges follow PHYSICS.md and the model).
+class ParametersDock : public QDockWidget {
+    Q_OBJECT
+
+public:
+    /// Largest friction the book model's field accepts (> 2 shows the book's instability).
+    static constexpr double kBookFrictionMax = 3.0;
+    /// Largest friction the exact and impulse models accept: k must stay below 1.
+    static constexpr double kDampedFrictionMax = 0.999999;
+
+    /// The dock, objectName "parametersDock", showing the default parameters.
+    explicit ParametersDock(QWidget *parent = nullptr);
+
+    /// Shows `params` in every field; emits no paramEdited().
+    void setParams(const Params &params);
+    /// The values the fields show now (what the user sees), as Params.
+    Params shownParams() const;
+
+signals:
+    /// The user changed one field: `key` and `value` are what marbles::setParam() takes
+    /// (e.g. "friction", "0.2"; "gravity", "0,0.5"; "shortCircuit", "true").
+    void paramEdited(const QString &key, const QString &value);
+
+private:
+    void buildUi();
+    /// Enables the fields the model uses, sets the friction range and the warning.
+    void updateForModel(ModelKind model);
+    /// Shows the book model's friction warnings for 1 < k <= 2 and k > 2.
+    void updateFrictionWarning();
+    /// Disables the exact and impulse entries of the model box while friction >= 1.
+    void updateModelChoices();
+    ModelKind shownModel() const;
+
+    void onDoubleEdited(const QString &key, double value);
+    void onGravityEdited();
+    void onModelActivated(int index);
+
+    QDoubleSpinBox *m_massScale = nullptr;
+    QDoubleSpinBox *m_friction = nullptr;
+    QLabel *m_frictionWarning = nullptr;
+    QDoubleSpinBox *m_zeroThreshold = nullptr;
+    QDoubleSpinBox *m_pushScale = nullptr;
+    QDoubleSpinBox *m_frameMs = nullptr;
+    QComboBox *m_model = nullptr;
+    QDoubleSpinBox *m_restitution = nullptr;
+    QDoubleSpinBox *m_gravityX = nullptr;
+    QDoubleSpinBox *m_gravityY = nullptr;
+    QSpinBox *m_substeps = nullptr;
+    QCheckBox *m_shortCircuit = nullptr;
+    ModelKind m_currentModel = ModelKind::Book; ///< the model shown before the user's last choice
+};
+
+} // namespace marbles

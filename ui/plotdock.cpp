@@ -1,0 +1,634 @@
+#include "ui/plotdock.h"
+
+#include <QChart>
+#include <QChartView>
+#include <QCheckBox>
+#include <QCursor>
+#include <QFileDialog>
+#include <QGraphicsLayout>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QLegendMarker>
+#include <QLineSeries>
+#include <QMessageBox>
+#include <QPixmap>
+#include <QPushButton>
+#include <QRadioButton>
+#include <QSaveFile>
+#include <QTimer>
+#include <QToolTip>
+#include <QValueAxis>
+#include <QVBoxLayout>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace marbles {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// Above this many samples a line is thinned before it reaches the chart: each bucket of
+/// samples becomes its lowest and its highest point, so spikes (collisions) stay visible.
+constexpr qsizetype kMaxPointsPerLine = 2000;
+
+/// Marbles without a colour of their own are drawn blue on the stage; their lines use shades
+/// of blue, different enough to tell apart.
+QColor defaultMarbleColor(int marble)
+{
+    static const QColor shades[] = {
+        QColor(0x1f, 0x63, 0xc6), QColor(0x4f, 0xa3, 0xe8), QColor(0x13, 0x2f, 0x7a), QColor(0x2b, 0xb5, 0xc9),
+        QColor(0x6a, 0x5a, 0xd6), QColor(0x8c, 0xbc, 0xf0), QColor(0x0d, 0x6e, 0x8f), QColor(0x3d, 0x4f, 0xa8),
+    };
+    constexpr int count = sizeof(shades) / sizeof(shades[0]);
+    return shades[marble % count];
+}
+
+/// The shortest decimal text that reads back as the same double ("" for NaN: no sample).
+QString csvNumber(double value)
+{
+    if (std::isnan(value))
+        return QString();
+    return QString::number(value, 'g', QLocale::FloatingPointShortest);
+}
+
+/// Appends the finite points (x(i), y(i)), i in [0, n), thinned to about kMaxPointsPerLine:
+/// within each bucket the lowest and the highest point are kept, in sample order.
+/// Widens [yMin, yMax] to cover what was appended.
+template<typename XFn, typename YFn>
+void appendThinned(QList<QPointF> &out, qsizetype n, XFn x, YFn y, double &yMin, double &yMax)
+{
+    const qsizetype bucket = n <= kMaxPointsPerLine ? 1 : (2 * n + kMaxPointsPerLine - 1) / kMaxPointsPerLine;
+    out.reserve(bucket == 1 ? n : 2 * (n / bucket + 1));
+    for (qsizetype start = 0; start < n; start += bucket) {
+        const qsizetype end = std::min(n, start + bucket);
+        qsizetype lo = -1;
+        qsizetype hi = -1;
+        for (qsizetype i = start; i < end; ++i) {
+            const double v = y(i);
+            if (!std::isfinite(v))
+                continue;
+            if (lo < 0 || v < y(lo))
+                lo = i;
+            if (hi < 0 || v > y(hi))
+                hi = i;
+        }
+        if (lo < 0)
+            continue;
+        yMin = std::min(yMin, y(lo));
+        yMax = std::max(yMax, y(hi));
+        const qsizetype first = std::min(lo, hi);
+        const qsizetype second = std::max(lo, hi);
+        out.append(QPointF(x(first), y(first)));
+        if (second != first)
+            out.append(QPointF(x(second), y(second)));
+    }
+}
+
+/// A range a little wider than [lo, hi], never empty, with readable tick values.
+void setNiceRange(QValueAxis *axis, double lo, double hi)
+{
+    if (!(lo <= hi)) {
+        lo = 0.0;
+        hi = 1.0;
+    }
+    if (hi - lo < 1e-12) {
+        const double pad = std::max(std::abs(hi) * 0.1, 1.0);
+        lo -= lo == 0.0 ? 0.0 : pad;
+        hi += pad;
+    }
+    axis->setRange(lo, hi);
+    axis->applyNiceNumbers();
+}
+
+} // namespace
+
+PlotDock::PlotDock(QWidget *parent)
+    : QDockWidget(tr("Plot"), parent)
+    , m_frames(kDefaultCapacity)
+    , m_kinetic(kDefaultCapacity)
+    , m_momentum(kDefaultCapacity)
+{
+    setObjectName(QStringLiteral("plotDock"));
+
+    auto *page = new QWidget(this);
+    auto *column = new QVBoxLayout(page);
+    column->setContentsMargins(4, 4, 4, 4);
+    column->setSpacing(4);
+
+    auto *controls = new QHBoxLayout;
+    m_frameAxis = new QRadioButton(tr("&Frames"), page);
+    m_frameAxis->setObjectName(QStringLiteral("frameAxisButton"));
+    m_frameAxis->setToolTip(tr("Horizontal axis in frames, the physics' own unit of time"));
+    m_secondAxis = new QRadioButton(tr("Se&conds"), page);
+    m_secondAxis->setObjectName(QStringLiteral("secondAxisButton"));
+    m_secondAxis->setToolTip(tr("Horizontal axis in seconds: t = frame \u00d7 frameMs / 1000"));
+    m_frameAxis->setChecked(true);
+    m_showKinetic = new QCheckBox(tr("&Kinetic energy"), page);
+    m_showKinetic->setObjectName(QStringLiteral("kineticCheck"));
+    m_showKinetic->setToolTip(tr("Total kinetic energy, \u03a3 m v\u00b2 / 2 (right-hand axis)"));
+    m_showMomentum = new QCheckBox(tr("&Momentum"), page);
+    m_showMomentum->setObjectName(QStringLiteral("momentumCheck"));
+    m_showMomentum->setToolTip(tr("Size of the total momentum, |\u03a3 m v| (right-hand axis)"));
+    auto *csvButton = new QPushButton(tr("CSV\u2026"), page);
+    csvButton->setObjectName(QStringLiteral("exportCsvButton"));
+    csvButton->setToolTip(tr("Export the samples as CSV: frame, time, each marble's speed, kinetic energy, momentum"));
+    auto *pngButton = new QPushButton(tr("PNG\u2026"), page);
+    pngButton->setObjectName(QStringLiteral("exportPngButton"));
+    pngButton->setToolTip(tr("Save the chart as a PNG image"));
+    controls->addWidget(m_frameAxis);
+    controls->addWidget(m_secondAxis);
+    controls->addSpacing(8);
+    controls->addWidget(m_showKinetic);
+    controls->addWidget(m_showMomentum);
+    controls->addStretch(1);
+    controls->addWidget(csvButton);
+    controls->addWidget(pngButton);
+    column->addLayout(controls);
+
+    m_chart = new QChart;
+    m_chart->setAnimationOptions(QChart::NoAnimation);
+    m_chart->legend()->setAlignment(Qt::AlignBottom);
+    m_chart->setMargins(QMargins(2, 2, 2, 2));
+    m_chart->layout()->setContentsMargins(0, 0, 0, 0);
+    m_chart->setBackgroundRoundness(0);
+
+    m_axisX = new QValueAxis(m_chart);
+    m_axisX->setLabelFormat(QStringLiteral("%g"));
+    m_axisSpeed = new QValueAxis(m_chart);
+    m_axisSpeed->setLabelFormat(QStringLiteral("%g"));
+    m_axisSpeed->setTitleText(tr("speed (px/frame)"));
+    m_axisTotals = new QValueAxis(m_chart);
+    m_axisTotals->setLabelFormat(QStringLiteral("%g"));
+    m_axisTotals->setTitleText(tr("energy, momentum"));
+    m_axisTotals->setVisible(false);
+    m_chart->addAxis(m_axisX, Qt::AlignBottom);
+    m_chart->addAxis(m_axisSpeed, Qt::AlignLeft);
+    m_chart->addAxis(m_axisTotals, Qt::AlignRight);
+
+    auto addTotalSeries = [this](const QString &name, QColor colour, Qt::PenStyle style) {
+        auto *series = new QLineSeries;
+        series->setName(name);
+        QPen pen(colour, 2.0, style);
+        series->setPen(pen);
+        m_chart->addSeries(series);
+        series->attachAxis(m_axisX);
+        series->attachAxis(m_axisTotals);
+        series->setVisible(false);
+        const auto markers = m_chart->legend()->markers(series);
+        for (QLegendMarker *marker : markers)
+            marker->setVisible(false);
+        connect(series, &QLineSeries::hovered, this,
+                [this, series](const QPointF &point, bool state) { onHovered(series, point, state); });
+        return series;
+    };
+    m_kineticSeries = addTotalSeries(tr("kinetic energy"), QColor(0x33, 0x33, 0x33), Qt::DashLine);
+    m_momentumSeries = addTotalSeries(tr("|momentum|"), QColor(0xc0, 0x5a, 0x00), Qt::DashDotLine);
+
+    m_chartView = new QChartView(m_chart, page);
+    m_chartView->setObjectName(QStringLiteral("plotChartView"));
+    m_chartView->setRenderHint(QPainter::Antialiasing);
+    m_chartView->setMinimumSize(240, 220);
+    column->addWidget(m_chartView, 1);
+
+    m_hoverLabel = new QLabel(page);
+    m_hoverLabel->setObjectName(QStringLiteral("hoverLabel"));
+    m_hoverLabel->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    m_capNote = new QLabel(page);
+    m_capNote->setObjectName(QStringLiteral("capNote"));
+    m_capNote->setForegroundRole(QPalette::PlaceholderText);
+    auto *footer = new QHBoxLayout;
+    footer->addWidget(m_hoverLabel, 1);
+    footer->addWidget(m_capNote);
+    column->addLayout(footer);
+    setWidget(page);
+
+    updateAxisTitles();
+
+    m_refreshTimer = new QTimer(this);
+    m_refreshTimer->setInterval(kRefreshIntervalMs);
+    connect(m_refreshTimer, &QTimer::timeout, this, [this] {
+        // Only when something changed, and only while someone can see it.
+        if (m_dirty && isVisible())
+            refreshChart();
+    });
+    m_refreshTimer->start();
+
+    connect(m_showKinetic, &QCheckBox::toggled, this, &PlotDock::setKineticEnergyShown);
+    connect(m_showMomentum, &QCheckBox::toggled, this, &PlotDock::setMomentumShown);
+    connect(m_secondAxis, &QRadioButton::toggled, this, &PlotDock::setTimeInSeconds);
+    connect(csvButton, &QPushButton::clicked, this, &PlotDock::exportCsvInteractive);
+    connect(pngButton, &QPushButton::clicked, this, &PlotDock::exportPngInteractive);
+}
+
+void PlotDock::reset(const World &world)
+{
+    m_frames.clear();
+    m_kinetic.clear();
+    m_momentum.clear();
+    for (Track &t : m_tracks)
+        t.speed.clear();
+
+    m_marbleCount = world.marbleCount();
+    m_colors.assign(world.info.size(), QString());
+    m_names.assign(world.info.size(), QString());
+    for (std::size_t i = 0; i < world.info.size(); ++i) {
+        m_colors[i] = QString::fromStdString(world.info[i].color);
+        m_names[i] = QString::fromStdString(world.info[i].name);
+    }
+    m_frameMs = world.params.frameMs;
+    rebuildTracks();
+    m_hoverLabel->clear();
+    m_dirty = true;
+}
+
+void PlotDock::appendFrame(const World &world)
+{
+    if (world.marbleCount() != m_marbleCount) {
+        // Marbles were added or removed without a reset(): follow the new count; the colours and
+        // names of new marbles come from the world (a rare, structural event: O(marbles) is fine).
+        m_marbleCount = world.marbleCount();
+        m_colors.resize(world.info.size());
+        m_names.resize(world.info.size());
+        for (std::size_t i = 0; i < world.info.size(); ++i) {
+            m_colors[i] = QString::fromStdString(world.info[i].color);
+            m_names[i] = QString::fromStdString(world.info[i].name);
+        }
+        rebuildTracks();
+    }
+    m_frameMs = world.params.frameMs;
+    m_frames.push(world.frame);
+    m_kinetic.push(world.kineticEnergy());
+    m_momentum.push(length(world.momentum()));
+    for (Track &t : m_tracks) {
+        const auto i = static_cast<std::size_t>(t.marble);
+        t.speed.push(i < world.velocity.size() ? length(world.velocity[i]) : kNaN);
+    }
+    m_dirty = true;
+}
+
+void PlotDock::setSelectedMarbles(const QList<int> &indices)
+{
+    QList<int> unique;
+    for (int i : indices) {
+        if (i >= 0 && !unique.contains(i))
+            unique.append(i);
+    }
+    if (unique == m_selected)
+        return;
+    m_selected = unique;
+    rebuildTracks();
+    m_dirty = true;
+}
+
+qsizetype PlotDock::sampleCount() const
+{
+    return static_cast<qsizetype>(m_frames.size());
+}
+
+qsizetype PlotDock::capacity() const
+{
+    return static_cast<qsizetype>(m_capacity);
+}
+
+void PlotDock::setCapacity(qsizetype samples)
+{
+    m_capacity = static_cast<std::size_t>(std::max<qsizetype>(samples, 1));
+    m_frames.setCapacity(m_capacity);
+    m_kinetic.setCapacity(m_capacity);
+    m_momentum.setCapacity(m_capacity);
+    for (Track &t : m_tracks)
+        t.speed.setCapacity(m_capacity);
+    m_dirty = true;
+}
+
+QList<int> PlotDock::plottedMarbles() const
+{
+    QList<int> out;
+    for (const Track &t : m_tracks)
+        out.append(t.marble);
+    return out;
+}
+
+std::int64_t PlotDock::sampleFrame(qsizetype i) const
+{
+    return m_frames.at(static_cast<std::size_t>(i));
+}
+
+double PlotDock::sampleSpeed(qsizetype i, int marble) const
+{
+    const Track *t = trackOf(marble);
+    return t ? t->speed.at(static_cast<std::size_t>(i)) : kNaN;
+}
+
+double PlotDock::sampleKineticEnergy(qsizetype i) const
+{
+    return m_kinetic.at(static_cast<std::size_t>(i));
+}
+
+double PlotDock::sampleMomentum(qsizetype i) const
+{
+    return m_momentum.at(static_cast<std::size_t>(i));
+}
+
+double PlotDock::secondsAt(std::int64_t frame) const
+{
+    return static_cast<double>(frame) * m_frameMs / 1000.0;
+}
+
+void PlotDock::setKineticEnergyShown(bool shown)
+{
+    if (m_showKinetic->isChecked() != shown)
+        m_showKinetic->setChecked(shown); // comes back here through toggled()
+    m_kineticSeries->setVisible(shown);
+    for (QLegendMarker *marker : m_chart->legend()->markers(m_kineticSeries))
+        marker->setVisible(shown);
+    m_axisTotals->setVisible(m_showKinetic->isChecked() || m_showMomentum->isChecked());
+    m_dirty = true;
+}
+
+void PlotDock::setMomentumShown(bool shown)
+{
+    if (m_showMomentum->isChecked() != shown)
+        m_showMomentum->setChecked(shown);
+    m_momentumSeries->setVisible(shown);
+    for (QLegendMarker *marker : m_chart->legend()->markers(m_momentumSeries))
+        marker->setVisible(shown);
+    m_axisTotals->setVisible(m_showKinetic->isChecked() || m_showMomentum->isChecked());
+    m_dirty = true;
+}
+
+void PlotDock::setTimeInSeconds(bool seconds)
+{
+    if (m_secondAxis->isChecked() != seconds)
+        (seconds ? m_secondAxis : m_frameAxis)->setChecked(true);
+    m_timeInSeconds = seconds;
+    updateAxisTitles();
+    m_dirty = true;
+}
+
+bool PlotDock::isTimeInSeconds() const
+{
+    return m_timeInSeconds;
+}
+
+void PlotDock::refreshChart()
+{
+    const auto n = static_cast<qsizetype>(m_frames.size());
+    auto x = [this](qsizetype i) { return xOf(m_frames.at(static_cast<std::size_t>(i))); };
+
+    double speedMin = std::numeric_limits<double>::infinity();
+    double speedMax = -std::numeric_limits<double>::infinity();
+    for (Track &t : m_tracks) {
+        QList<QPointF> points;
+        appendThinned(
+            points, n, x, [&t](qsizetype i) { return t.speed.at(static_cast<std::size_t>(i)); }, speedMin, speedMax);
+        t.series->replace(points);
+    }
+
+    double totalMin = std::numeric_limits<double>::infinity();
+    double totalMax = -std::numeric_limits<double>::infinity();
+    auto refreshTotal = [&](QLineSeries *series, const RingBuffer<double> &values, bool shown) {
+        QList<QPointF> points;
+        if (shown) {
+            appendThinned(
+                points, n, x, [&values](qsizetype i) { return values.at(static_cast<std::size_t>(i)); }, totalMin,
+                totalMax);
+        }
+        series->replace(points);
+    };
+    refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked());
+    refreshTotal(m_momentumSeries, m_momentum, m_showMomentum->isChecked());
+
+    // Speeds and the totals are never negative: both axes start at zero.
+    if (n > 0)
+        setNiceRange(m_axisX, x(0), x(n - 1));
+    else
+        setNiceRange(m_axisX, 0.0, xOf(100));
+    setNiceRange(m_axisSpeed, 0.0, std::isfinite(speedMax) ? std::max(speedMax, 0.0) : 1.0);
+    setNiceRange(m_axisTotals, 0.0, std::isfinite(totalMax) ? std::max(totalMax, 0.0) : 1.0);
+    m_dirty = false;
+}
+
+QChartView *PlotDock::chartView() const
+{
+    return m_chartView;
+}
+
+QLineSeries *PlotDock::speedSeries(int marble) const
+{
+    const Track *t = trackOf(marble);
+    return t ? t->series : nullptr;
+}
+
+QString PlotDock::describePoint(const QLineSeries *series, QPointF point) const
+{
+    if (m_frames.isEmpty())
+        return QString();
+    // The sample whose frame is nearest to the hovered x: frames grow along the buffer.
+    const double frame = m_timeInSeconds && m_frameMs > 0.0 ? point.x() * 1000.0 / m_frameMs : point.x();
+    std::size_t lo = 0;
+    std::size_t hi = m_frames.size() - 1;
+    while (lo < hi) {
+        const std::size_t mid = lo + (hi - lo) / 2;
+        if (static_cast<double>(m_frames.at(mid)) < frame)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    if (lo > 0 && std::abs(static_cast<double>(m_frames.at(lo - 1)) - frame) <=
+                      std::abs(static_cast<double>(m_frames.at(lo)) - frame))
+        --lo;
+
+    const std::int64_t f = m_frames.at(lo);
+    const QString when = tr("frame %1 (%2 s)").arg(f).arg(QString::number(secondsAt(f), 'g', 6));
+    if (series == m_kineticSeries)
+        return tr("%1: kinetic energy %2").arg(when, QString::number(m_kinetic.at(lo), 'g', 6));
+    if (series == m_momentumSeries)
+        return tr("%1: |momentum| %2").arg(when, QString::number(m_momentum.at(lo), 'g', 6));
+    for (const Track &t : m_tracks) {
+        if (t.series == series)
+            return tr("%1: %2, speed %3 px/frame")
+                .arg(when, marbleLabel(t.marble), QString::number(t.speed.at(lo), 'g', 6));
+    }
+    return QString();
+}
+
+QString PlotDock::hoverText() const
+{
+    return m_hoverLabel->text();
+}
+
+QString PlotDock::exportCsv(const QString &path) const
+{
+    QSaveFile file(path);
+    if (!file.open(QIODevice::WriteOnly | QIODevice::Text))
+        return tr("%1: %2").arg(path, file.errorString());
+
+    QByteArray text = "frame,time_s";
+    for (const Track &t : m_tracks)
+        text += ",speed_" + QByteArray::number(t.marble);
+    text += ",kinetic,momentum\n";
+    for (std::size_t i = 0; i < m_frames.size(); ++i) {
+        const std::int64_t f = m_frames.at(i);
+        QString row = QString::number(f) + QLatin1Char(',') + csvNumber(secondsAt(f));
+        for (const Track &t : m_tracks)
+            row += QLatin1Char(',') + csvNumber(t.speed.at(i));
+        row += QLatin1Char(',') + csvNumber(m_kinetic.at(i)) + QLatin1Char(',') + csvNumber(m_momentum.at(i));
+        text += row.toLatin1() + '\n';
+    }
+    if (file.write(text) != text.size() || !file.commit())
+        return tr("%1: %2").arg(path, file.errorString());
+    return QString();
+}
+
+QString PlotDock::exportPng(const QString &path)
+{
+    if (m_dirty)
+        refreshChart();
+    const QPixmap image = m_chartView->grab();
+    if (image.isNull())
+        return tr("%1: the chart could not be drawn").arg(path);
+    if (!image.save(path, "PNG"))
+        return tr("%1: could not be written as PNG").arg(path);
+    return QString();
+}
+
+void PlotDock::rebuildTracks()
+{
+    const QList<int> wanted = wantedMarbles();
+    std::vector<Track> tracks;
+    tracks.reserve(static_cast<std::size_t>(wanted.size()));
+    for (int marble : wanted) {
+        auto old = std::find_if(m_tracks.begin(), m_tracks.end(), [marble](const Track &t) { return t.marble == marble; });
+        if (old != m_tracks.end()) {
+            tracks.push_back(std::move(*old));
+            old->series = nullptr;
+            old->marble = -1;
+            continue;
+        }
+        // A marble plotted from now on: no speed for the samples already held.
+        Track t;
+        t.marble = marble;
+        t.speed.setCapacity(m_capacity);
+        for (std::size_t i = 0; i < m_frames.size(); ++i)
+            t.speed.push(kNaN);
+        t.series = new QLineSeries;
+        m_chart->addSeries(t.series);
+        t.series->attachAxis(m_axisX);
+        t.series->attachAxis(m_axisSpeed);
+        QLineSeries *series = t.series;
+        connect(series, &QLineSeries::hovered, this,
+                [this, series](const QPointF &point, bool state) { onHovered(series, point, state); });
+        tracks.push_back(std::move(t));
+    }
+    for (Track &t : m_tracks) {
+        if (t.series) {
+            m_chart->removeSeries(t.series);
+            delete t.series;
+        }
+    }
+    m_tracks = std::move(tracks);
+    for (Track &t : m_tracks) {
+        t.series->setName(marbleLabel(t.marble));
+        t.series->setPen(QPen(marbleColor(t.marble), 2.0));
+    }
+
+    const int plotted = static_cast<int>(m_tracks.size());
+    const int candidates = m_selected.isEmpty() ? m_marbleCount : static_cast<int>(m_selected.size());
+    m_capNote->setText(plotted < candidates ? tr("%1 of %2 marbles plotted").arg(plotted).arg(candidates) : QString());
+    m_capNote->setToolTip(m_selected.isEmpty() ? tr("Select marbles on the stage to choose which ones are plotted.")
+                                               : tr("At most %1 marbles are plotted at once.").arg(kMaxPlottedMarbles));
+}
+
+QList<int> PlotDock::wantedMarbles() const
+{
+    QList<int> out;
+    if (m_selected.isEmpty()) {
+        for (int i = 0; i < std::min(m_marbleCount, kMaxPlottedMarbles); ++i)
+            out.append(i);
+        return out;
+    }
+    for (int i : m_selected) {
+        if (i < m_marbleCount && out.size() < kMaxPlottedMarbles)
+            out.append(i);
+    }
+    return out;
+}
+
+QColor PlotDock::marbleColor(int marble) const
+{
+    const auto i = static_cast<std::size_t>(marble);
+    if (i < m_colors.size() && !m_colors[i].isEmpty()) {
+        const QColor colour = QColor::fromString(m_colors[i]);
+        if (colour.isValid())
+            return colour;
+    }
+    return defaultMarbleColor(marble);
+}
+
+QString PlotDock::marbleLabel(int marble) const
+{
+    const auto i = static_cast<std::size_t>(marble);
+    if (i < m_names.size() && !m_names[i].isEmpty())
+        return tr("%1 (marble %2)").arg(m_names[i]).arg(marble);
+    return tr("marble %1").arg(marble);
+}
+
+double PlotDock::xOf(std::int64_t frame) const
+{
+    return m_timeInSeconds ? secondsAt(frame) : static_cast<double>(frame);
+}
+
+const PlotDock::Track *PlotDock::trackOf(int marble) const
+{
+    for (const Track &t : m_tracks) {
+        if (t.marble == marble)
+            return &t;
+    }
+    return nullptr;
+}
+
+void PlotDock::onHovered(const QLineSeries *series, QPointF point, bool state)
+{
+    if (!state) {
+        m_hoverLabel->clear();
+        QToolTip::hideText();
+        return;
+    }
+    const QString text = describePoint(series, point);
+    m_hoverLabel->setText(text);
+    if (!text.isEmpty())
+        QToolTip::showText(QCursor::pos(), text, m_chartView);
+}
+
+void PlotDock::updateAxisTitles()
+{
+    m_axisX->setTitleText(m_timeInSeconds ? tr("time (s)") : tr("frame"));
+}
+
+void PlotDock::exportCsvInteractive()
+{
+    const QString path =
+        QFileDialog::getSaveFileName(this, tr("Export Samples"), tr("marbles-plot.csv"), tr("CSV files (*.csv)"));
+    if (path.isEmpty())
+        return;
+    const QString error = exportCsv(path);
+    if (!error.isEmpty())
+        QMessageBox::warning(this, tr("Export Samples"), error);
+}
+
+void PlotDock::exportPngInteractive()
+{
+    const QString path =
+        QFileDialog::getSaveFileName(this, tr("Export Chart"), tr("marbles-plot.png"), tr("PNG images (*.png)"));
+    if (path.isEmpty())
+        return;
+    const QString error = exportPng(path);
+    if (!error.isEmpty())
+        QMessageBox::warning(this, tr("Export Chart"), error);
+}
+
+} // namespace marbles

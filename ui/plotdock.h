@@ -1,0 +1,149 @@
+#pragma once
+
+#include "core/world.h"
+#include "ui/ringbuffer.h"
+
+#include <QColor>
+#include <QDockWidget>
+#include <QList>
+#include <QPointF>
+#include <QString>
+
+#include <cstdint>
+#include <vector>
+
+class QCheckBox;
+class QChart;
+class QChartView;
+class QLabel;
+class QLineSeries;
+class QRadioButton;
+class QTimer;
+class QValueAxis;
+
+namespace marbles {
+
+/// The Plot dock: speed over time, one line per plotted marble in its colour, plus the total
+/// kinetic energy and momentum on request. Samples go into a bounded ring buffer, one per
+/// simulated frame; a timer hands them to the chart a few times a second, so plotting never
+/// slows the simulation down.
+class PlotDock : public QDockWidget {
+    Q_OBJECT
+
+public:
+    /// Most marbles plotted at once (the selection, or the first ones when nothing is selected).
+    static constexpr int kMaxPlottedMarbles = 12;
+    /// Samples (frames) kept by default; older frames are dropped.
+    static constexpr qsizetype kDefaultCapacity = 5000;
+    /// How often buffered samples are handed to the chart, ms (about 5 times a second).
+    static constexpr int kRefreshIntervalMs = 200;
+
+    /// The dock, objectName "plotDock", with no samples.
+    explicit PlotDock(QWidget *parent = nullptr);
+
+    /// Forgets every sample and takes marble colours, names and frameMs from `world`
+    /// (a new or loaded scene, or a jump back in time). Adds no sample.
+    void reset(const World &world);
+    /// Records one sample of `world` as it is now (call once per simulated frame).
+    /// Costs O(plotted marbles) for the speeds plus one pass for the two totals; never touches the chart.
+    void appendFrame(const World &world);
+    /// Marbles to plot, by scene index; empty plots all of them, up to kMaxPlottedMarbles.
+    /// Marbles that stay plotted keep their history; newly plotted ones start from the next sample.
+    void setSelectedMarbles(const QList<int> &indices);
+    /// Samples held now: one per appendFrame() since reset(), at most capacity().
+    qsizetype sampleCount() const;
+
+    /// Samples kept at most.
+    qsizetype capacity() const;
+    /// Changes how many samples are kept (at least 1); forgets every sample.
+    void setCapacity(qsizetype samples);
+
+    /// Scene indices of the marbles plotted now, in plotting order.
+    QList<int> plottedMarbles() const;
+    /// Frame number of sample `i` (0 = oldest held).
+    std::int64_t sampleFrame(qsizetype i) const;
+    /// Speed |v| of `marble` at sample `i`, px/frame; NaN when the marble was not plotted then.
+    double sampleSpeed(qsizetype i, int marble) const;
+    /// Total kinetic energy sum m v^2 / 2 at sample `i` (mass px^2/frame^2).
+    double sampleKineticEnergy(qsizetype i) const;
+    /// Magnitude of the total momentum |sum m v| at sample `i` (mass px/frame).
+    double sampleMomentum(qsizetype i) const;
+    /// Seconds of wall clock at `frame`: frame * frameMs / 1000, with the latest frameMs seen.
+    double secondsAt(std::int64_t frame) const;
+
+    /// Shows total kinetic energy (on the right-hand axis).
+    void setKineticEnergyShown(bool shown);
+    /// Shows the magnitude of the total momentum (on the right-hand axis).
+    void setMomentumShown(bool shown);
+    /// Horizontal axis in seconds (true) or frames (false).
+    void setTimeInSeconds(bool seconds);
+    /// True when the horizontal axis counts seconds.
+    bool isTimeInSeconds() const;
+
+    /// Hands the buffered samples to the chart now (the timer does this ~5 times a second).
+    void refreshChart();
+    /// The chart view (for exporting and for tests).
+    QChartView *chartView() const;
+    /// The line of `marble`, or nullptr when it is not plotted.
+    QLineSeries *speedSeries(int marble) const;
+    /// Text describing the sample nearest to `point` on `series`: frame, time, what and the exact value.
+    QString describePoint(const QLineSeries *series, QPointF point) const;
+    /// The text the hover label shows now ("" when nothing is hovered).
+    QString hoverText() const;
+
+    /// Writes every held sample as CSV: frame,time_s,speed_<i>...,kinetic,momentum (17 significant
+    /// digits; an empty field where a marble was not plotted). Returns "" or a message naming the file.
+    QString exportCsv(const QString &path) const;
+    /// Saves the chart as a PNG of the chart view's size. Returns "" or a message naming the file.
+    QString exportPng(const QString &path);
+
+private:
+    /// One plotted marble: its speed history, aligned sample for sample with m_frames.
+    struct Track {
+        int marble = 0;
+        RingBuffer<double> speed;
+        QLineSeries *series = nullptr;
+    };
+
+    void rebuildTracks();
+    QList<int> wantedMarbles() const;
+    QColor marbleColor(int marble) const;
+    QString marbleLabel(int marble) const;
+    double xOf(std::int64_t frame) const;
+    const Track *trackOf(int marble) const;
+    void onHovered(const QLineSeries *series, QPointF point, bool state);
+    void updateAxisTitles();
+    void exportCsvInteractive();
+    void exportPngInteractive();
+
+    std::size_t m_capacity = kDefaultCapacity;
+    RingBuffer<std::int64_t> m_frames;
+    RingBuffer<double> m_kinetic;
+    RingBuffer<double> m_momentum;
+    std::vector<Track> m_tracks;
+
+    QList<int> m_selected;
+    int m_marbleCount = 0;
+    std::vector<QString> m_colors; ///< "#rrggbb" per marble, "" for the default palette
+    std::vector<QString> m_names;
+    double m_frameMs = 20.0;
+    bool m_timeInSeconds = false;
+    bool m_dirty = false;
+
+    QChart *m_chart = nullptr;
+    QChartView *m_chartView = nullptr;
+    QValueAxis *m_axisX = nullptr;
+    QValueAxis *m_axisSpeed = nullptr;
+    QValueAxis *m_axisTotals = nullptr;
+    QLineSeries *m_kineticSeries = nullptr;
+    QLineSeries *m_momentumSeries = nullptr;
+    QCheckBox *m_showKinetic = nullptr;
+    QCheckBox *m_showMomentum = nullptr;
+    QRadioButton *m_frameAxis = nullptr;
+    QRadioButton *m_secondAxis = nullptr;
+    QLabel *m_hoverLabel = nullptr;
+    QLabel *m_capNote = nullptr;
+    QTimer *m_refreshTimer = nullptr;
+};
+
+} // namespace marbles
