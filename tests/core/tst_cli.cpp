@@ -1,0 +1,346 @@
+// marbles-cli as outside tests use it (INTERFACES.md): CSV format, exit codes, --set, stdin.
+
+#include "core/presets.h"
+#include "core/sceneio.h"
+#include "core/world.h"
+
+#include <QtTest>
+
+#include <QProcess>
+#include <QTemporaryDir>
+
+using namespace marbles;
+
+namespace {
+
+struct CliResult {
+    int exitCode = -1;
+    QByteArray out;
+    QByteArray err;
+};
+
+CliResult runCli(const QStringList &args, const QByteArray &input = {})
+{
+    QProcess p;
+    p.start(QStringLiteral(MARBLES_CLI_PATH), args);
+    if (!p.waitForStarted())
+        return {};
+    if (!input.isEmpty())
+        p.write(input);
+    p.closeWriteChannel();
+    p.waitForFinished(120000);
+    CliResult r;
+    r.exitCode = p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
+    r.out = p.readAllStandardOutput();
+    r.err = p.readAllStandardError();
+    return r;
+}
+
+// Parses CSV rows after the header; fails the test on a malformed row.
+QList<QList<double>> parseRows(const QByteArray &csv)
+{
+    QList<QList<double>> rows;
+    const QList<QByteArray> lines = csv.split('\n');
+    for (qsizetype k = 1; k < lines.size(); ++k) {
+        if (lines[k].isEmpty())
+            continue;
+        const QList<QByteArray> fields = lines[k].split(',');
+        if (fields.size() != 6)
+            return {};
+        QList<double> row;
+        for (const QByteArray &f : fields) {
+            bool ok = false;
+            row.append(f.toDouble(&ok));
+            if (!ok)
+                return {};
+        }
+        rows.append(row);
+    }
+    return rows;
+}
+
+// Runs `w` in process and checks the CLI rows against it bit for bit (%.17g round-trips).
+bool rowsMatchWorld(const QList<QList<double>> &rows, World w, int frames, int every)
+{
+    qsizetype k = 0;
+    auto check = [&](const World &s) {
+        for (int i = 0; i < s.marbleCount(); ++i, ++k) {
+            if (k >= rows.size())
+                return false;
+            const QList<double> &r = rows[k];
+            if (r[0] != double(s.frame) || r[1] != double(i) || r[2] != s.position[i].x
+                || r[3] != s.position[i].y || r[4] != s.velocity[i].x || r[5] != s.velocity[i].y)
+                return false;
+        }
+        return true;
+    };
+    if (!check(w))
+        return false;
+    for (int f = 1; f <= frames; ++f) {
+        w.step();
+        if (f % every == 0 && !check(w))
+            return false;
+    }
+    return k == rows.size();
+}
+
+const char *validScene = R"({"format": "marbles-scene", "version": 1,
+  "params": {"friction": 0.05},
+  "marbles": [{"x": 100, "y": 100, "radius": 20, "vx": 3, "vy": 1.5},
+              {"x": 160, "y": 110, "radius": 10}],
+  "pins": [{"x": 300, "y": 120}]})";
+
+} // namespace
+
+class TestCli : public QObject {
+    Q_OBJECT
+
+private slots:
+    void runPrintsCsvMatchingTheCore_data();
+    void runPrintsCsvMatchingTheCore();
+    void runReadsStandardInput();
+    void runWritesOutFile();
+    void setChangesParameters_data();
+    void setChangesParameters();
+    void invalidInputExitsTwo_data();
+    void invalidInputExitsTwo();
+    void nonFiniteExitsThree();
+    void checkPrintsSummary();
+    void presetsRoundTripThroughFiles();
+    void genCrowdIsDeterministic();
+};
+
+void TestCli::runPrintsCsvMatchingTheCore_data()
+{
+    QTest::addColumn<QString>("preset");
+    QTest::addColumn<int>("frames");
+    QTest::addColumn<int>("every");
+    QTest::addRow("four-marbles default") << "four-marbles" << -1 << -1;
+    QTest::addRow("four-marbles every 7") << "four-marbles" << 20 << 7;
+    QTest::addRow("pins 0 frames") << "pins" << 0 << 1;
+    QTest::addRow("masses 150 every 25") << "masses" << 150 << 25;
+    QTest::addRow("pachinko 60") << "pachinko" << 60 << 3;
+    QTest::addRow("newtons-cradle 90") << "newtons-cradle" << 90 << 1;
+}
+
+void TestCli::runPrintsCsvMatchingTheCore()
+{
+    QFETCH(QString, preset);
+    QFETCH(int, frames);
+    QFETCH(int, every);
+    QStringList args{"run", "preset:" + preset};
+    if (frames >= 0)
+        args << "--frames" << QString::number(frames);
+    if (every >= 0)
+        args << "--every" << QString::number(every);
+    const CliResult r = runCli(args);
+    QCOMPARE(r.exitCode, 0);
+    QVERIFY(r.err.isEmpty());
+    QVERIFY(r.out.startsWith("frame,marble,x,y,vx,vy\n"));
+    const QList<QList<double>> rows = parseRows(r.out);
+    QVERIFY(!rows.isEmpty());
+    World w;
+    QVERIFY(makePreset(preset.toStdString(), w));
+    QVERIFY(rowsMatchWorld(rows, w, frames < 0 ? 100 : frames, every < 0 ? 1 : every));
+    // 17 significant digits: a non-integral value is printed in full, e.g. 193.30000000000001.
+    QVERIFY(r.out.contains('.'));
+}
+
+void TestCli::runReadsStandardInput()
+{
+    const CliResult r = runCli({"run", "-", "--frames", "30"}, validScene);
+    QCOMPARE(r.exitCode, 0);
+    const SceneLoad load = parseScene(validScene, "test");
+    QVERIFY(load.ok);
+    QVERIFY(rowsMatchWorld(parseRows(r.out), load.world, 30, 1));
+}
+
+void TestCli::runWritesOutFile()
+{
+    QTemporaryDir dir;
+    const QString out = dir.filePath("rows.csv");
+    const CliResult r = runCli({"run", "preset:four-marbles", "--frames", "10", "--out", out});
+    QCOMPARE(r.exitCode, 0);
+    QVERIFY(r.out.isEmpty());
+    QFile f(out);
+    QVERIFY(f.open(QIODevice::ReadOnly));
+    const QByteArray csv = f.readAll();
+    QVERIFY(rowsMatchWorld(parseRows(csv), defaultScene(), 10, 1));
+    // Nothing else left in the folder (the write goes through a temporary file and a rename).
+    QCOMPARE(QDir(dir.path()).entryList(QDir::Files).size(), 1);
+}
+
+void TestCli::setChangesParameters_data()
+{
+    QTest::addColumn<QString>("preset");
+    QTest::addColumn<QStringList>("sets");
+    QTest::addRow("friction") << "four-marbles" << QStringList{"friction=0.2"};
+    QTest::addRow("gravity") << "four-marbles" << QStringList{"gravity=0,0.5"};
+    QTest::addRow("massScale") << "four-marbles" << QStringList{"massScale=3"};
+    QTest::addRow("pushScale and threshold") << "four-marbles" << QStringList{"pushScale=25", "zeroThreshold=0.5"};
+    QTest::addRow("shortCircuit") << "two-pins" << QStringList{"shortCircuit=true"};
+    QTest::addRow("book friction 1.5 is valid") << "four-marbles" << QStringList{"friction=1.5"};
+    QTest::addRow("walls off") << "pins" << QStringList{"walls=false"};
+}
+
+void TestCli::setChangesParameters()
+{
+    QFETCH(QString, preset);
+    QFETCH(QStringList, sets);
+    // "two-pins": a marble that meets two pins in one frame, where short circuit matters.
+    const QByteArray twoPins = R"({"format": "marbles-scene", "version": 1,
+        "marbles": [{"x": 100, "y": 100, "radius": 10, "vx": 5, "vy": 0}],
+        "pins": [{"x": 106.36, "y": 106.36}, {"x": 100, "y": 109}]})";
+    const bool custom = preset == "two-pins";
+    const QString scene = custom ? QString("-") : "preset:" + preset;
+    QStringList args{"run", scene, "--frames", "80"};
+    World w;
+    if (custom)
+        w = parseScene(twoPins.toStdString(), "two-pins").world;
+    else
+        QVERIFY(makePreset(preset.toStdString(), w));
+    for (const QString &s : sets) {
+        args << "--set" << s;
+        const auto eq = s.indexOf('=');
+        QCOMPARE(setParam(w, s.left(eq).toStdString(), s.mid(eq + 1).toStdString()), std::string());
+    }
+    const CliResult r = runCli(args, custom ? twoPins : QByteArray());
+    QCOMPARE(r.exitCode, 0);
+    const QList<QList<double>> rows = parseRows(r.out);
+    QVERIFY(rowsMatchWorld(rows, w, 80, 1));
+    // ... and the setting made a difference to the default run.
+    const CliResult plain = runCli({"run", scene, "--frames", "80"}, custom ? twoPins : QByteArray());
+    QVERIFY(plain.out != r.out);
+}
+
+void TestCli::invalidInputExitsTwo_data()
+{
+    QTest::addColumn<QStringList>("args");
+    QTest::addColumn<QByteArray>("input");
+    QTest::addColumn<QString>("expected"); // a piece of the message
+
+    QTest::addRow("no arguments") << QStringList{} << QByteArray() << "usage";
+    QTest::addRow("unknown command") << QStringList{"fly"} << QByteArray() << "unknown command";
+    QTest::addRow("missing file") << QStringList{"run", "/nonexistent/x.marbles.json"} << QByteArray()
+                                  << "/nonexistent/x.marbles.json";
+    QTest::addRow("invalid scene on stdin")
+        << QStringList{"run", "-"}
+        << QByteArray(R"({"format":"marbles-scene","version":1,"marbles":[{"x":1,"y":2,"radius":-5}]})")
+        << "marbles[0].radius";
+    QTest::addRow("not json") << QStringList{"run", "-"} << QByteArray("{nope") << "stdin";
+    QTest::addRow("negative frames") << QStringList{"run", "preset:pins", "--frames", "-1"} << QByteArray()
+                                     << "--frames";
+    QTest::addRow("frames not a number") << QStringList{"run", "preset:pins", "--frames", "ten"} << QByteArray()
+                                         << "--frames";
+    QTest::addRow("every zero") << QStringList{"run", "preset:pins", "--every", "0"} << QByteArray() << "--every";
+    QTest::addRow("unknown option") << QStringList{"run", "preset:pins", "--fast"} << QByteArray() << "--fast";
+    QTest::addRow("two scenes") << QStringList{"run", "preset:pins", "preset:masses"} << QByteArray() << "SCENE";
+    QTest::addRow("unknown preset") << QStringList{"run", "preset:nothing"} << QByteArray() << "unknown preset";
+    QTest::addRow("set without =") << QStringList{"run", "preset:pins", "--set", "friction"} << QByteArray()
+                                   << "KEY=VALUE";
+    QTest::addRow("set unknown key") << QStringList{"run", "preset:pins", "--set", "spin=3"} << QByteArray()
+                                     << "spin";
+    QTest::addRow("set negative friction") << QStringList{"run", "preset:pins", "--set", "friction=-1"}
+                                           << QByteArray() << "friction";
+    QTest::addRow("set friction 1.5 with exact")
+        << QStringList{"run", "preset:pins", "--set", "friction=1.5", "--set", "model=exact"} << QByteArray()
+        << "friction";
+    QTest::addRow("set unknown model") << QStringList{"run", "preset:pins", "--set", "model=verlet"}
+                                       << QByteArray() << "model";
+    QTest::addRow("check invalid") << QStringList{"check", "-"}
+                                   << QByteArray(R"({"format":"marbles-scene","version":7})") << "version";
+    QTest::addRow("out into missing folder")
+        << QStringList{"run", "preset:pins", "--out", "/nonexistent/dir/rows.csv"} << QByteArray()
+        << "/nonexistent/dir/rows.csv";
+}
+
+void TestCli::invalidInputExitsTwo()
+{
+    QFETCH(QStringList, args);
+    QFETCH(QByteArray, input);
+    QFETCH(QString, expected);
+    const CliResult r = runCli(args, input);
+    QCOMPARE(r.exitCode, 2);
+    QVERIFY2(r.out.isEmpty(), r.out.left(200).constData());
+    QVERIFY2(QString::fromUtf8(r.err).contains(expected), r.err.constData());
+    if (!args.isEmpty() && args.front() != "fly")
+        QCOMPARE(r.err.trimmed().count('\n'), 0); // one message, one line
+}
+
+void TestCli::nonFiniteExitsThree()
+{
+    // The book's update with friction above 2 grows speeds by |1 - k| each frame until they overflow.
+    const CliResult r = runCli({"run", "preset:four-marbles", "--set", "friction=2.5", "--frames", "5000"});
+    QCOMPARE(r.exitCode, 3);
+    const QString err = QString::fromUtf8(r.err);
+    QVERIFY2(err.contains("frame ") && err.contains("marble "), r.err.constData());
+    const QList<QList<double>> rows = parseRows(r.out);
+    QVERIFY(!rows.isEmpty());
+    for (const QList<double> &row : rows) {
+        for (double x : row)
+            QVERIFY(std::isfinite(x));
+    }
+    // The rows stop before the frame the message names.
+    static const QRegularExpression re("frame (\\d+)");
+    const auto m = re.match(err);
+    QVERIFY(m.hasMatch());
+    const double badFrame = m.captured(1).toDouble();
+    QCOMPARE(rows.back()[0], badFrame - 1);
+}
+
+void TestCli::checkPrintsSummary()
+{
+    const CliResult r = runCli({"check", "-"}, validScene);
+    QCOMPARE(r.exitCode, 0);
+    QCOMPARE(r.out.count('\n'), 1);
+    QVERIFY2(r.out.contains("2 marbles") && r.out.contains("1 pin") && r.out.contains("model book"),
+             r.out.constData());
+}
+
+void TestCli::presetsRoundTripThroughFiles()
+{
+    const CliResult list = runCli({"preset", "list"});
+    QCOMPARE(list.exitCode, 0);
+    QCOMPARE(list.out.count('\n'), qsizetype(presets().size()));
+    QTemporaryDir dir;
+    for (const PresetInfo &p : presets()) {
+        const QString file = dir.filePath(QString::fromStdString(p.id) + ".marbles.json");
+        QCOMPARE(runCli({"preset", QString::fromStdString(p.id), "--out", file}).exitCode, 0);
+        QCOMPARE(runCli({"check", file}).exitCode, 0);
+        const CliResult fromFile = runCli({"run", file, "--frames", "50"});
+        const CliResult fromPreset = runCli({"run", "preset:" + QString::fromStdString(p.id), "--frames", "50"});
+        QCOMPARE(fromFile.exitCode, 0);
+        QCOMPARE(fromFile.out, fromPreset.out);
+    }
+}
+
+void TestCli::genCrowdIsDeterministic()
+{
+    const CliResult a = runCli({"gen", "crowd", "--n", "400", "--seed", "7"});
+    const CliResult b = runCli({"gen", "crowd", "--n", "400", "--seed", "7"});
+    const CliResult c = runCli({"gen", "crowd", "--n", "400", "--seed", "8"});
+    QCOMPARE(a.exitCode, 0);
+    QCOMPARE(a.out, b.out);
+    QVERIFY(a.out != c.out);
+    const SceneLoad load = parseScene(a.out.toStdString(), "crowd");
+    QVERIFY2(load.ok, load.error.c_str());
+    const World &w = load.world;
+    QCOMPARE(w.marbleCount(), 400);
+    double area = 0;
+    for (int i = 0; i < w.marbleCount(); ++i) {
+        QVERIFY(w.radius[i] >= 4 && w.radius[i] <= 12);
+        QVERIFY(length(w.velocity[i]) <= 4.17);
+        QCOMPARE_LE(std::abs(w.mass[i] - M_PI * w.radius[i] * w.radius[i]), 1e-9 * w.mass[i]);
+        area += M_PI * w.radius[i] * w.radius[i];
+        for (int j = 0; j < i; ++j)
+            QVERIFY(distance(w.position[i], w.position[j]) >= w.radius[i] + w.radius[j]);
+    }
+    const double packing = area / (w.stage.width * w.stage.height);
+    QCOMPARE_LE(std::abs(packing - 0.24), 0.03);
+    QCOMPARE(w.params.friction, 0.0);
+    QCOMPARE(w.params.restitution, 1.0);
+    QVERIFY(w.stage.walls);
+}
+
+QTEST_GUILESS_MAIN(TestCli)
+#include "tst_cli.moc"
