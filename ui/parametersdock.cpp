@@ -136,9 +136,9 @@ void ParametersDock::buildUi()
              tr("if \u2212Z \u2264 v.x \u2264 Z then v.x = 0 (the same for v.y)"),
              tr("Slower than this, a marble's speed snaps to exactly zero, so it comes to rest."));
 
-    m_pushScale = makeSpin("pushScaleEdit", 0.0, 1000000.0, 1.0, QString());
+    m_pushScale = makeSpin("pushScaleEdit", -1000000.0, 1000000.0, 1.0, QString());
     addField(tr("&Push scale"), m_pushScale, tr("a += (p \u2212 click) \u00d7 pushScale / m"),
-             tr("How hard a click pushes; clicking further from the centre pushes harder."));
+             tr("How hard a click pushes; clicking further from the centre pushes harder (negative pulls)."));
 
     m_frameMs = makeSpin("frameMsEdit", 0.1, 10000.0, 1.0, tr(" ms"));
     addField(tr("F&rame interval"), m_frameMs, tr("one frame lasts frameMs ms of real time; the physics counts frames"),
@@ -233,19 +233,25 @@ void ParametersDock::setParams(const Params &params)
     m_currentModel = params.model;
     // The friction range depends on the model: set it before the value so the value is not clamped.
     updateForModel(params.model);
-    // A scene may hold a book friction above the field's usual maximum: widen it rather than show a wrong value.
-    if (params.model == ModelKind::Book && params.friction > m_friction->maximum())
-        m_friction->setMaximum(params.friction);
-
-    m_massScale->setValue(params.massScale);
-    m_friction->setValue(params.friction);
-    m_zeroThreshold->setValue(params.zeroThreshold);
-    m_pushScale->setValue(params.pushScale);
-    m_frameMs->setValue(params.frameMs);
+    // A valid scene may hold a value beyond a field's usual range (a book friction of 5, ten
+    // thousand substeps): widen the range rather than show a wrong, clamped value. Only the
+    // limits that are conveniences move; the rules (massScale > 0, friction >= 0, ...) stay.
+    auto show = [](auto *field, auto value, bool lowerIsRule, bool upperIsRule = false) {
+        if (!lowerIsRule && value < field->minimum())
+            field->setMinimum(value);
+        if (!upperIsRule && value > field->maximum())
+            field->setMaximum(value);
+        field->setValue(value);
+    };
+    show(m_massScale, params.massScale, true);
+    show(m_friction, params.friction, true, params.model != ModelKind::Book);
+    show(m_zeroThreshold, params.zeroThreshold, true);
+    show(m_pushScale, params.pushScale, false);
+    show(m_frameMs, params.frameMs, true);
     m_restitution->setValue(params.restitution);
-    m_gravityX->setValue(params.gravity.x);
-    m_gravityY->setValue(params.gravity.y);
-    m_substeps->setValue(params.substeps);
+    show(m_gravityX, params.gravity.x, false);
+    show(m_gravityY, params.gravity.y, false);
+    show(m_substeps, params.substeps, true);
     m_shortCircuit->setChecked(params.shortCircuit);
 
     updateFrictionWarning();

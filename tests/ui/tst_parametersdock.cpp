@@ -1,0 +1,482 @@
+#include "core/sceneio.h"
+#include "core/world.h"
+#include "ui/parametersdock.h"
+
+#include <QAbstractSpinBox>
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QLabel>
+#include <QLineEdit>
+#include <QSignalSpy>
+#include <QSpinBox>
+#include <QStandardItemModel>
+#include <QTest>
+
+#include <cmath>
+
+using namespace marbles;
+
+class TestParametersDock : public QObject {
+    Q_OBJECT
+
+private slots:
+    void typingEmitsEdit_data();
+    void typingEmitsEdit();
+    void modelBoxEmitsEdit();
+    void shortCircuitEmitsEdit();
+    void setParamsEmitsNothing();
+    void decimalsShown_data();
+    void decimalsShown();
+    void invalidValuesRefused_data();
+    void invalidValuesRefused();
+    void frictionWarning_data();
+    void frictionWarning();
+    void typedFrictionWarns();
+    void fieldsFollowModel_data();
+    void fieldsFollowModel();
+    void dampedModelsNeedFrictionBelowOne();
+    void everyFieldExplained_data();
+    void everyFieldExplained();
+};
+
+namespace {
+
+Params paramsWithModel(const QString &model)
+{
+    Params p;
+    parseModelName(model.toStdString(), p.model);
+    return p;
+}
+
+/// Replaces the text of a spin box as a user would: select it all, type, press Enter.
+void typeInto(QAbstractSpinBox *spin, const QString &text)
+{
+    spin->setFocus();
+    spin->selectAll();
+    QTest::keyClicks(spin, text);
+    QTest::keyClick(spin, Qt::Key_Return);
+}
+
+/// The core's verdict on an emitted edit: "" when setParam and validateParams accept it.
+std::string coreVerdict(const Params &before, const QString &key, const QString &value)
+{
+    World world;
+    world.params = before;
+    std::string error = setParam(world, key.toStdString(), value.toStdString());
+    if (error.empty())
+        error = validateParams(world.params);
+    return error;
+}
+
+} // namespace
+
+void TestParametersDock::typingEmitsEdit_data()
+{
+    QTest::addColumn<QString>("model");
+    QTest::addColumn<QString>("field");
+    QTest::addColumn<QString>("typed");
+    QTest::addColumn<QString>("key");
+    QTest::addColumn<QString>("value");
+
+    QTest::addRow("massScale") << "book" << "massScaleEdit" << "2.5" << "massScale" << "2.5";
+    QTest::addRow("friction") << "book" << "frictionEdit" << "0.25" << "friction" << "0.25";
+    QTest::addRow("friction book above 1") << "book" << "frictionEdit" << "1.5" << "friction" << "1.5";
+    QTest::addRow("friction exact") << "exact" << "frictionEdit" << "0.95" << "friction" << "0.95";
+    QTest::addRow("zeroThreshold small") << "book" << "zeroThresholdEdit" << "0.005" << "zeroThreshold" << "0.005";
+    QTest::addRow("zeroThreshold zero") << "book" << "zeroThresholdEdit" << "0" << "zeroThreshold" << "0";
+    QTest::addRow("pushScale") << "book" << "pushScaleEdit" << "12.5" << "pushScale" << "12.5";
+    QTest::addRow("frameMs") << "book" << "frameMsEdit" << "40" << "frameMs" << "40";
+    QTest::addRow("restitution impulse") << "impulse" << "restitutionEdit" << "0.75" << "restitution" << "0.75";
+    QTest::addRow("restitution exact") << "exact" << "restitutionEdit" << "0" << "restitution" << "0";
+    QTest::addRow("gravity x") << "book" << "gravityXEdit" << "-0.25" << "gravity" << "-0.25,0";
+    QTest::addRow("gravity y") << "exact" << "gravityYEdit" << "0.5" << "gravity" << "0,0.5";
+    QTest::addRow("substeps") << "impulse" << "substepsEdit" << "8" << "substeps" << "8";
+}
+
+void TestParametersDock::typingEmitsEdit()
+{
+    QFETCH(QString, model);
+    QFETCH(QString, field);
+    QFETCH(QString, typed);
+    QFETCH(QString, key);
+    QFETCH(QString, value);
+
+    ParametersDock dock;
+    dock.setParams(paramsWithModel(model));
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    auto *spin = dock.findChild<QAbstractSpinBox *>(field);
+    QVERIFY(spin);
+    QVERIFY(spin->isEnabled());
+
+    QSignalSpy spy(&dock, &ParametersDock::paramEdited);
+    typeInto(spin, typed);
+    QCOMPARE(spy.count(), 1);
+    QCOMPARE(spy.at(0).at(0).toString(), key);
+    QCOMPARE(spy.at(0).at(1).toString(), value);
+    // What the dock emits, the core accepts.
+    QCOMPARE(coreVerdict(paramsWithModel(model), key, value), std::string());
+
+    // Enter again without a change is not a second edit (no empty undo command).
+    QTest::keyClick(spin, Qt::Key_Return);
+    QCOMPARE(spy.count(), 1);
+}
+
+void TestParametersDock::modelBoxEmitsEdit()
+{
+    ParametersDock dock;
+    dock.setParams(Params{});
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    auto *box = dock.findChild<QComboBox *>(QStringLiteral("modelEdit"));
+    QVERIFY(box);
+
+    QSignalSpy spy(&dock, &ParametersDock::paramEdited);
+    box->setFocus();
+    QTest::keyClick(box, Qt::Key_Down);
+    QCOMPARE(spy.count(), 1);
+    QCOMPARE(spy.at(0).at(0).toString(), QStringLiteral("model"));
+    QCOMPARE(spy.at(0).at(1).toString(), QStringLiteral("impulse"));
+    QTest::keyClick(box, Qt::Key_Down);
+    QCOMPARE(spy.count(), 2);
+    QCOMPARE(spy.at(1).at(1).toString(), QStringLiteral("exact"));
+    QCOMPARE(dock.shownParams().model, ModelKind::Exact);
+    QTest::keyClick(box, Qt::Key_Home);
+    QCOMPARE(spy.count(), 3);
+    QCOMPARE(spy.at(2).at(1).toString(), QStringLiteral("book"));
+}
+
+void TestParametersDock::shortCircuitEmitsEdit()
+{
+    ParametersDock dock;
+    dock.setParams(Params{});
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    auto *box = dock.findChild<QCheckBox *>(QStringLiteral("shortCircuitEdit"));
+    QVERIFY(box);
+
+    QSignalSpy spy(&dock, &ParametersDock::paramEdited);
+    QTest::mouseClick(box, Qt::LeftButton, {}, QPoint(box->height() / 2, box->height() / 2));
+    QCOMPARE(spy.count(), 1);
+    QCOMPARE(spy.at(0).at(0).toString(), QStringLiteral("shortCircuit"));
+    QCOMPARE(spy.at(0).at(1).toString(), QStringLiteral("true"));
+    QTest::mouseClick(box, Qt::LeftButton, {}, QPoint(box->height() / 2, box->height() / 2));
+    QCOMPARE(spy.count(), 2);
+    QCOMPARE(spy.at(1).at(1).toString(), QStringLiteral("false"));
+}
+
+void TestParametersDock::setParamsEmitsNothing()
+{
+    ParametersDock dock;
+    QSignalSpy spy(&dock, &ParametersDock::paramEdited);
+
+    Params p;
+    p.model = ModelKind::Impulse;
+    p.massScale = 2.0;
+    p.friction = 0.3;
+    p.zeroThreshold = 0.0005;
+    p.pushScale = 25.0;
+    p.frameMs = 16.5;
+    p.restitution = 0.8;
+    p.gravity = {0.125, -0.5};
+    p.substeps = 12;
+    p.shortCircuit = true;
+    dock.setParams(p);
+
+    Params book;
+    book.friction = 2.75; // a book friction above 1 shown as is, then a model change
+    dock.setParams(book);
+    dock.setParams(p);
+    QCOMPARE(spy.count(), 0);
+
+    const Params shown = dock.shownParams();
+    constexpr double tol = 1e-12;
+    QCOMPARE(shown.model, p.model);
+    QCOMPARE_LE(std::abs(shown.massScale - p.massScale), tol);
+    QCOMPARE_LE(std::abs(shown.friction - p.friction), tol);
+    QCOMPARE_LE(std::abs(shown.zeroThreshold - p.zeroThreshold), tol);
+    QCOMPARE_LE(std::abs(shown.pushScale - p.pushScale), tol);
+    QCOMPARE_LE(std::abs(shown.frameMs - p.frameMs), tol);
+    QCOMPARE_LE(std::abs(shown.restitution - p.restitution), tol);
+    QCOMPARE_LE(std::abs(shown.gravity.x - p.gravity.x), tol);
+    QCOMPARE_LE(std::abs(shown.gravity.y - p.gravity.y), tol);
+    QCOMPARE(shown.substeps, p.substeps);
+    QCOMPARE(shown.shortCircuit, p.shortCircuit);
+}
+
+void TestParametersDock::decimalsShown_data()
+{
+    QTest::addColumn<QString>("field");
+    QTest::addColumn<double>("value");
+    QTest::addColumn<QString>("text");
+
+    QTest::addRow("threshold default") << "zeroThresholdEdit" << 0.01 << "0.01 px/frame";
+    QTest::addRow("threshold tiny") << "zeroThresholdEdit" << 0.0001 << "0.0001 px/frame";
+    QTest::addRow("threshold zero") << "zeroThresholdEdit" << 0.0 << "0 px/frame";
+    QTest::addRow("friction") << "frictionEdit" << 0.125 << "0.125";
+    QTest::addRow("frameMs whole") << "frameMsEdit" << 20.0 << "20 ms";
+    QTest::addRow("massScale") << "massScaleEdit" << 1.25 << "1.25 per px";
+    QTest::addRow("pushScale large") << "pushScaleEdit" << 25000.0 << "25000";
+}
+
+void TestParametersDock::decimalsShown()
+{
+    QFETCH(QString, field);
+    QFETCH(double, value);
+    QFETCH(QString, text);
+
+    ParametersDock dock;
+    auto *spin = dock.findChild<QDoubleSpinBox *>(field);
+    QVERIFY(spin);
+    spin->setValue(value);
+    QCOMPARE(spin->text(), text);
+}
+
+void TestParametersDock::invalidValuesRefused_data()
+{
+    QTest::addColumn<QString>("model");
+    QTest::addColumn<QString>("field");
+    QTest::addColumn<QString>("typed");
+
+    QTest::addRow("massScale zero") << "book" << "massScaleEdit" << "0";
+    QTest::addRow("massScale negative") << "book" << "massScaleEdit" << "-1";
+    QTest::addRow("friction negative") << "book" << "frictionEdit" << "-0.5";
+    QTest::addRow("friction book huge") << "book" << "frictionEdit" << "50";
+    QTest::addRow("friction exact 1") << "exact" << "frictionEdit" << "1";
+    QTest::addRow("friction exact 1.5") << "exact" << "frictionEdit" << "1.5";
+    QTest::addRow("friction impulse 2") << "impulse" << "frictionEdit" << "2";
+    QTest::addRow("zeroThreshold negative") << "book" << "zeroThresholdEdit" << "-0.01";
+    QTest::addRow("frameMs zero") << "book" << "frameMsEdit" << "0";
+    QTest::addRow("frameMs negative") << "book" << "frameMsEdit" << "-20";
+    QTest::addRow("restitution above 1") << "exact" << "restitutionEdit" << "1.5";
+    QTest::addRow("restitution negative") << "impulse" << "restitutionEdit" << "-0.2";
+    QTest::addRow("substeps zero") << "impulse" << "substepsEdit" << "0";
+    QTest::addRow("substeps negative") << "impulse" << "substepsEdit" << "-3";
+    QTest::addRow("letters") << "book" << "frictionEdit" << "abc";
+}
+
+void TestParametersDock::invalidValuesRefused()
+{
+    QFETCH(QString, model);
+    QFETCH(QString, field);
+    QFETCH(QString, typed);
+
+    ParametersDock dock;
+    const Params before = paramsWithModel(model);
+    dock.setParams(before);
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    auto *spin = dock.findChild<QAbstractSpinBox *>(field);
+    QVERIFY(spin);
+
+    QSignalSpy spy(&dock, &ParametersDock::paramEdited);
+    typeInto(spin, typed);
+    // Whatever the keystrokes did, nothing the core would refuse came out, and the field
+    // still shows a valid value.
+    for (const QList<QVariant> &edit : spy) {
+        const std::string verdict = coreVerdict(before, edit.at(0).toString(), edit.at(1).toString());
+        QVERIFY2(verdict.empty(), verdict.c_str());
+    }
+    // A spin box drops the keystrokes that cannot lead to a valid value (typing "-1" into a field
+    // that must be >= 0 leaves "1"): the typed number itself never reaches the field.
+    double fieldValue = 0.0;
+    if (auto *d = qobject_cast<QDoubleSpinBox *>(spin))
+        fieldValue = d->value();
+    else if (auto *i = qobject_cast<QSpinBox *>(spin))
+        fieldValue = i->value();
+    else
+        QFAIL("not a spin box");
+    bool isNumber = false;
+    const double typedValue = typed.toDouble(&isNumber);
+    if (isNumber)
+        QVERIFY(fieldValue != typedValue);
+    const Params after = dock.shownParams();
+    World world;
+    world.params = after;
+    QCOMPARE(validateParams(world.params), std::string());
+}
+
+void TestParametersDock::frictionWarning_data()
+{
+    QTest::addColumn<QString>("model");
+    QTest::addColumn<double>("friction");
+    QTest::addColumn<QString>("warning"); // "" none, else a phrase the warning contains
+
+    QTest::addRow("book 0.1") << "book" << 0.1 << "";
+    QTest::addRow("book 1") << "book" << 1.0 << "";
+    QTest::addRow("book 1.0001") << "book" << 1.0001 << "flips sign every frame";
+    QTest::addRow("book 1.5") << "book" << 1.5 << "flips sign every frame";
+    QTest::addRow("book 2") << "book" << 2.0 << "flips sign every frame";
+    QTest::addRow("book 2.0001") << "book" << 2.0001 << "grow without bound";
+    QTest::addRow("book 3") << "book" << 3.0 << "grow without bound";
+    QTest::addRow("exact 0.9") << "exact" << 0.9 << "";
+    QTest::addRow("impulse 0.5") << "impulse" << 0.5 << "";
+}
+
+void TestParametersDock::frictionWarning()
+{
+    QFETCH(QString, model);
+    QFETCH(double, friction);
+    QFETCH(QString, warning);
+
+    ParametersDock dock;
+    Params p = paramsWithModel(model);
+    p.friction = friction;
+    dock.setParams(p);
+    auto *label = dock.findChild<QLabel *>(QStringLiteral("frictionWarning"));
+    QVERIFY(label);
+    if (warning.isEmpty()) {
+        QVERIFY(label->isHidden());
+    } else {
+        QVERIFY(!label->isHidden());
+        QVERIFY2(label->text().contains(warning), qPrintable(label->text()));
+        QVERIFY(!label->styleSheet().isEmpty()); // coloured
+    }
+}
+
+void TestParametersDock::typedFrictionWarns()
+{
+    ParametersDock dock;
+    dock.setParams(Params{});
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    auto *spin = dock.findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit"));
+    auto *label = dock.findChild<QLabel *>(QStringLiteral("frictionWarning"));
+    QVERIFY(spin && label);
+    QVERIFY(!label->isVisible());
+
+    typeInto(spin, QStringLiteral("1.5"));
+    QVERIFY(label->isVisible());
+    QVERIFY(label->text().contains(QStringLiteral("flips sign every frame")));
+    typeInto(spin, QStringLiteral("2.5"));
+    QVERIFY(label->isVisible());
+    QVERIFY(label->text().contains(QStringLiteral("grow without bound")));
+    typeInto(spin, QStringLiteral("0.2"));
+    QVERIFY(!label->isVisible());
+}
+
+void TestParametersDock::fieldsFollowModel_data()
+{
+    QTest::addColumn<QString>("model");
+    QTest::addColumn<bool>("restitution");
+    QTest::addColumn<bool>("substeps");
+    QTest::addColumn<bool>("shortCircuit");
+
+    QTest::addRow("book") << "book" << false << false << true;
+    QTest::addRow("impulse") << "impulse" << true << true << false;
+    QTest::addRow("exact") << "exact" << true << false << false;
+}
+
+void TestParametersDock::fieldsFollowModel()
+{
+    QFETCH(QString, model);
+    QFETCH(bool, restitution);
+    QFETCH(bool, substeps);
+    QFETCH(bool, shortCircuit);
+
+    auto check = [&](ParametersDock &dock) {
+        const std::pair<const char *, bool> fields[] = {
+            {"restitutionEdit", restitution}, {"substepsEdit", substeps}, {"shortCircuitEdit", shortCircuit}};
+        for (const auto &[name, enabled] : fields) {
+            auto *w = dock.findChild<QWidget *>(QString::fromLatin1(name));
+            QVERIFY(w);
+            QCOMPARE(w->isEnabled(), enabled);
+            // A disabled field says why; an enabled one shows its formula.
+            QVERIFY(!w->toolTip().isEmpty());
+            QCOMPARE(w->toolTip().contains(QStringLiteral("Only the")) || w->toolTip().contains(QStringLiteral("Not used")),
+                     !enabled);
+        }
+        // The fields every model uses stay enabled.
+        for (const char *name : {"massScaleEdit", "frictionEdit", "zeroThresholdEdit", "pushScaleEdit", "frameMsEdit",
+                                 "modelEdit", "gravityXEdit", "gravityYEdit"})
+            QVERIFY(dock.findChild<QWidget *>(QString::fromLatin1(name))->isEnabled());
+    };
+
+    // Shown by setParams...
+    ParametersDock shown;
+    shown.setParams(paramsWithModel(model));
+    check(shown);
+    if (QTest::currentTestFailed())
+        return;
+
+    // ...and chosen by the user in the model box, starting from another model.
+    ParametersDock chosen;
+    chosen.setParams(paramsWithModel(model == QLatin1String("book") ? QStringLiteral("exact") : QStringLiteral("book")));
+    chosen.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&chosen));
+    auto *box = chosen.findChild<QComboBox *>(QStringLiteral("modelEdit"));
+    QSignalSpy spy(&chosen, &ParametersDock::paramEdited);
+    box->setFocus();
+    const int target = box->findData(model);
+    QVERIFY(target >= 0);
+    while (box->currentIndex() != target)
+        QTest::keyClick(box, box->currentIndex() < target ? Qt::Key_Down : Qt::Key_Up);
+    QVERIFY(spy.count() >= 1);
+    QCOMPARE(spy.last().at(1).toString(), model);
+    check(chosen);
+}
+
+void TestParametersDock::dampedModelsNeedFrictionBelowOne()
+{
+    // With book friction 1.5, exact and impulse cannot be chosen (they need k < 1).
+    ParametersDock dock;
+    Params p;
+    p.friction = 1.5;
+    dock.setParams(p);
+    auto *box = dock.findChild<QComboBox *>(QStringLiteral("modelEdit"));
+    auto *items = qobject_cast<QStandardItemModel *>(box->model());
+    QVERIFY(items);
+    QVERIFY(items->item(box->findData(QStringLiteral("book")))->isEnabled());
+    QVERIFY(!items->item(box->findData(QStringLiteral("exact")))->isEnabled());
+    QVERIFY(!items->item(box->findData(QStringLiteral("impulse")))->isEnabled());
+
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    QSignalSpy spy(&dock, &ParametersDock::paramEdited);
+    box->setFocus();
+    QTest::keyClick(box, Qt::Key_Down);
+    QCOMPARE(spy.count(), 0);
+    QCOMPARE(dock.shownParams().model, ModelKind::Book);
+
+    // Lower the friction and they come back.
+    typeInto(dock.findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit")), QStringLiteral("0.5"));
+    QVERIFY(items->item(box->findData(QStringLiteral("exact")))->isEnabled());
+    box->setFocus();
+    QTest::keyClick(box, Qt::Key_Down);
+    QCOMPARE(spy.last().at(0).toString(), QStringLiteral("model"));
+    QCOMPARE(spy.last().at(1).toString(), QStringLiteral("impulse"));
+}
+
+void TestParametersDock::everyFieldExplained_data()
+{
+    QTest::addColumn<QString>("field");
+    QTest::addColumn<QString>("formula"); // a piece of the tooltip
+
+    QTest::addRow("massScale") << "massScaleEdit" << "massScale \u00d7 r";
+    QTest::addRow("friction") << "frictionEdit" << "a += \u2212v \u00d7 k";
+    QTest::addRow("zeroThreshold") << "zeroThresholdEdit" << "v.x = 0";
+    QTest::addRow("pushScale") << "pushScaleEdit" << "pushScale / m";
+    QTest::addRow("frameMs") << "frameMsEdit" << "frameMs";
+    QTest::addRow("model") << "modelEdit" << "exact:";
+    QTest::addRow("gravity") << "gravityEdit" << "a += g";
+}
+
+void TestParametersDock::everyFieldExplained()
+{
+    QFETCH(QString, field);
+    QFETCH(QString, formula);
+
+    ParametersDock dock;
+    dock.setParams(paramsWithModel(QStringLiteral("impulse"))); // every field enabled but short circuit
+    auto *w = dock.findChild<QWidget *>(field);
+    QVERIFY(w);
+    QVERIFY2(w->toolTip().contains(formula), qPrintable(w->toolTip()));
+    auto *help = dock.findChild<QLabel *>(field + QStringLiteral("Help"));
+    QVERIFY(help);
+    QVERIFY(help->text().endsWith(QLatin1Char('.')));
+    QVERIFY(help->text().size() > 20);
+}
+
+QTEST_MAIN(TestParametersDock)
+#include "tst_parametersdock.moc"
