@@ -652,8 +652,26 @@ std::string parserDetail(const std::string &what)
     return printable(bracket == std::string::npos ? what : what.substr(bracket + 2), 160);
 }
 
+/// True for the bytes that may stand outside strings in JSON: whitespace, structure, numbers
+/// and the letters of true, false and null.
+bool mayStandOutsideString(char c)
+{
+    switch (c) {
+    case ' ': case '\t': case '\n': case '\r':
+    case '[': case ']': case '{': case '}': case ':': case ',':
+    case '-': case '+': case '.': case 'e': case 'E':
+    case 't': case 'r': case 'u': case 'f': case 'a': case 'l': case 's': case 'n':
+        return true;
+    default:
+        return c >= '0' && c <= '9';
+    }
+}
+
 /// Cheap scan before nlohmann sees the text: refuses nesting deeper than kMaxSceneNesting,
 /// counting only brackets outside strings (a backslash escapes the next character inside one).
+/// It stops at the first byte that cannot be JSON there (a control character inside a string,
+/// anything else outside one): nlohmann fails at or before that byte, so nothing after it is
+/// ever nested, and garbage gets nlohmann's syntax error rather than a nesting complaint.
 /// Returns "" or "place: rule".
 std::string checkNesting(std::string_view text)
 {
@@ -662,6 +680,8 @@ std::string checkNesting(std::string_view text)
     for (std::size_t i = 0; i < text.size(); ++i) {
         const char c = text[i];
         if (inString) {
+            if (static_cast<unsigned char>(c) < 0x20)
+                break;
             if (c == '\\')
                 ++i;
             else if (c == '"')
@@ -674,6 +694,8 @@ std::string checkNesting(std::string_view text)
                     + std::to_string(kMaxSceneNesting) + " levels";
         } else if ((c == ']' || c == '}') && depth > 0) {
             --depth;
+        } else if (!mayStandOutsideString(c) && !(i < 3 && text.substr(0, 3) == "\xEF\xBB\xBF")) {
+            break;
         }
     }
     return {};
