@@ -1,8 +1,22 @@
 #include "core/bookmodel.h"
 
+#include <algorithm>
+#include <bit>
+#include <numeric>
+
 namespace marbles {
 
 namespace {
+
+bool isPositiveZero(double x)
+{
+    return std::bit_cast<std::uint64_t>(x) == 0;
+}
+
+bool isNegativeZero(double x)
+{
+    return x == 0.0 && std::signbit(x);
+}
 
 // The book's helpers, with its arithmetic. Each returns false where the book would divide by
 // zero, so that the caller can keep the state as it was (PHYSICS.md's one deviation).
@@ -104,6 +118,7 @@ bool bookShareCollision(Vec2 pi, Vec2 &vi, double mi, Vec2 pj, Vec2 &vj, double 
 void BookModel::step(World &world)
 {
     const int n = world.marbleCount();
+    const int pinCount = static_cast<int>(world.pins.size());
     const double k = world.params.friction;
     const double zero = world.params.zeroThreshold;
     const Vec2 g = world.params.gravity;
@@ -117,18 +132,41 @@ void BookModel::step(World &world)
     std::vector<Vec2> &vel = world.velocity;
     std::vector<Vec2> &acc = world.acceleration;
 
+    // Skipping what the scene does not need. Each skip leaves the results bit-identical:
+    // - k = 0: the friction term adds (-v) * 0 = +-0 to a; g = 0 likewise. Adding a zero can
+    //   only flip the sign of a zero, and step 3 turns any zero velocity component into +0
+    //   (-Z <= +-0 <= Z), so the velocity and position come out the same bits.
+    // - A sleeping marble (v and a exactly +0, no gravity) is a no-op in its own update: the
+    //   friction term is -0 * k, v stays +0, p + 0 = p, no wall test fires (v is neither < 0
+    //   nor > 0), and every pin or marble hit has |v| = 0, where the reflection keeps all
+    //   velocities. So it is skipped; other marbles still find it and can wake it up.
+    const bool reference = m_forceAllPairs;
+    const bool friction = reference || k != 0.0;
+    const bool gravity = reference || g.x != 0.0 || g.y != 0.0;
+
+    prepare(world);
+
     for (int i = 0; i < n; ++i) {
         Vec2 &p = pos[i];
         Vec2 &v = vel[i];
         Vec2 &a = acc[i];
+
+        if (!gravity && !reference && isPositiveZero(v.x) && isPositiveZero(v.y) && isPositiveZero(a.x)
+            && isPositiveZero(a.y) && !isNegativeZero(p.x) && !isNegativeZero(p.y))
+            continue;
+
         const double r = world.radius[i];
 
         // 1. Air friction is a force opposite to the velocity, a fraction k of it:
         //    a += -v * k. Then gravity, a constant acceleration: a += g.
-        a.x += (-v.x) * k;
-        a.y += (-v.y) * k;
-        a.x += g.x;
-        a.y += g.y;
+        if (friction) {
+            a.x += (-v.x) * k;
+            a.y += (-v.y) * k;
+        }
+        if (gravity) {
+            a.x += g.x;
+            a.y += g.y;
+        }
 
         // 2. Explicit Euler for the velocity, one frame at a time: v(f+1) = v(f) + a.
         //    With friction alone this is v(f+1) = (1 - k) v(f): a geometric decay by (1 - k)
@@ -170,8 +208,10 @@ void BookModel::step(World &world)
         // 6. Pins: a pin inside the marble (distance <= r) is a hit. The marble goes back to
         //    its last position (the book's stand-in for the true contact point) and its
         //    velocity is reflected about the line from its centre to the pin.
-        if (!(hit && shortCircuit)) {
-            for (const Vec2 &q : world.pins) {
+        if (pinCount > 0 && !(hit && shortCircuit)) {
+            const std::span<const int> pins = pinCandidates(old, p);
+            for (int j : pins) {
+                const Vec2 q = world.pins[j];
                 if (distance(q, p) <= r) {
                     p = old;
                     hit = true;
@@ -189,7 +229,8 @@ void BookModel::step(World &world)
         // 7. Other marbles, in scene order: closer than the sum of the radii is a hit.
         //    Marbles before i have already moved this frame, marbles after i have not.
         if (!(hit && shortCircuit)) {
-            for (int j = 0; j < n; ++j) {
+            const std::span<const int> others = marbleCandidates(i, old, p);
+            for (int j : others) {
                 if (j == i)
                     continue;
                 if (distance(p, pos[j]) < r + world.radius[j]) {
@@ -209,6 +250,166 @@ void BookModel::step(World &world)
         // 8. A force acts for one frame only: the acceleration starts again from zero.
         a.x = 0;
         a.y = 0;
+
+        if (m_useMarbleGrid)
+            m_marbleGrid.update(i, p);
+    }
+
+    if (m_useMarbleGrid) {
+        m_gridPositions = pos;
+        m_gridRadii = world.radius;
+    }
+}
+
+// The broad phase. A hit needs distance < r_i + r_j <= 2 rMax (marbles) or <= r_i <= rMax
+// (pins), so with cells of side >= 2 rMax every partner of a point lies in the 3 x 3 cells
+// around it. Marble i is tested at its new position and, after a first hit, at its old one:
+// the candidates are the union of both neighbourhoods, sorted, so that the hits are tested in
+// the same (scene) order as the all-pairs loop and the results are bit-identical to it.
+void BookModel::prepare(const World &world)
+{
+    const int n = world.marbleCount();
+    const int pinCount = static_cast<int>(world.pins.size());
+    m_useMarbleGrid = !m_forceAllPairs && n >= kGridMinMarbles;
+    m_usePinGrid = !m_forceAllPairs && pinCount >= kGridMinPins;
+
+    if (!m_usePinGrid && static_cast<int>(m_allPins.size()) != pinCount) {
+        m_allPins.resize(static_cast<std::size_t>(pinCount));
+        std::iota(m_allPins.begin(), m_allPins.end(), 0);
+    }
+    if (!m_useMarbleGrid && static_cast<int>(m_allMarbles.size()) != n) {
+        m_allMarbles.resize(static_cast<std::size_t>(n));
+        std::iota(m_allMarbles.begin(), m_allMarbles.end(), 0);
+    }
+    if (!m_useMarbleGrid && !m_usePinGrid)
+        return;
+
+    double rMax = 0.0;
+    for (double r : world.radius)
+        rMax = std::max(rMax, r);
+    const double contact = std::max(2.0 * rMax, 1e-6);
+
+    if (m_usePinGrid) {
+        // Pins change only between frames (by editing); sorting them costs O(pins).
+        m_pinGrid.build(GridGeometry::fit(contact, world.stage.width, world.stage.height, pinCount),
+                        world.pins.data(), pinCount);
+        m_pinMark.assign(static_cast<std::size_t>(pinCount), 0);
+    }
+    if (m_useMarbleGrid) {
+        // The marble grid is a cache kept from the last frame. It is still valid only if no
+        // marble moved or changed since (an edit, an undo or a jump back in time rebuilds it).
+        if (m_marbleGrid.size() != n || m_gridPositions != world.position || m_gridRadii != world.radius) {
+            m_marbleGrid.build(GridGeometry::fit(contact, world.stage.width, world.stage.height, n),
+                               world.position.data(), n);
+            m_marbleMark.assign(static_cast<std::size_t>(n), 0);
+        }
+    }
+}
+
+std::span<const int> BookModel::pinCandidates(Vec2 oldPosition, Vec2 newPosition)
+{
+    if (!m_usePinGrid)
+        return m_allPins;
+    m_candidates.clear();
+    ++m_stamp;
+    const GridGeometry &geometry = m_pinGrid.geometry();
+    for (Vec2 at : {newPosition, oldPosition}) {
+        int buckets[9];
+        geometry.neighbourhood(geometry.coord(at.x), geometry.coord(at.y), buckets);
+        for (int b : buckets) {
+            for (int k = m_pinGrid.begin(b); k < m_pinGrid.end(b); ++k) {
+                const int j = m_pinGrid.items()[static_cast<std::size_t>(k)];
+                if (m_pinMark[static_cast<std::size_t>(j)] != m_stamp) {
+                    m_pinMark[static_cast<std::size_t>(j)] = m_stamp;
+                    m_candidates.push_back(j);
+                }
+            }
+        }
+        if (oldPosition == newPosition)
+            break;
+    }
+    std::sort(m_candidates.begin(), m_candidates.end());
+    return m_candidates;
+}
+
+std::span<const int> BookModel::marbleCandidates(int i, Vec2 oldPosition, Vec2 newPosition)
+{
+    if (!m_useMarbleGrid)
+        return m_allMarbles;
+    m_candidates.clear();
+    ++m_stamp;
+    m_marbleGrid.gather(i, newPosition, oldPosition, m_candidates, m_marbleMark, m_stamp);
+    std::sort(m_candidates.begin(), m_candidates.end());
+    return m_candidates;
+}
+
+void MovingGrid::build(const GridGeometry &geometry, const Vec2 *points, int count)
+{
+    m_geometry = geometry;
+    m_head.assign(static_cast<std::size_t>(geometry.bucketCount()), -1);
+    m_next.assign(static_cast<std::size_t>(count), -1);
+    m_prev.assign(static_cast<std::size_t>(count), -1);
+    m_bucketOf.assign(static_cast<std::size_t>(count), -1);
+    // Linked in descending order so that each bucket lists its bodies in ascending order.
+    for (int i = count - 1; i >= 0; --i)
+        link(i, bucketOf(points[i]));
+}
+
+int MovingGrid::bucketOf(Vec2 p) const
+{
+    return m_geometry.bucket(m_geometry.coord(p.x), m_geometry.coord(p.y));
+}
+
+void MovingGrid::link(int i, int b)
+{
+    const auto u = static_cast<std::size_t>(i);
+    m_bucketOf[u] = b;
+    m_prev[u] = -1;
+    m_next[u] = m_head[static_cast<std::size_t>(b)];
+    if (m_next[u] >= 0)
+        m_prev[static_cast<std::size_t>(m_next[u])] = i;
+    m_head[static_cast<std::size_t>(b)] = i;
+}
+
+void MovingGrid::unlink(int i)
+{
+    const auto u = static_cast<std::size_t>(i);
+    if (m_prev[u] >= 0)
+        m_next[static_cast<std::size_t>(m_prev[u])] = m_next[u];
+    else
+        m_head[static_cast<std::size_t>(m_bucketOf[u])] = m_next[u];
+    if (m_next[u] >= 0)
+        m_prev[static_cast<std::size_t>(m_next[u])] = m_prev[u];
+}
+
+void MovingGrid::update(int i, Vec2 to)
+{
+    const int b = bucketOf(to);
+    if (b == m_bucketOf[static_cast<std::size_t>(i)])
+        return;
+    unlink(i);
+    link(i, b);
+}
+
+void MovingGrid::gather(int self, Vec2 a, Vec2 b, std::vector<int> &out, std::vector<std::uint64_t> &mark,
+                        std::uint64_t stamp) const
+{
+    const auto cellA = std::pair{m_geometry.coord(a.x), m_geometry.coord(a.y)};
+    const auto cellB = std::pair{m_geometry.coord(b.x), m_geometry.coord(b.y)};
+    int buckets[18];
+    m_geometry.neighbourhood(cellA.first, cellA.second, buckets);
+    int count = 9;
+    if (cellB != cellA) {
+        m_geometry.neighbourhood(cellB.first, cellB.second, buckets + 9);
+        count = 18;
+    }
+    for (int k = 0; k < count; ++k) {
+        for (int j = m_head[static_cast<std::size_t>(buckets[k])]; j >= 0; j = m_next[static_cast<std::size_t>(j)]) {
+            if (j != self && mark[static_cast<std::size_t>(j)] != stamp) {
+                mark[static_cast<std::size_t>(j)] = stamp;
+                out.push_back(j);
+            }
+        }
     }
 }
 
