@@ -1,0 +1,69 @@
+#pragma once
+
+#include "core/world.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+namespace marbles {
+
+/// The dynamic state of every marble at one frame: what a step changes, and nothing else.
+/// Radius, mass, pins, params and the stage are not kept: a snapshot is only restored into
+/// a world with the same marbles (the history is cleared when marbles are added or removed).
+struct FrameSnapshot {
+    std::int64_t frame = 0;
+    std::vector<Vec2> position;
+    std::vector<Vec2> velocity;
+    std::vector<Vec2> acceleration;
+    std::vector<HitRecord> lastHit;
+
+    /// Copies the dynamic state of `world`.
+    static FrameSnapshot of(const World &world);
+    /// Writes this state back into `world`, bit for bit. `world` must have the same marble count.
+    void restoreInto(World &world) const;
+    /// Approximate heap size of this snapshot, bytes.
+    std::size_t byteSize() const;
+};
+
+/// Step-back memory for the run: the snapshots of the frames simulated so far, newest last,
+/// bounded by a frame count and a byte budget (the oldest frames are forgotten first), plus
+/// the first frame of the timeline, which is never forgotten so that "back to start" always works.
+class FrameHistory {
+public:
+    /// At least this many frames are kept unless the byte budget is reached first.
+    static constexpr std::size_t kDefaultMaxFrames = 10000;
+    /// Byte budget of the kept frames: 256 MiB.
+    static constexpr std::size_t kDefaultMaxBytes = std::size_t{256} * 1024 * 1024;
+
+    explicit FrameHistory(std::size_t maxFrames = kDefaultMaxFrames, std::size_t maxBytes = kDefaultMaxBytes);
+
+    /// Forgets every frame; `world` becomes the start of a new timeline.
+    void reset(const World &world);
+    /// Remembers `world` as it is now, just before it is stepped.
+    void record(const World &world);
+    /// True when the frame just before `world.frame` is kept.
+    bool canStepBack(const World &world) const;
+    /// Restores the frame before `world.frame` and forgets it; false (world untouched) when it is not kept.
+    bool stepBack(World &world);
+    /// Restores the first frame of the timeline and forgets the rest; false when the marble count changed.
+    bool rewind(World &world);
+    /// True when the kept frames have as many marbles as `world` (so they can be restored into it).
+    bool fits(const World &world) const { return static_cast<int>(m_start.position.size()) == world.marbleCount(); }
+    /// Frame number of the start of the timeline.
+    std::int64_t startFrame() const { return m_start.frame; }
+    /// Number of step-back frames kept (the start frame not counted).
+    std::size_t size() const { return m_frames.size(); }
+    /// Bytes held by the step-back frames.
+    std::size_t byteSize() const { return m_bytes; }
+
+private:
+    std::size_t m_maxFrames;
+    std::size_t m_maxBytes;
+    FrameSnapshot m_start;
+    std::deque<FrameSnapshot> m_frames;
+    std::size_t m_bytes = 0;
+};
+
+} // namespace marbles

@@ -1,0 +1,185 @@
+#include "ui/inspectordock.h"
+
+#include "ui/scenedocument.h"
+
+#include <QCheckBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QLabel>
+#include <QSignalBlocker>
+#include <QVBoxLayout>
+
+namespace marbles {
+
+namespace {
+
+QDoubleSpinBox *makeBox(double min, double max, int decimals, const QString &suffix, const QString &tip)
+{
+    auto *box = new QDoubleSpinBox();
+    box->setRange(min, max);
+    box->setDecimals(decimals);
+    box->setSuffix(suffix);
+    box->setToolTip(tip);
+    // Typed values apply on Enter or when the field loses focus, not at every keystroke.
+    box->setKeyboardTracking(false);
+    box->setAccelerated(true);
+    return box;
+}
+
+void showValue(QDoubleSpinBox *box, double value)
+{
+    if (box->hasFocus())
+        return;
+    const QSignalBlocker blocker(box);
+    box->setValue(value);
+}
+
+} // namespace
+
+InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
+    : QDockWidget(tr("Inspector"), parent)
+    , m_document(document)
+{
+    setObjectName(QStringLiteral("inspectorDock"));
+    auto *body = new QWidget(this);
+    auto *layout = new QVBoxLayout(body);
+    m_title = new QLabel(body);
+    m_title->setWordWrap(true);
+    layout->addWidget(m_title);
+
+    m_form = new QWidget(body);
+    auto *form = new QFormLayout(m_form);
+    form->setContentsMargins(0, 0, 0, 0);
+    m_radius = makeBox(0.5, 5000.0, 2, tr(" px"), tr("Radius r, px. Mass follows as massScale * r unless set."));
+    m_mass = makeBox(0.001, 1.0e9, 3, QString(), tr("Mass m (the book: massScale * r)."));
+    m_autoMass = new QCheckBox(tr("massScale × radius"), m_form);
+    m_autoMass->setToolTip(tr("Checked: the mass follows the radius, as in the book."));
+    m_x = makeBox(-1.0e6, 1.0e6, 2, tr(" px"), tr("Centre x, px (right is +x)."));
+    m_y = makeBox(-1.0e6, 1.0e6, 2, tr(" px"), tr("Centre y, px (down is +y)."));
+    m_vx = makeBox(-1.0e5, 1.0e5, 3, tr(" px/frame"), tr("Velocity x, px per frame."));
+    m_vy = makeBox(-1.0e5, 1.0e5, 3, tr(" px/frame"), tr("Velocity y, px per frame."));
+    m_radius->setObjectName(QStringLiteral("radius"));
+    m_mass->setObjectName(QStringLiteral("mass"));
+    m_x->setObjectName(QStringLiteral("x"));
+    m_y->setObjectName(QStringLiteral("y"));
+    m_vx->setObjectName(QStringLiteral("vx"));
+    m_vy->setObjectName(QStringLiteral("vy"));
+    form->addRow(tr("Radius"), m_radius);
+    form->addRow(tr("Mass"), m_mass);
+    form->addRow(QString(), m_autoMass);
+    form->addRow(tr("x"), m_x);
+    form->addRow(tr("y"), m_y);
+    form->addRow(tr("vx"), m_vx);
+    form->addRow(tr("vy"), m_vy);
+    layout->addWidget(m_form);
+
+    m_error = new QLabel(body);
+    m_error->setWordWrap(true);
+    m_error->setStyleSheet(QStringLiteral("color: #b00020;"));
+    layout->addWidget(m_error);
+    layout->addStretch(1);
+    setWidget(body);
+
+    connect(m_radius, &QDoubleSpinBox::valueChanged, this, &InspectorDock::onRadius);
+    connect(m_mass, &QDoubleSpinBox::valueChanged, this, &InspectorDock::onMass);
+    connect(m_autoMass, &QCheckBox::toggled, this, &InspectorDock::onAutoMass);
+    connect(m_x, &QDoubleSpinBox::valueChanged, this, &InspectorDock::onX);
+    connect(m_y, &QDoubleSpinBox::valueChanged, this, &InspectorDock::onY);
+    connect(m_vx, &QDoubleSpinBox::valueChanged, this, &InspectorDock::onVx);
+    connect(m_vy, &QDoubleSpinBox::valueChanged, this, &InspectorDock::onVy);
+    connect(m_document, &SceneDocument::stepped, this, &InspectorDock::refresh);
+    connect(m_document, &SceneDocument::sceneChanged, this, &InspectorDock::refresh);
+    refresh();
+}
+
+QDoubleSpinBox *InspectorDock::field(const QString &name) const
+{
+    return m_form->findChild<QDoubleSpinBox *>(name);
+}
+
+void InspectorDock::setMarble(int i)
+{
+    m_marble = i;
+    m_error->clear();
+    refresh();
+}
+
+void InspectorDock::refresh()
+{
+    const World &world = m_document->world();
+    if (m_marble < 0 || m_marble >= world.marbleCount()) {
+        m_marble = -1;
+        m_title->setText(tr("Select a marble to see and edit it."));
+        m_form->setEnabled(false);
+        return;
+    }
+    const QString name = QString::fromStdString(world.info[m_marble].name);
+    m_title->setText(name.isEmpty() ? tr("Marble %1").arg(m_marble) : tr("Marble %1 — %2").arg(m_marble).arg(name));
+    m_form->setEnabled(true);
+    showValue(m_radius, world.radius[m_marble]);
+    showValue(m_mass, world.mass[m_marble]);
+    {
+        const QSignalBlocker blocker(m_autoMass);
+        m_autoMass->setChecked(!world.info[m_marble].hasMass);
+    }
+    m_mass->setEnabled(world.info[m_marble].hasMass);
+    showValue(m_x, world.position[m_marble].x);
+    showValue(m_y, world.position[m_marble].y);
+    showValue(m_vx, world.velocity[m_marble].x);
+    showValue(m_vy, world.velocity[m_marble].y);
+}
+
+void InspectorDock::report(const QString &error)
+{
+    m_error->setText(error);
+    if (!error.isEmpty()) {
+        Q_EMIT message(error);
+        refresh();
+    }
+}
+
+void InspectorDock::onRadius(double value)
+{
+    if (m_marble >= 0)
+        report(m_document->setMarbleRadius(m_marble, value));
+}
+
+void InspectorDock::onMass(double value)
+{
+    if (m_marble >= 0)
+        report(m_document->setMarbleMass(m_marble, value));
+}
+
+void InspectorDock::onAutoMass(bool automatic)
+{
+    if (m_marble < 0)
+        return;
+    report(m_document->setMarbleMass(m_marble, automatic ? 0.0 : m_document->world().mass[m_marble]));
+}
+
+// Each field changes only its own component: the other keeps its exact value, not the rounded one shown.
+void InspectorDock::onX(double value)
+{
+    if (m_marble >= 0)
+        report(m_document->setMarblePosition(m_marble, {value, m_document->world().position[m_marble].y}));
+}
+
+void InspectorDock::onY(double value)
+{
+    if (m_marble >= 0)
+        report(m_document->setMarblePosition(m_marble, {m_document->world().position[m_marble].x, value}));
+}
+
+void InspectorDock::onVx(double value)
+{
+    if (m_marble >= 0)
+        report(m_document->setMarbleVelocity(m_marble, {value, m_document->world().velocity[m_marble].y}));
+}
+
+void InspectorDock::onVy(double value)
+{
+    if (m_marble >= 0)
+        report(m_document->setMarbleVelocity(m_marble, {m_document->world().velocity[m_marble].x, value}));
+}
+
+} // namespace marbles

@@ -1,0 +1,60 @@
+#pragma once
+
+#include <QDockWidget>
+
+class QCheckBox;
+class QDoubleSpinBox;
+class QLabel;
+
+namespace marbles {
+
+class SceneDocument;
+
+/// The Inspector dock: the selected marble's radius, mass, position and velocity, editable.
+/// Every change goes through the document as an undo command; scrubbing a field with the arrows
+/// or the wheel merges into one undo step per field.
+class InspectorDock : public QDockWidget {
+    Q_OBJECT
+
+public:
+    /// The dock (objectName "inspectorDock") for `document`, which must outlive it.
+    explicit InspectorDock(SceneDocument *document, QWidget *parent = nullptr);
+
+    /// Shows marble i (-1 shows nothing).
+    void setMarble(int i);
+    /// The marble shown, or -1.
+    int marble() const { return m_marble; }
+
+    /// The fields, for tests: "radius", "mass", "x", "y", "vx", "vy".
+    QDoubleSpinBox *field(const QString &name) const;
+
+Q_SIGNALS:
+    /// An edit was refused; `text` says why.
+    void message(const QString &text);
+
+private:
+    void refresh();
+    void onRadius(double value);
+    void onMass(double value);
+    void onX(double value);
+    void onY(double value);
+    void onVx(double value);
+    void onVy(double value);
+    void onAutoMass(bool automatic);
+    void report(const QString &error);
+
+    SceneDocument *m_document;
+    int m_marble = -1;
+    QLabel *m_title = nullptr;
+    QDoubleSpinBox *m_radius = nullptr;
+    QDoubleSpinBox *m_mass = nullptr;
+    QCheckBox *m_autoMass = nullptr;
+    QDoubleSpinBox *m_x = nullptr;
+    QDoubleSpinBox *m_y = nullptr;
+    QDoubleSpinBox *m_vx = nullptr;
+    QDoubleSpinBox *m_vy = nullptr;
+    QLabel *m_error = nullptr;
+    QWidget *m_form = nullptr;
+};
+
+} // namespace marbles

@@ -1,0 +1,780 @@
+#include "ui/mainwindow.h"
+
+#include "core/presets.h"
+#include "ui/autosaver.h"
+#include "ui/inspectordock.h"
+#include "ui/parametersdock.h"
+#include "ui/plotdock.h"
+#include "ui/prompts.h"
+#include "ui/runcontroller.h"
+#include "ui/scenedocument.h"
+#include "ui/stageview.h"
+
+#include <QAction>
+#include <QActionGroup>
+#include <QApplication>
+#include <QCloseEvent>
+#include <QComboBox>
+#include <QDir>
+#include <QDockWidget>
+#include <QFileInfo>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QMenu>
+#include <QMenuBar>
+#include <QSettings>
+#include <QStatusBar>
+#include <QTimer>
+#include <QToolBar>
+#include <QToolButton>
+#include <QUndoStack>
+#include <QUndoView>
+#include <QVBoxLayout>
+
+#include <cmath>
+
+namespace marbles {
+
+namespace {
+
+/// Run speeds offered in the toolbar.
+constexpr double kSpeeds[] = {0.1, 0.25, 0.5, 1.0, 2.0, 4.0};
+/// Index of 1x in kSpeeds.
+constexpr int kRealTimeSpeedIndex = 3;
+
+QString keyRecentFiles()
+{
+    return QStringLiteral("recentFiles");
+}
+
+} // namespace
+
+MainWindow::MainWindow(QWidget *parent)
+    : QMainWindow(parent)
+    , m_document(new SceneDocument(this))
+    , m_prompts(std::make_unique<Prompts>())
+{
+    setObjectName(QStringLiteral("mainWindow"));
+    m_view = new StageView(m_document, this);
+    m_run = new RunController(m_document, this);
+
+    // The central widget: a message bar (hidden until needed) above the stage.
+    auto *central = new QWidget(this);
+    auto *layout = new QVBoxLayout(central);
+    layout->setContentsMargins(0, 0, 0, 0);
+    layout->setSpacing(0);
+    m_messageBar = new QWidget(central);
+    m_messageBar->setObjectName(QStringLiteral("messageBar"));
+    m_messageBar->setAutoFillBackground(true);
+    m_messageBar->setStyleSheet(
+        QStringLiteral("#messageBar { background: #fdecea; border-bottom: 1px solid #e0a8a2; } "
+                       "#messageBar QLabel { color: #611a15; }"));
+    auto *barLayout = new QHBoxLayout(m_messageBar);
+    barLayout->setContentsMargins(10, 6, 6, 6);
+    m_messageText = new QLabel(m_messageBar);
+    m_messageText->setWordWrap(true);
+    barLayout->addWidget(m_messageText, 1);
+    auto *close = new QToolButton(m_messageBar);
+    close->setText(tr("Dismiss"));
+    close->setAutoRaise(true);
+    connect(close, &QToolButton::clicked, this, &MainWindow::hideBarMessage);
+    barLayout->addWidget(close);
+    m_messageBar->hide();
+    layout->addWidget(m_messageBar);
+    layout->addWidget(m_view, 1);
+    setCentralWidget(central);
+
+    createActions();
+    createMenus();
+    createToolBars();
+    createDocks();
+    createStatusBar();
+
+    connect(m_document, &SceneDocument::stepped, this, &MainWindow::updateFrameDisplay);
+    connect(m_document, &SceneDocument::stepped, this, &MainWindow::updateEditActions);
+    connect(m_document, &SceneDocument::sceneChanged, this, &MainWindow::onSceneChanged);
+    connect(m_document, &SceneDocument::simulationFailed, this, &MainWindow::onSimulationFailed);
+    connect(m_document, &SceneDocument::fileNameChanged, this, &MainWindow::updateTitle);
+    connect(m_document, &SceneDocument::modificationChanged, this, &MainWindow::updateTitle);
+    connect(m_run, &RunController::runningChanged, this, &MainWindow::onRunningChanged);
+    connect(m_view, &StageView::selectionChanged, this, &MainWindow::onSelectionChanged);
+    connect(m_view, &StageView::message, this, &MainWindow::showStatus);
+
+    m_autoSaver = new AutoSaver(m_document, QString(), this);
+    m_autoSaver->start();
+
+    World scene;
+    makePreset(presets().front().id, scene);
+    m_presetTitle = QString::fromStdString(presets().front().title);
+    m_document->resetScene(scene);
+
+    readSettings();
+    updateTitle();
+    updateFrameDisplay();
+    updateEditActions();
+    m_statisticsClock.start();
+    updateStatistics();
+    m_view->setFocus();
+}
+
+MainWindow::~MainWindow() = default;
+
+void MainWindow::setPrompts(std::unique_ptr<Prompts> prompts)
+{
+    if (prompts)
+        m_prompts = std::move(prompts);
+}
+
+void MainWindow::createActions()
+{
+    m_newAction = new QAction(QIcon::fromTheme(QStringLiteral("document-new")), tr("&New"), this);
+    m_newAction->setObjectName(QStringLiteral("actionNew"));
+    m_newAction->setShortcut(QKeySequence::New);
+    m_newAction->setStatusTip(tr("Start again from the chapter's four marbles"));
+    connect(m_newAction, &QAction::triggered, this, &MainWindow::newScene);
+
+    m_openAction = new QAction(QIcon::fromTheme(QStringLiteral("document-open")), tr("&Open…"), this);
+    m_openAction->setObjectName(QStringLiteral("actionOpen"));
+    m_openAction->setShortcut(QKeySequence::Open);
+    connect(m_openAction, &QAction::triggered, this, &MainWindow::open);
+
+    m_saveAction = new QAction(QIcon::fromTheme(QStringLiteral("document-save")), tr("&Save"), this);
+    m_saveAction->setObjectName(QStringLiteral("actionSave"));
+    m_saveAction->setShortcut(QKeySequence::Save);
+    connect(m_saveAction, &QAction::triggered, this, &MainWindow::save);
+
+    m_saveAsAction = new QAction(QIcon::fromTheme(QStringLiteral("document-save-as")), tr("Save &As…"), this);
+    m_saveAsAction->setObjectName(QStringLiteral("actionSaveAs"));
+    m_saveAsAction->setShortcut(QKeySequence::SaveAs);
+    connect(m_saveAsAction, &QAction::triggered, this, &MainWindow::saveAs);
+
+    m_quitAction = new QAction(QIcon::fromTheme(QStringLiteral("application-exit")), tr("&Quit"), this);
+    m_quitAction->setObjectName(QStringLiteral("actionQuit"));
+    m_quitAction->setShortcut(QKeySequence::Quit);
+    connect(m_quitAction, &QAction::triggered, this, &QWidget::close);
+
+    m_undoAction = m_document->undoStack()->createUndoAction(this, tr("&Undo"));
+    m_undoAction->setObjectName(QStringLiteral("actionUndo"));
+    m_undoAction->setIcon(QIcon::fromTheme(QStringLiteral("edit-undo")));
+    m_undoAction->setShortcut(QKeySequence::Undo);
+    m_redoAction = m_document->undoStack()->createRedoAction(this, tr("&Redo"));
+    m_redoAction->setObjectName(QStringLiteral("actionRedo"));
+    m_redoAction->setIcon(QIcon::fromTheme(QStringLiteral("edit-redo")));
+    m_redoAction->setShortcuts({QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z), QKeySequence(QKeySequence::Redo)});
+
+    m_deleteAction = new QAction(QIcon::fromTheme(QStringLiteral("edit-delete")), tr("&Delete"), this);
+    m_deleteAction->setObjectName(QStringLiteral("actionDelete"));
+    m_deleteAction->setShortcut(QKeySequence::Delete);
+    m_deleteAction->setStatusTip(tr("Delete the selected marble or pin"));
+    connect(m_deleteAction, &QAction::triggered, m_view, &StageView::deleteSelection);
+
+    m_toolGroup = new QActionGroup(this);
+    m_toolGroup->setExclusive(true);
+    m_selectToolAction = new QAction(tr("Select && Push"), m_toolGroup);
+    m_selectToolAction->setObjectName(QStringLiteral("actionSelectTool"));
+    m_selectToolAction->setShortcut(QKeySequence(Qt::Key_S));
+    m_selectToolAction->setStatusTip(
+        tr("Click a marble to push it (the further from its centre, the harder); drag marbles and pins to move them"));
+    m_marbleToolAction = new QAction(tr("Add &Marble"), m_toolGroup);
+    m_marbleToolAction->setObjectName(QStringLiteral("actionAddMarbleTool"));
+    m_marbleToolAction->setShortcut(QKeySequence(Qt::Key_M));
+    m_marbleToolAction->setStatusTip(tr("Click on the stage to add a marble"));
+    m_pinToolAction = new QAction(tr("Add &Pin"), m_toolGroup);
+    m_pinToolAction->setObjectName(QStringLiteral("actionAddPinTool"));
+    m_pinToolAction->setShortcut(QKeySequence(Qt::Key_P));
+    m_pinToolAction->setStatusTip(tr("Click on the stage to add a pin"));
+    for (QAction *action : m_toolGroup->actions())
+        action->setCheckable(true);
+    m_selectToolAction->setChecked(true);
+    connect(m_toolGroup, &QActionGroup::triggered, this, &MainWindow::onToolChosen);
+
+    m_addMarbleHereAction = new QAction(tr("Add Marble Here"), this);
+    m_addMarbleHereAction->setObjectName(QStringLiteral("actionAddMarbleHere"));
+    connect(m_addMarbleHereAction, &QAction::triggered, this, &MainWindow::addMarbleHere);
+    m_addPinHereAction = new QAction(tr("Add Pin Here"), this);
+    m_addPinHereAction->setObjectName(QStringLiteral("actionAddPinHere"));
+    connect(m_addPinHereAction, &QAction::triggered, this, &MainWindow::addPinHere);
+
+    m_playAction = new QAction(QIcon::fromTheme(QStringLiteral("media-playback-start")), tr("&Play"), this);
+    m_playAction->setObjectName(QStringLiteral("actionPlay"));
+    m_playAction->setShortcut(QKeySequence(Qt::Key_Space));
+    m_playAction->setStatusTip(tr("Run or pause the simulation"));
+    connect(m_playAction, &QAction::triggered, this, &MainWindow::togglePlay);
+
+    m_stepAction = new QAction(QIcon::fromTheme(QStringLiteral("media-seek-forward")), tr("S&tep"), this);
+    m_stepAction->setObjectName(QStringLiteral("actionStep"));
+    m_stepAction->setShortcut(QKeySequence(Qt::Key_Right));
+    m_stepAction->setStatusTip(tr("Simulate one frame"));
+    connect(m_stepAction, &QAction::triggered, this, &MainWindow::stepForward);
+
+    m_stepBackAction = new QAction(QIcon::fromTheme(QStringLiteral("media-seek-backward")), tr("Step &Back"), this);
+    m_stepBackAction->setObjectName(QStringLiteral("actionStepBack"));
+    m_stepBackAction->setShortcut(QKeySequence(Qt::Key_Left));
+    m_stepBackAction->setStatusTip(tr("Go back one frame, exactly as it was"));
+    connect(m_stepBackAction, &QAction::triggered, this, &MainWindow::stepBackward);
+
+    m_rewindAction = new QAction(QIcon::fromTheme(QStringLiteral("media-skip-backward")), tr("Back to &Start"), this);
+    m_rewindAction->setObjectName(QStringLiteral("actionRewind"));
+    m_rewindAction->setShortcut(QKeySequence(Qt::Key_Home));
+    m_rewindAction->setStatusTip(tr("Go back to frame 0"));
+    connect(m_rewindAction, &QAction::triggered, this, &MainWindow::rewindToStart);
+
+    m_fitAction = new QAction(QIcon::fromTheme(QStringLiteral("zoom-fit-best")), tr("&Fit to Stage"), this);
+    m_fitAction->setObjectName(QStringLiteral("actionFit"));
+    m_fitAction->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_0));
+    connect(m_fitAction, &QAction::triggered, m_view, &StageView::fitToStage);
+    m_zoomInAction = new QAction(QIcon::fromTheme(QStringLiteral("zoom-in")), tr("Zoom &In"), this);
+    m_zoomInAction->setObjectName(QStringLiteral("actionZoomIn"));
+    m_zoomInAction->setShortcut(QKeySequence::ZoomIn);
+    connect(m_zoomInAction, &QAction::triggered, this, [this] { m_view->zoomBy(1.25); });
+    m_zoomOutAction = new QAction(QIcon::fromTheme(QStringLiteral("zoom-out")), tr("Zoom &Out"), this);
+    m_zoomOutAction->setObjectName(QStringLiteral("actionZoomOut"));
+    m_zoomOutAction->setShortcut(QKeySequence::ZoomOut);
+    connect(m_zoomOutAction, &QAction::triggered, this, [this] { m_view->zoomBy(1.0 / 1.25); });
+
+    m_vectorsAction = new QAction(tr("Collision &Vectors"), this);
+    m_vectorsAction->setObjectName(QStringLiteral("actionVectors"));
+    m_vectorsAction->setCheckable(true);
+    m_vectorsAction->setChecked(m_view->vectorsVisible());
+    m_vectorsAction->setShortcut(QKeySequence(Qt::Key_V));
+    m_vectorsAction->setStatusTip(tr("Figure 11.12: velocity (blue), collision vector (red), reflected velocity (green) "
+                                     "at each marble's last collision"));
+    connect(m_vectorsAction, &QAction::toggled, m_view, &StageView::setVectorsVisible);
+    m_trailsAction = new QAction(tr("&Trails"), this);
+    m_trailsAction->setObjectName(QStringLiteral("actionTrails"));
+    m_trailsAction->setCheckable(true);
+    m_trailsAction->setChecked(m_view->trailsVisible());
+    m_trailsAction->setShortcut(QKeySequence(Qt::Key_T));
+    m_trailsAction->setStatusTip(tr("Fading trails behind the marbles"));
+    connect(m_trailsAction, &QAction::toggled, m_view, &StageView::setTrailsVisible);
+
+    addActions({m_playAction, m_stepAction, m_stepBackAction, m_rewindAction});
+    m_view->setContextActions({m_selectToolAction, m_marbleToolAction, m_pinToolAction, nullptr, m_addMarbleHereAction,
+                               m_addPinHereAction, nullptr, m_deleteAction});
+}
+
+void MainWindow::createMenus()
+{
+    QMenu *file = menuBar()->addMenu(tr("&File"));
+    file->addAction(m_newAction);
+    file->addAction(m_openAction);
+    m_recentMenu = file->addMenu(tr("Open &Recent"));
+    m_recentMenu->setObjectName(QStringLiteral("recentMenu"));
+    m_presetMenu = file->addMenu(tr("&Presets"));
+    m_presetMenu->setObjectName(QStringLiteral("presetMenu"));
+    for (const PresetInfo &preset : presets()) {
+        QAction *action = m_presetMenu->addAction(QString::fromStdString(preset.title));
+        action->setObjectName(QStringLiteral("preset-") + QString::fromStdString(preset.id));
+        action->setData(QString::fromStdString(preset.id));
+        action->setStatusTip(QString::fromStdString(preset.description));
+        action->setToolTip(QString::fromStdString(preset.description));
+        connect(action, &QAction::triggered, this, [this, action] { openPreset(action->data().toString()); });
+    }
+    file->addSeparator();
+    file->addAction(m_saveAction);
+    file->addAction(m_saveAsAction);
+    file->addSeparator();
+    file->addAction(m_quitAction);
+    rebuildRecentMenu();
+
+    QMenu *edit = menuBar()->addMenu(tr("&Edit"));
+    edit->addAction(m_undoAction);
+    edit->addAction(m_redoAction);
+    edit->addSeparator();
+    edit->addAction(m_selectToolAction);
+    edit->addAction(m_marbleToolAction);
+    edit->addAction(m_pinToolAction);
+    edit->addSeparator();
+    edit->addAction(m_deleteAction);
+
+    QMenu *simulation = menuBar()->addMenu(tr("&Simulation"));
+    simulation->addAction(m_playAction);
+    simulation->addAction(m_stepAction);
+    simulation->addAction(m_stepBackAction);
+    simulation->addAction(m_rewindAction);
+
+    m_viewMenu = menuBar()->addMenu(tr("&View"));
+    m_viewMenu->addAction(m_vectorsAction);
+    m_viewMenu->addAction(m_trailsAction);
+    m_viewMenu->addSeparator();
+    m_viewMenu->addAction(m_fitAction);
+    m_viewMenu->addAction(m_zoomInAction);
+    m_viewMenu->addAction(m_zoomOutAction);
+    m_viewMenu->addSeparator();
+}
+
+void MainWindow::createToolBars()
+{
+    QToolBar *fileBar = addToolBar(tr("File"));
+    fileBar->setObjectName(QStringLiteral("fileToolBar"));
+    fileBar->addAction(m_newAction);
+    fileBar->addAction(m_openAction);
+    fileBar->addAction(m_saveAction);
+    fileBar->addSeparator();
+    fileBar->addAction(m_undoAction);
+    fileBar->addAction(m_redoAction);
+
+    QToolBar *runBar = addToolBar(tr("Run"));
+    runBar->setObjectName(QStringLiteral("runToolBar"));
+    runBar->setToolButtonStyle(Qt::ToolButtonTextBesideIcon);
+    runBar->addAction(m_rewindAction);
+    runBar->addAction(m_stepBackAction);
+    runBar->addAction(m_playAction);
+    runBar->addAction(m_stepAction);
+    m_speedBox = new QComboBox(runBar);
+    m_speedBox->setObjectName(QStringLiteral("speedBox"));
+    m_speedBox->setToolTip(tr("Run speed: simulated time per wall-clock time"));
+    m_speedBox->setFocusPolicy(Qt::NoFocus);
+    for (double speed : kSpeeds)
+        m_speedBox->addItem(QStringLiteral("%1×").arg(speed), speed);
+    m_speedBox->setCurrentIndex(kRealTimeSpeedIndex);
+    connect(m_speedBox, &QComboBox::currentIndexChanged, this, &MainWindow::onSpeedChosen);
+    runBar->addWidget(m_speedBox);
+    runBar->addSeparator();
+    m_frameDisplay = new QLabel(runBar);
+    m_frameDisplay->setObjectName(QStringLiteral("frameDisplay"));
+    m_frameDisplay->setMinimumWidth(220);
+    m_frameDisplay->setContentsMargins(8, 0, 8, 0);
+    QFont font = m_frameDisplay->font();
+    font.setPointSizeF(font.pointSizeF() * 1.15);
+    font.setBold(true);
+    m_frameDisplay->setFont(font);
+    runBar->addWidget(m_frameDisplay);
+
+    QToolBar *toolBar = addToolBar(tr("Tools"));
+    toolBar->setObjectName(QStringLiteral("toolsToolBar"));
+    toolBar->setToolButtonStyle(Qt::ToolButtonTextOnly);
+    toolBar->addAction(m_selectToolAction);
+    toolBar->addAction(m_marbleToolAction);
+    toolBar->addAction(m_pinToolAction);
+    toolBar->addAction(m_deleteAction);
+    toolBar->addSeparator();
+    toolBar->addAction(m_vectorsAction);
+    toolBar->addAction(m_trailsAction);
+    toolBar->addAction(m_fitAction);
+}
+
+void MainWindow::createDocks()
+{
+    m_parametersDock = new ParametersDock(this);
+    addDockWidget(Qt::RightDockWidgetArea, m_parametersDock);
+    connect(m_parametersDock, &ParametersDock::paramEdited, this, &MainWindow::onParamEdited);
+
+    m_inspectorDock = new InspectorDock(m_document, this);
+    addDockWidget(Qt::RightDockWidgetArea, m_inspectorDock);
+    connect(m_inspectorDock, &InspectorDock::message, this, &MainWindow::showStatus);
+
+    m_historyDock = new QDockWidget(tr("Undo History"), this);
+    m_historyDock->setObjectName(QStringLiteral("historyDock"));
+    auto *undoView = new QUndoView(m_document->undoStack(), m_historyDock);
+    undoView->setEmptyLabel(tr("<scene opened>"));
+    m_historyDock->setWidget(undoView);
+    addDockWidget(Qt::RightDockWidgetArea, m_historyDock);
+    tabifyDockWidget(m_inspectorDock, m_historyDock);
+    m_inspectorDock->raise();
+
+    m_plotDock = new PlotDock(this);
+    addDockWidget(Qt::BottomDockWidgetArea, m_plotDock);
+    connect(m_document, &SceneDocument::frameAdvanced, this,
+            [this] { m_plotDock->appendFrame(m_document->world()); });
+    connect(m_document, &SceneDocument::timelineReset, this, [this] { m_plotDock->reset(m_document->world()); });
+
+    for (QDockWidget *dock : {static_cast<QDockWidget *>(m_parametersDock), static_cast<QDockWidget *>(m_inspectorDock),
+                              m_historyDock, static_cast<QDockWidget *>(m_plotDock)})
+        m_viewMenu->addAction(dock->toggleViewAction());
+}
+
+void MainWindow::createStatusBar()
+{
+    const auto addLabel = [this](const QString &name, const QString &tip) {
+        auto *label = new QLabel(this);
+        label->setObjectName(name);
+        label->setToolTip(tip);
+        statusBar()->addPermanentWidget(label);
+        return label;
+    };
+    m_frameLabel = addLabel(QStringLiteral("frameLabel"), tr("Frames simulated since frame 0"));
+    m_timeLabel = addLabel(QStringLiteral("timeLabel"), tr("Simulated time: frame × frameMs"));
+    m_countLabel = addLabel(QStringLiteral("countLabel"), tr("Marbles and pins on the stage"));
+    m_physicsLabel = addLabel(QStringLiteral("physicsLabel"), tr("Time the physics takes per frame"));
+    m_fpsLabel = addLabel(QStringLiteral("fpsLabel"), tr("Frames drawn per second"));
+    m_energyLabel = addLabel(QStringLiteral("energyLabel"), tr("Total kinetic energy, sum of m v² / 2"));
+    m_momentumLabel = addLabel(QStringLiteral("momentumLabel"), tr("Total momentum, sum of m v"));
+    m_statisticsTimer = new QTimer(this);
+    m_statisticsTimer->setInterval(250);
+    connect(m_statisticsTimer, &QTimer::timeout, this, &MainWindow::updateStatistics);
+    m_statisticsTimer->start();
+}
+
+void MainWindow::readSettings()
+{
+    QSettings settings;
+    const QByteArray geometry = settings.value(QStringLiteral("window/geometry")).toByteArray();
+    if (geometry.isEmpty() || !restoreGeometry(geometry))
+        resize(1400, 900);
+    restoreState(settings.value(QStringLiteral("window/state")).toByteArray());
+    m_vectorsAction->setChecked(settings.value(QStringLiteral("view/vectors"), true).toBool());
+    m_trailsAction->setChecked(settings.value(QStringLiteral("view/trails"), false).toBool());
+    const int speed = settings.value(QStringLiteral("run/speedIndex"), kRealTimeSpeedIndex).toInt();
+    if (speed >= 0 && speed < m_speedBox->count())
+        m_speedBox->setCurrentIndex(speed);
+}
+
+void MainWindow::writeSettings()
+{
+    QSettings settings;
+    settings.setValue(QStringLiteral("window/geometry"), saveGeometry());
+    settings.setValue(QStringLiteral("window/state"), saveState());
+    settings.setValue(QStringLiteral("view/vectors"), m_vectorsAction->isChecked());
+    settings.setValue(QStringLiteral("view/trails"), m_trailsAction->isChecked());
+    settings.setValue(QStringLiteral("run/speedIndex"), m_speedBox->currentIndex());
+}
+
+QStringList MainWindow::recentFiles() const
+{
+    return QSettings().value(keyRecentFiles()).toStringList();
+}
+
+void MainWindow::addRecentFile(const QString &path)
+{
+    const QString absolute = QFileInfo(path).absoluteFilePath();
+    QStringList files = recentFiles();
+    files.removeAll(absolute);
+    files.prepend(absolute);
+    while (files.size() > kMaxRecentFiles)
+        files.removeLast();
+    QSettings().setValue(keyRecentFiles(), files);
+    rebuildRecentMenu();
+}
+
+void MainWindow::rebuildRecentMenu()
+{
+    m_recentMenu->clear();
+    const QStringList files = recentFiles();
+    for (int k = 0; k < files.size(); ++k) {
+        QAction *action = m_recentMenu->addAction(
+            QStringLiteral("&%1 %2").arg(k + 1).arg(QFileInfo(files[k]).fileName()));
+        action->setData(files[k]);
+        action->setStatusTip(QDir::toNativeSeparators(files[k]));
+        connect(action, &QAction::triggered, this, &MainWindow::openRecent);
+    }
+    m_recentMenu->setEnabled(!files.isEmpty());
+}
+
+void MainWindow::openRecent()
+{
+    if (const auto *action = qobject_cast<const QAction *>(sender()))
+        openFile(action->data().toString());
+}
+
+bool MainWindow::maybeSave()
+{
+    if (!m_document->isModified())
+        return true;
+    switch (m_prompts->askSaveChanges(this, m_document->displayName())) {
+    case Prompts::SaveChoice::Save:
+        return save();
+    case Prompts::SaveChoice::Discard:
+        return true;
+    case Prompts::SaveChoice::Cancel:
+        return false;
+    }
+    return false;
+}
+
+void MainWindow::newScene()
+{
+    openPreset(QString::fromStdString(presets().front().id));
+}
+
+bool MainWindow::openPreset(const QString &id)
+{
+    World scene;
+    const QByteArray key = id.toUtf8();
+    if (!makePreset(std::string_view(key.constData(), static_cast<std::size_t>(key.size())), scene)) {
+        showStatus(tr("No preset named \"%1\".").arg(id));
+        return false;
+    }
+    if (!maybeSave())
+        return false;
+    m_run->pause();
+    hideBarMessage();
+    for (const PresetInfo &preset : presets()) {
+        if (preset.id == key.toStdString())
+            m_presetTitle = QString::fromStdString(preset.title);
+    }
+    m_document->resetScene(scene);
+    updateTitle();
+    showStatus(tr("Preset \"%1\".").arg(m_presetTitle));
+    return true;
+}
+
+void MainWindow::open()
+{
+    QString directory;
+    const QStringList recent = recentFiles();
+    if (!m_document->fileName().isEmpty())
+        directory = QFileInfo(m_document->fileName()).absolutePath();
+    else if (!recent.isEmpty())
+        directory = QFileInfo(recent.front()).absolutePath();
+    const QString path = m_prompts->askOpenFileName(this, directory);
+    if (!path.isEmpty())
+        openFile(path);
+}
+
+bool MainWindow::openFile(const QString &path)
+{
+    // The file is read and checked before anything is asked or changed: an invalid file leaves
+    // the open scene exactly as it was.
+    World scene;
+    QString error;
+    if (!SceneDocument::readSceneFile(path, scene, &error)) {
+        showStatus(error);
+        m_prompts->showError(this, tr("Cannot open the scene"), error);
+        return false;
+    }
+    if (!maybeSave())
+        return false;
+    m_run->pause();
+    hideBarMessage();
+    m_document->resetScene(scene, QFileInfo(path).absoluteFilePath());
+    addRecentFile(path);
+    showStatus(tr("Opened %1.").arg(QDir::toNativeSeparators(path)));
+    return true;
+}
+
+bool MainWindow::save()
+{
+    if (m_document->fileName().isEmpty())
+        return saveAs();
+    return saveFile(m_document->fileName());
+}
+
+bool MainWindow::saveAs()
+{
+    QString suggestion = m_document->fileName();
+    if (suggestion.isEmpty()) {
+        const QStringList recent = recentFiles();
+        const QString directory = recent.isEmpty() ? QDir::homePath() : QFileInfo(recent.front()).absolutePath();
+        suggestion = QDir(directory).filePath(QStringLiteral("scene.marbles.json"));
+    }
+    const QString path = m_prompts->askSaveFileName(this, suggestion);
+    if (path.isEmpty())
+        return false;
+    return saveFile(path);
+}
+
+bool MainWindow::saveFile(const QString &path)
+{
+    QString error;
+    if (!m_document->saveFile(path, &error)) {
+        showStatus(error);
+        m_prompts->showError(this, tr("Cannot save the scene"), error);
+        return false;
+    }
+    m_autoSaver->discard();
+    addRecentFile(path);
+    showStatus(tr("Saved %1.").arg(QDir::toNativeSeparators(path)));
+    return true;
+}
+
+void MainWindow::offerRecovery()
+{
+    if (!m_autoSaver->hasRecovery())
+        return;
+    const QString source = m_autoSaver->recoverySource();
+    const QString details = source.isEmpty() ? tr("An untitled scene had unsaved changes.")
+                                             : tr("The scene %1 had unsaved changes.").arg(source);
+    if (m_prompts->askRecover(this, details)) {
+        QString error;
+        if (m_autoSaver->recover(&error)) {
+            showStatus(tr("Recovered the autosaved scene. Save it to keep it."));
+            return;
+        }
+        m_prompts->showError(this, tr("Cannot recover the scene"), error);
+    }
+    m_autoSaver->discard();
+}
+
+void MainWindow::closeEvent(QCloseEvent *event)
+{
+    if (!maybeSave()) {
+        event->ignore();
+        return;
+    }
+    m_run->pause();
+    writeSettings();
+    // A clean exit: nothing to recover next time.
+    m_autoSaver->discard();
+    event->accept();
+}
+
+void MainWindow::togglePlay()
+{
+    hideBarMessage();
+    m_run->toggle();
+}
+
+void MainWindow::stepForward()
+{
+    m_run->pause();
+    m_document->advance(1);
+}
+
+void MainWindow::stepBackward()
+{
+    m_run->pause();
+    if (!m_document->stepBack())
+        showStatus(tr("Frame %1 is not kept: the history starts at frame %2 (it is cleared when marbles are "
+                      "added or removed, and holds the last %3 frames).")
+                       .arg(m_document->world().frame - 1)
+                       .arg(m_document->startFrame())
+                       .arg(FrameHistory::kDefaultMaxFrames));
+    else
+        hideBarMessage();
+}
+
+void MainWindow::rewindToStart()
+{
+    m_run->pause();
+    if (m_document->rewind()) {
+        hideBarMessage();
+        showStatus(tr("Back to frame %1.").arg(m_document->world().frame));
+    }
+}
+
+void MainWindow::onSpeedChosen(int index)
+{
+    if (index >= 0 && index < static_cast<int>(std::size(kSpeeds)))
+        m_run->setSpeed(kSpeeds[index]);
+}
+
+void MainWindow::onRunningChanged(bool running)
+{
+    m_playAction->setText(running ? tr("&Pause") : tr("&Play"));
+    m_playAction->setIcon(QIcon::fromTheme(running ? QStringLiteral("media-playback-pause")
+                                                   : QStringLiteral("media-playback-start")));
+}
+
+void MainWindow::onSimulationFailed(const QString &message)
+{
+    showBarMessage(message);
+    showStatus(message);
+}
+
+void MainWindow::onParamEdited(const QString &key, const QString &value)
+{
+    const QString error = m_document->setParam(key, value);
+    if (!error.isEmpty()) {
+        showStatus(error);
+        m_parametersDock->setParams(m_document->world().params);
+    }
+}
+
+void MainWindow::onSceneChanged()
+{
+    m_parametersDock->setParams(m_document->world().params);
+    updateEditActions();
+    updateStatistics();
+}
+
+void MainWindow::onSelectionChanged()
+{
+    const int marble = m_view->selectedMarble();
+    m_inspectorDock->setMarble(marble);
+    m_plotDock->setSelectedMarbles(marble >= 0 ? QList<int>{marble} : QList<int>{});
+    updateEditActions();
+}
+
+void MainWindow::onToolChosen(QAction *action)
+{
+    if (action == m_marbleToolAction)
+        m_view->setTool(StageView::Tool::AddMarble);
+    else if (action == m_pinToolAction)
+        m_view->setTool(StageView::Tool::AddPin);
+    else
+        m_view->setTool(StageView::Tool::Select);
+}
+
+void MainWindow::addMarbleHere()
+{
+    showStatus(m_document->addMarble(m_view->contextPoint(), StageView::kNewMarbleRadius));
+}
+
+void MainWindow::addPinHere()
+{
+    showStatus(m_document->addPin(m_view->contextPoint()));
+}
+
+void MainWindow::showBarMessage(const QString &text)
+{
+    m_messageText->setText(text);
+    m_messageBar->show();
+}
+
+void MainWindow::hideBarMessage()
+{
+    m_messageText->clear();
+    m_messageBar->hide();
+}
+
+QString MainWindow::barMessage() const
+{
+    return m_messageBar->isVisible() || !m_messageText->text().isEmpty() ? m_messageText->text() : QString();
+}
+
+void MainWindow::showStatus(const QString &text)
+{
+    if (!text.isEmpty())
+        statusBar()->showMessage(text, 8000);
+}
+
+void MainWindow::updateTitle()
+{
+    const QString name = m_document->fileName().isEmpty() && !m_presetTitle.isEmpty()
+        ? tr("%1 (preset)").arg(m_presetTitle)
+        : m_document->displayName();
+    setWindowTitle(tr("%1[*] — Marbles").arg(name));
+    setWindowModified(m_document->isModified());
+    if (!m_document->fileName().isEmpty())
+        m_presetTitle.clear();
+}
+
+QString MainWindow::frameText() const
+{
+    return m_frameDisplay->text();
+}
+
+void MainWindow::updateFrameDisplay()
+{
+    const World &world = m_document->world();
+    const double seconds = static_cast<double>(world.frame) * world.params.frameMs / 1000.0;
+    m_frameDisplay->setText(tr("Frame %1   t = %2 s").arg(world.frame).arg(seconds, 0, 'f', 2));
+    m_frameLabel->setText(tr("Frame %1").arg(world.frame));
+    m_timeLabel->setText(tr("t = %1 s").arg(seconds, 0, 'f', 3));
+}
+
+void MainWindow::updateStatistics()
+{
+    const World &world = m_document->world();
+    m_countLabel->setText(tr("%n marble(s)", nullptr, world.marbleCount()) + QStringLiteral(", ")
+                          + tr("%n pin(s)", nullptr, static_cast<int>(world.pins.size())));
+    m_physicsLabel->setText(tr("physics %1 ms/frame").arg(m_document->physicsMsPerFrame(), 0, 'f', 3));
+    const qint64 elapsed = m_statisticsClock.restart();
+    const qint64 paints = m_view->paintCount();
+    if (elapsed > 0)
+        m_fpsLabel->setText(tr("%1 fps").arg(static_cast<double>(paints - m_lastPaintCount) * 1000.0 / elapsed, 0, 'f', 0));
+    m_lastPaintCount = paints;
+    const Vec2 p = world.momentum();
+    m_energyLabel->setText(tr("KE %1").arg(world.kineticEnergy(), 0, 'g', 5));
+    m_momentumLabel->setText(tr("p = (%1, %2)").arg(p.x, 0, 'g', 4).arg(p.y, 0, 'g', 4));
+}
+
+void MainWindow::updateEditActions()
+{
+    m_deleteAction->setEnabled(m_view->selectionKind() != StageView::SelectionKind::None);
+    m_stepBackAction->setEnabled(m_document->canStepBack());
+    m_rewindAction->setEnabled(m_document->world().frame != m_document->startFrame() || m_document->canStepBack());
+}
+
+} // namespace marbles

@@ -1,0 +1,174 @@
+#pragma once
+
+#include <QElapsedTimer>
+#include <QMainWindow>
+#include <QStringList>
+
+#include <memory>
+
+class QAction;
+class QActionGroup;
+class QComboBox;
+class QLabel;
+class QMenu;
+class QTimer;
+class QUndoView;
+
+namespace marbles {
+
+class AutoSaver;
+class InspectorDock;
+class ParametersDock;
+class PlotDock;
+class Prompts;
+class RunController;
+class SceneDocument;
+class StageView;
+
+/// The application window: the stage in the middle, the Parameters, Inspector, History and Plot
+/// docks around it, the run controls in the toolbar, and the numbers that matter in the status bar.
+/// It opens on the chapter's four marbles.
+class MainWindow : public QMainWindow {
+    Q_OBJECT
+
+public:
+    /// Most recent files remembered.
+    static constexpr int kMaxRecentFiles = 8;
+
+    /// The window, showing the default preset. Questions go to default Qt dialogs until setPrompts().
+    explicit MainWindow(QWidget *parent = nullptr);
+    ~MainWindow() override;
+
+    /// Replaces the dialogs the window uses to ask questions (tests install scripted answers).
+    void setPrompts(std::unique_ptr<Prompts> prompts);
+
+    /// Opens a scene file: an invalid file shows the loader's message and leaves the scene as it
+    /// was; unsaved changes are asked about first. Returns true when the file was opened.
+    bool openFile(const QString &path);
+    /// Saves the scene to `path` atomically; false (with a message) on failure.
+    bool saveFile(const QString &path);
+    /// Replaces the scene with preset `id` (unsaved changes are asked about first).
+    bool openPreset(const QString &id);
+    /// Offers to recover an autosaved scene left by a session that did not end cleanly.
+    void offerRecovery();
+
+    /// The document (owned by the window).
+    SceneDocument *document() const { return m_document; }
+    /// The stage view.
+    StageView *stageView() const { return m_view; }
+    /// The run loop.
+    RunController *runController() const { return m_run; }
+    /// The Parameters dock.
+    ParametersDock *parametersDock() const { return m_parametersDock; }
+    /// The Plot dock.
+    PlotDock *plotDock() const { return m_plotDock; }
+    /// The Inspector dock.
+    InspectorDock *inspectorDock() const { return m_inspectorDock; }
+    /// The autosave.
+    AutoSaver *autoSaver() const { return m_autoSaver; }
+    /// Recent files, newest first.
+    QStringList recentFiles() const;
+    /// The text of the frame and time display in the toolbar.
+    QString frameText() const;
+    /// The message shown in the message bar above the stage ("" when hidden).
+    QString barMessage() const;
+
+protected:
+    void closeEvent(QCloseEvent *event) override;
+
+private:
+    void createActions();
+    void createMenus();
+    void createToolBars();
+    void createDocks();
+    void createStatusBar();
+    void readSettings();
+    void writeSettings();
+
+    bool maybeSave();
+    void newScene();
+    void open();
+    bool save();
+    bool saveAs();
+    void openRecent();
+    void addRecentFile(const QString &path);
+    void rebuildRecentMenu();
+
+    void togglePlay();
+    void stepForward();
+    void stepBackward();
+    void rewindToStart();
+    void onSpeedChosen(int index);
+    void onRunningChanged(bool running);
+    void onSimulationFailed(const QString &message);
+    void onParamEdited(const QString &key, const QString &value);
+    void onSceneChanged();
+    void onSelectionChanged();
+    void onToolChosen(QAction *action);
+    void addMarbleHere();
+    void addPinHere();
+
+    void showBarMessage(const QString &text);
+    void hideBarMessage();
+    void showStatus(const QString &text);
+    void updateTitle();
+    void updateFrameDisplay();
+    void updateStatistics();
+    void updateEditActions();
+
+    SceneDocument *m_document = nullptr;
+    StageView *m_view = nullptr;
+    RunController *m_run = nullptr;
+    AutoSaver *m_autoSaver = nullptr;
+    std::unique_ptr<Prompts> m_prompts;
+    QString m_presetTitle;
+
+    ParametersDock *m_parametersDock = nullptr;
+    PlotDock *m_plotDock = nullptr;
+    InspectorDock *m_inspectorDock = nullptr;
+    QDockWidget *m_historyDock = nullptr;
+
+    QAction *m_newAction = nullptr;
+    QAction *m_openAction = nullptr;
+    QAction *m_saveAction = nullptr;
+    QAction *m_saveAsAction = nullptr;
+    QAction *m_quitAction = nullptr;
+    QAction *m_undoAction = nullptr;
+    QAction *m_redoAction = nullptr;
+    QAction *m_deleteAction = nullptr;
+    QActionGroup *m_toolGroup = nullptr;
+    QAction *m_selectToolAction = nullptr;
+    QAction *m_marbleToolAction = nullptr;
+    QAction *m_pinToolAction = nullptr;
+    QAction *m_addMarbleHereAction = nullptr;
+    QAction *m_addPinHereAction = nullptr;
+    QAction *m_playAction = nullptr;
+    QAction *m_stepAction = nullptr;
+    QAction *m_stepBackAction = nullptr;
+    QAction *m_rewindAction = nullptr;
+    QAction *m_fitAction = nullptr;
+    QAction *m_zoomInAction = nullptr;
+    QAction *m_zoomOutAction = nullptr;
+    QAction *m_vectorsAction = nullptr;
+    QAction *m_trailsAction = nullptr;
+    QMenu *m_recentMenu = nullptr;
+    QMenu *m_presetMenu = nullptr;
+    QMenu *m_viewMenu = nullptr;
+    QComboBox *m_speedBox = nullptr;
+
+    QWidget *m_messageBar = nullptr;
+    QLabel *m_messageText = nullptr;
+    QLabel *m_frameDisplay = nullptr;
+    QLabel *m_frameLabel = nullptr;
+    QLabel *m_timeLabel = nullptr;
+    QLabel *m_countLabel = nullptr;
+    QLabel *m_physicsLabel = nullptr;
+    QLabel *m_fpsLabel = nullptr;
+    QLabel *m_energyLabel = nullptr;
+    QLabel *m_momentumLabel = nullptr;
+    QTimer *m_statisticsTimer = nullptr;
+    qint64 m_lastPaintCount = 0;
+    QElapsedTimer m_statisticsClock;
+};
+
+} // namespace marbles

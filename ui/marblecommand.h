@@ -1,0 +1,78 @@
+#pragma once
+
+#include "core/world.h"
+#include "ui/commandids.h"
+#include "ui/worldedit.h"
+
+#include <QUndoCommand>
+
+#include <optional>
+#include <vector>
+
+namespace marbles {
+
+class SceneDocument;
+
+/// The editable properties of one marble, as an edit sets them.
+struct MarbleState {
+    Vec2 position;
+    Vec2 velocity;
+    Vec2 acceleration;
+    double radius = 0.0;
+    double mass = 0.0;
+    bool hasMass = false;
+
+    /// Reads marble i of `world`.
+    static MarbleState of(const World &world, int i);
+    /// Writes this state into marble i of `world`.
+    void applyTo(World &world, int i) const;
+};
+
+/// Changes one marble's properties (a drag, an inspector edit). With a merge id, consecutive
+/// edits of the same field of the same marble merge into one undo step.
+class SetMarbleCommand : public QUndoCommand {
+public:
+    /// `mergeId` is a CommandId, or nothing for a command that never merges (a drag).
+    SetMarbleCommand(SceneDocument *document, int marble, const MarbleState &before, const MarbleState &after,
+                     const QString &text, std::optional<CommandId> mergeId = std::nullopt);
+    void redo() override;
+    void undo() override;
+    int id() const override;
+    bool mergeWith(const QUndoCommand *other) override;
+
+private:
+    SceneDocument *m_document;
+    int m_marble;
+    MarbleState m_before;
+    MarbleState m_after;
+    std::optional<CommandId> m_mergeId;
+};
+
+/// Adds a marble at the end of the scene order.
+class AddMarbleCommand : public QUndoCommand {
+public:
+    AddMarbleCommand(SceneDocument *document, const MarbleRecord &record);
+    void redo() override;
+    void undo() override;
+
+private:
+    SceneDocument *m_document;
+    MarbleRecord m_record;
+    int m_index = -1;
+};
+
+/// Removes a marble; undo puts it back at its index, with the scripted pushes that named it.
+class RemoveMarbleCommand : public QUndoCommand {
+public:
+    RemoveMarbleCommand(SceneDocument *document, int marble);
+    void redo() override;
+    void undo() override;
+
+private:
+    SceneDocument *m_document;
+    int m_index;
+    MarbleRecord m_record;
+    std::vector<Push> m_pushes;
+};
+
+} // namespace marbles

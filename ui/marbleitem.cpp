@@ -1,0 +1,90 @@
+#include "ui/marbleitem.h"
+
+#include <QPainter>
+#include <QRadialGradient>
+
+namespace marbles {
+
+namespace {
+
+/// The chapter's marble blue.
+const QColor kMarbleBlue(0x24, 0x63, 0xd1);
+/// Room around the ball for the selection ring, px.
+constexpr double kRingMargin = 6.0;
+
+} // namespace
+
+MarbleItem::MarbleItem(double radiusPx, const QColor &color)
+    : m_radius(radiusPx)
+    , m_color(color)
+{
+    setCacheMode(NoCache);
+}
+
+void MarbleItem::setRadius(double radiusPx)
+{
+    if (radiusPx == m_radius)
+        return;
+    prepareGeometryChange();
+    m_radius = radiusPx;
+}
+
+void MarbleItem::setColor(const QColor &color)
+{
+    if (color == m_color)
+        return;
+    m_color = color;
+    update();
+}
+
+void MarbleItem::setHighlighted(bool highlighted)
+{
+    if (highlighted == m_highlighted)
+        return;
+    m_highlighted = highlighted;
+    update();
+}
+
+void MarbleItem::setHeld(bool held)
+{
+    if (held == m_held)
+        return;
+    m_held = held;
+    update();
+}
+
+QRectF MarbleItem::boundingRect() const
+{
+    const double r = m_radius + kRingMargin;
+    return {-r, -r, 2 * r, 2 * r};
+}
+
+void MarbleItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *, QWidget *)
+{
+    const QColor base = m_color.isValid() ? m_color : kMarbleBlue;
+    const double r = m_radius;
+    // Light from the upper left: a highlight off-centre, the base colour, a dark rim.
+    QRadialGradient gradient(QPointF(0, 0), r, QPointF(-0.38 * r, -0.42 * r));
+    gradient.setColorAt(0.0, base.lighter(230));
+    gradient.setColorAt(0.18, base.lighter(150));
+    gradient.setColorAt(0.65, base);
+    gradient.setColorAt(1.0, base.darker(230));
+    painter->setRenderHint(QPainter::Antialiasing);
+    QPen outline(base.darker(300));
+    outline.setWidthF(1.0);
+    outline.setCosmetic(true);
+    painter->setPen(outline);
+    painter->setBrush(gradient);
+    painter->drawEllipse(QPointF(0, 0), r, r);
+    if (m_highlighted || m_held) {
+        QPen ring(m_held ? QColor(0x2e, 0x7d, 0x32) : QColor(0xff, 0x8f, 0x00));
+        ring.setWidthF(2.0);
+        ring.setCosmetic(true);
+        ring.setStyle(m_held ? Qt::SolidLine : Qt::DashLine);
+        painter->setPen(ring);
+        painter->setBrush(Qt::NoBrush);
+        painter->drawEllipse(QPointF(0, 0), r + 3.0, r + 3.0);
+    }
+}
+
+} // namespace marbles

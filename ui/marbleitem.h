@@ -1,0 +1,39 @@
+#pragma once
+
+#include <QColor>
+#include <QGraphicsItem>
+
+namespace marbles {
+
+/// One marble on the stage: a shaded ball like the chapter's blue marbles. It mirrors the
+/// world (position, radius, colour are set from outside) and owns no physics.
+class MarbleItem : public QGraphicsItem {
+public:
+    enum { Type = UserType + 1 };
+
+    /// A marble of radius `radiusPx`, drawn in `color` (invalid = the chapter's blue).
+    explicit MarbleItem(double radiusPx = 10.0, const QColor &color = {});
+
+    /// Radius in stage px.
+    double radius() const { return m_radius; }
+    /// Sets the radius, stage px.
+    void setRadius(double radiusPx);
+    /// Sets the colour (invalid = the chapter's blue).
+    void setColor(const QColor &color);
+    /// Draws the selection ring.
+    void setHighlighted(bool highlighted);
+    /// Draws the "held by the mouse" look.
+    void setHeld(bool held);
+
+    int type() const override { return Type; }
+    QRectF boundingRect() const override;
+    void paint(QPainter *painter, const QStyleOptionGraphicsItem *option, QWidget *widget) override;
+
+private:
+    double m_radius;
+    QColor m_color;
+    bool m_highlighted = false;
+    bool m_held = false;
+};
+
+} // namespace marbles

@@ -1,0 +1,42 @@
+#pragma once
+
+#include "core/world.h"
+
+#include <QString>
+#include <QUndoCommand>
+
+#include <vector>
+
+namespace marbles {
+
+class SceneDocument;
+
+/// Everything a parameter setting can change: params, the stage, and the masses derived from massScale.
+struct ParamState {
+    Params params;
+    Stage stage;
+    std::vector<double> mass;
+
+    /// Reads the state from `world`.
+    static ParamState of(const World &world);
+    /// Writes it back into `world` (same marbles).
+    void applyTo(World &world) const;
+};
+
+/// Sets one parameter (a Parameters dock edit). Consecutive edits of the same key merge.
+class SetParamCommand : public QUndoCommand {
+public:
+    SetParamCommand(SceneDocument *document, const QString &key, const ParamState &before, const ParamState &after);
+    void redo() override;
+    void undo() override;
+    int id() const override;
+    bool mergeWith(const QUndoCommand *other) override;
+
+private:
+    SceneDocument *m_document;
+    QString m_key;
+    ParamState m_before;
+    ParamState m_after;
+};
+
+} // namespace marbles

@@ -1,0 +1,98 @@
+#include "ui/pincommand.h"
+
+#include "ui/scenedocument.h"
+#include "ui/worldedit.h"
+
+#include <QCoreApplication>
+
+#include <cassert>
+
+namespace marbles {
+
+namespace {
+
+bool validPin(const World &world, int j)
+{
+    return j >= 0 && j < static_cast<int>(world.pins.size());
+}
+
+} // namespace
+
+AddPinCommand::AddPinCommand(SceneDocument *document, Vec2 at)
+    : m_document(document)
+    , m_at(at)
+{
+    setText(QCoreApplication::translate("marbles", "Add pin"));
+}
+
+void AddPinCommand::redo()
+{
+    m_index = m_document->editableWorld().addPin(m_at);
+    m_document->applyChange(SceneDocument::Change::Structure);
+}
+
+void AddPinCommand::undo()
+{
+    World &world = m_document->editableWorld();
+    assert(validPin(world, m_index));
+    if (!validPin(world, m_index))
+        return;
+    world.removePin(m_index);
+    m_document->applyChange(SceneDocument::Change::Structure);
+}
+
+RemovePinCommand::RemovePinCommand(SceneDocument *document, int pin)
+    : m_document(document)
+    , m_index(pin)
+{
+    setText(QCoreApplication::translate("marbles", "Delete pin"));
+}
+
+void RemovePinCommand::redo()
+{
+    World &world = m_document->editableWorld();
+    assert(validPin(world, m_index));
+    if (!validPin(world, m_index))
+        return;
+    m_at = world.pins[m_index];
+    m_extraJson = world.pinExtraJson[m_index];
+    world.removePin(m_index);
+    m_document->applyChange(SceneDocument::Change::Structure);
+}
+
+void RemovePinCommand::undo()
+{
+    insertPin(m_document->editableWorld(), m_index, m_at, m_extraJson);
+    m_document->applyChange(SceneDocument::Change::Structure);
+}
+
+MovePinCommand::MovePinCommand(SceneDocument *document, int pin, Vec2 from, Vec2 to)
+    : m_document(document)
+    , m_index(pin)
+    , m_from(from)
+    , m_to(to)
+{
+    setText(QCoreApplication::translate("marbles", "Move pin"));
+}
+
+void MovePinCommand::redo()
+{
+    World &world = m_document->editableWorld();
+    assert(validPin(world, m_index));
+    if (!validPin(world, m_index))
+        return;
+    world.pins[m_index] = m_to;
+    m_document->applyChange(SceneDocument::Change::Structure);
+}
+
+void MovePinCommand::undo()
+{
+    World &world = m_document->editableWorld();
+    assert(validPin(world, m_index));
+    if (!validPin(world, m_index))
+        return;
+    world.pins[m_index] = m_from;
+    m_document->applyChange(SceneDocument::Change::Structure);
+}
+
+} // namespace marbles

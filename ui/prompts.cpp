@@ -1,0 +1,70 @@
+#include "ui/prompts.h"
+
+#include <QCoreApplication>
+#include <QFileDialog>
+#include <QMessageBox>
+
+namespace marbles {
+
+namespace {
+
+QString tr(const char *text)
+{
+    return QCoreApplication::translate("marbles", text);
+}
+
+QString sceneFilter()
+{
+    return tr("Marbles scenes (*.marbles.json *.json);;All files (*)");
+}
+
+} // namespace
+
+Prompts::~Prompts() = default;
+
+Prompts::SaveChoice Prompts::askSaveChanges(QWidget *parent, const QString &documentName)
+{
+    const auto answer = QMessageBox::warning(parent, tr("Unsaved changes"),
+                                             tr("The scene \"%1\" has changes that are not saved.\n"
+                                                "Save them before they are lost?")
+                                                 .arg(documentName),
+                                             QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel,
+                                             QMessageBox::Save);
+    switch (answer) {
+    case QMessageBox::Save:
+        return SaveChoice::Save;
+    case QMessageBox::Discard:
+        return SaveChoice::Discard;
+    default:
+        return SaveChoice::Cancel;
+    }
+}
+
+bool Prompts::askRecover(QWidget *parent, const QString &details)
+{
+    return QMessageBox::question(parent, tr("Recover scene"),
+                                 tr("Marbles did not close properly last time.\n%1\n\nRecover the autosaved scene?")
+                                     .arg(details),
+                                 QMessageBox::Yes | QMessageBox::No, QMessageBox::Yes)
+        == QMessageBox::Yes;
+}
+
+QString Prompts::askOpenFileName(QWidget *parent, const QString &directory)
+{
+    return QFileDialog::getOpenFileName(parent, tr("Open scene"), directory, sceneFilter());
+}
+
+QString Prompts::askSaveFileName(QWidget *parent, const QString &suggestion)
+{
+    QString path = QFileDialog::getSaveFileName(parent, tr("Save scene"), suggestion, sceneFilter());
+    if (!path.isEmpty() && !path.endsWith(QStringLiteral(".json"), Qt::CaseInsensitive))
+        path += QStringLiteral(".marbles.json");
+    return path;
+}
+
+void Prompts::showError(QWidget *parent, const QString &title, const QString &text)
+{
+    QMessageBox::warning(parent, title, text);
+}
+
+} // namespace marbles

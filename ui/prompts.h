@@ -1,0 +1,31 @@
+#pragma once
+
+#include <QString>
+
+class QWidget;
+
+namespace marbles {
+
+/// The questions the main window asks the user. The default implementation shows Qt's
+/// dialogs; tests install their own answers with MainWindow::setPrompts(), so no modal
+/// dialog ever blocks a test.
+class Prompts {
+public:
+    /// Answer to "save the changes?".
+    enum class SaveChoice { Save, Discard, Cancel };
+
+    virtual ~Prompts();
+
+    /// Asks whether to save the changes to `documentName` before they are lost.
+    virtual SaveChoice askSaveChanges(QWidget *parent, const QString &documentName);
+    /// Asks whether to recover the scene described by `details` from the autosave.
+    virtual bool askRecover(QWidget *parent, const QString &details);
+    /// Asks for a scene file to open, starting in `directory`; empty when cancelled.
+    virtual QString askOpenFileName(QWidget *parent, const QString &directory);
+    /// Asks where to save the scene, starting at `suggestion`; empty when cancelled.
+    virtual QString askSaveFileName(QWidget *parent, const QString &suggestion);
+    /// Tells the user that something failed.
+    virtual void showError(QWidget *parent, const QString &title, const QString &text);
+};
+
+} // namespace marbles

@@ -1,0 +1,424 @@
+#include "ui/scenedocument.h"
+
+#include "core/sceneio.h"
+#include "ui/marblecommand.h"
+#include "ui/paramcommand.h"
+#include "ui/pincommand.h"
+#include "ui/worldedit.h"
+
+#include <QFile>
+#include <QFileInfo>
+#include <QSaveFile>
+
+#include <cmath>
+
+namespace marbles {
+
+namespace {
+
+bool validMarble(const World &world, int i)
+{
+    return i >= 0 && i < world.marbleCount();
+}
+
+} // namespace
+
+SceneDocument::SceneDocument(QObject *parent)
+    : QObject(parent)
+{
+    m_history.reset(m_world);
+    connect(&m_undoStack, &QUndoStack::cleanChanged, this, &SceneDocument::emitModification);
+}
+
+void SceneDocument::resetScene(const World &world, const QString &fileName)
+{
+    m_held = -1;
+    m_draggedPin = -1;
+    m_world = world;
+    m_history.reset(m_world);
+    m_undoStack.clear();
+    m_undoStack.setClean();
+    m_dirtyWithoutUndo = false;
+    setFileName(fileName);
+    emitModification();
+    Q_EMIT sceneChanged(Change::Structure);
+    Q_EMIT timelineReset();
+    Q_EMIT stepped();
+}
+
+bool SceneDocument::readSceneFile(const QString &path, World &out, QString *error)
+{
+    const QString name = QFileInfo(path).fileName();
+    QFile file(path);
+    if (!file.open(QIODevice::ReadOnly)) {
+        if (error)
+            *error = tr("%1: cannot open: %2").arg(name, file.errorString());
+        return false;
+    }
+    if (file.size() < 0 || static_cast<std::size_t>(file.size()) > kMaxSceneBytes) {
+        if (error)
+            *error = tr("%1: larger than %2 bytes").arg(name).arg(kMaxSceneBytes);
+        return false;
+    }
+    const QByteArray text = file.readAll();
+    const QByteArray source = name.toUtf8();
+    SceneLoad load = parseScene(std::string_view(text.constData(), static_cast<std::size_t>(text.size())),
+                                std::string_view(source.constData(), static_cast<std::size_t>(source.size())));
+    if (!load.ok) {
+        if (error)
+            *error = QString::fromStdString(load.error);
+        return false;
+    }
+    out = std::move(load.world);
+    return true;
+}
+
+bool SceneDocument::openFile(const QString &path, QString *error)
+{
+    World world;
+    if (!readSceneFile(path, world, error))
+        return false;
+    resetScene(world, QFileInfo(path).absoluteFilePath());
+    return true;
+}
+
+bool SceneDocument::saveFile(const QString &path, QString *error)
+{
+    QSaveFile file(path);
+    const std::string json = sceneToJson(m_world);
+    const QString name = QFileInfo(path).fileName();
+    if (!file.open(QIODevice::WriteOnly)) {
+        if (error)
+            *error = tr("%1: cannot write: %2").arg(name, file.errorString());
+        return false;
+    }
+    if (file.write(json.data(), static_cast<qint64>(json.size())) != static_cast<qint64>(json.size())
+        || !file.commit()) {
+        if (error)
+            *error = tr("%1: cannot write: %2").arg(name, file.errorString());
+        return false;
+    }
+    m_dirtyWithoutUndo = false;
+    m_undoStack.setClean();
+    setFileName(QFileInfo(path).absoluteFilePath());
+    emitModification();
+    return true;
+}
+
+QString SceneDocument::displayName() const
+{
+    return m_fileName.isEmpty() ? tr("Untitled") : QFileInfo(m_fileName).fileName();
+}
+
+void SceneDocument::markModified()
+{
+    m_dirtyWithoutUndo = true;
+    emitModification();
+}
+
+void SceneDocument::setFileName(const QString &fileName)
+{
+    if (fileName == m_fileName)
+        return;
+    m_fileName = fileName;
+    Q_EMIT fileNameChanged(m_fileName);
+}
+
+void SceneDocument::emitModification()
+{
+    const bool modified = isModified();
+    if (modified == m_lastModified)
+        return;
+    m_lastModified = modified;
+    Q_EMIT modificationChanged(modified);
+}
+
+void SceneDocument::applyHold()
+{
+    if (!validMarble(m_world, m_held))
+        return;
+    // A marble in the hand does not move: the others bounce off it as off a marble at rest.
+    m_world.position[m_held] = m_heldAt;
+    m_world.velocity[m_held] = {};
+    m_world.acceleration[m_held] = {};
+}
+
+StepResult SceneDocument::step()
+{
+    QElapsedTimer clock;
+    clock.start();
+    applyHold();
+    m_history.record(m_world);
+    const StepResult result = m_world.step();
+    applyHold();
+    // Exponential moving average over about 30 frames: steady enough to read in the status bar.
+    const double ms = static_cast<double>(clock.nsecsElapsed()) / 1.0e6;
+    m_physicsMsPerFrame = m_physicsMsPerFrame == 0.0 ? ms : m_physicsMsPerFrame + (ms - m_physicsMsPerFrame) / 30.0;
+    Q_EMIT frameAdvanced();
+    if (!result.finite) {
+        const QString name = QString::fromStdString(m_world.info[result.badMarble].name);
+        Q_EMIT simulationFailed(
+            tr("The simulation stopped at frame %1: marble %2%3 left finite numbers (its position or velocity "
+               "became infinite or NaN). Step back, or lower the friction below 2 for the book model.")
+                .arg(m_world.frame)
+                .arg(result.badMarble)
+                .arg(name.isEmpty() ? QString() : QStringLiteral(" (\"%1\")").arg(name)));
+    }
+    return result;
+}
+
+int SceneDocument::advance(int frames)
+{
+    int done = 0;
+    while (done < frames) {
+        const StepResult result = step();
+        ++done;
+        if (!result.finite)
+            break;
+    }
+    if (done > 0)
+        Q_EMIT stepped();
+    return done;
+}
+
+bool SceneDocument::stepBack()
+{
+    if (!m_history.stepBack(m_world))
+        return false;
+    applyHold();
+    Q_EMIT timelineReset();
+    Q_EMIT stepped();
+    return true;
+}
+
+bool SceneDocument::rewind()
+{
+    if (!m_history.rewind(m_world))
+        return false;
+    applyHold();
+    Q_EMIT timelineReset();
+    Q_EMIT stepped();
+    return true;
+}
+
+void SceneDocument::pushMarble(int i, Vec2 at)
+{
+    if (!validMarble(m_world, i))
+        return;
+    m_world.push(i, at);
+    Q_EMIT stepped();
+}
+
+void SceneDocument::beginHold(int i)
+{
+    if (!validMarble(m_world, i))
+        return;
+    m_held = i;
+    m_heldAt = m_world.position[i];
+    m_holdStartPosition = m_world.position[i];
+    m_holdStartVelocity = m_world.velocity[i];
+    m_holdStartAcceleration = m_world.acceleration[i];
+    applyHold();
+    Q_EMIT stepped();
+}
+
+void SceneDocument::moveHeld(Vec2 p)
+{
+    if (!validMarble(m_world, m_held) || !isFinite(p))
+        return;
+    m_heldAt = p;
+    applyHold();
+    Q_EMIT stepped();
+}
+
+QString SceneDocument::endHold(Vec2 p)
+{
+    const int i = m_held;
+    m_held = -1;
+    if (!validMarble(m_world, i))
+        return {};
+    const std::optional<Vec2> spot = nearestFreeSpot(m_world, p, m_world.radius[i], BodyKind::Marble, i);
+    MarbleState before = MarbleState::of(m_world, i);
+    before.position = m_holdStartPosition;
+    before.velocity = m_holdStartVelocity;
+    before.acceleration = m_holdStartAcceleration;
+    if (!spot) {
+        before.applyTo(m_world, i);
+        Q_EMIT stepped();
+        return tr("No free spot for the marble near (%1, %2): it went back.").arg(p.x, 0, 'f', 0).arg(p.y, 0, 'f', 0);
+    }
+    MarbleState after = MarbleState::of(m_world, i);
+    after.position = *spot;
+    after.velocity = {};
+    after.acceleration = {};
+    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Move marble")));
+    if (spot->x != p.x || spot->y != p.y)
+        return tr("The marble was moved to the nearest free spot.");
+    return {};
+}
+
+void SceneDocument::beginPinDrag(int j)
+{
+    if (j < 0 || j >= static_cast<int>(m_world.pins.size()))
+        return;
+    m_draggedPin = j;
+    m_pinStart = m_world.pins[j];
+}
+
+void SceneDocument::movePinDrag(Vec2 q)
+{
+    if (m_draggedPin < 0 || m_draggedPin >= static_cast<int>(m_world.pins.size()) || !isFinite(q))
+        return;
+    m_world.pins[m_draggedPin] = q;
+    Q_EMIT sceneChanged(Change::Structure);
+}
+
+QString SceneDocument::endPinDrag(Vec2 q)
+{
+    const int j = m_draggedPin;
+    m_draggedPin = -1;
+    if (j < 0 || j >= static_cast<int>(m_world.pins.size()))
+        return {};
+    const std::optional<Vec2> spot = nearestFreeSpot(m_world, q, 0.0, BodyKind::Pin, -1, j);
+    if (!spot) {
+        m_world.pins[j] = m_pinStart;
+        Q_EMIT sceneChanged(Change::Structure);
+        return tr("No free spot for the pin near (%1, %2): it went back.").arg(q.x, 0, 'f', 0).arg(q.y, 0, 'f', 0);
+    }
+    m_world.pins[j] = m_pinStart;
+    m_undoStack.push(new MovePinCommand(this, j, m_pinStart, *spot));
+    if (spot->x != q.x || spot->y != q.y)
+        return tr("The pin was moved to the nearest free spot.");
+    return {};
+}
+
+QString SceneDocument::addMarble(Vec2 p, double r)
+{
+    if (!(r > 0.0) || !std::isfinite(r))
+        return tr("A marble's radius must be > 0.");
+    const std::optional<Vec2> spot = nearestFreeSpot(m_world, p, r, BodyKind::Marble);
+    if (!spot)
+        return tr("No free spot for a marble of radius %1 near (%2, %3).").arg(r).arg(p.x, 0, 'f', 0).arg(p.y, 0, 'f', 0);
+    MarbleRecord record;
+    record.position = *spot;
+    record.radius = r;
+    record.mass = m_world.params.massScale * r;
+    m_undoStack.push(new AddMarbleCommand(this, record));
+    return {};
+}
+
+void SceneDocument::removeMarble(int i)
+{
+    if (!validMarble(m_world, i))
+        return;
+    m_undoStack.push(new RemoveMarbleCommand(this, i));
+}
+
+QString SceneDocument::addPin(Vec2 q)
+{
+    const std::optional<Vec2> spot = nearestFreeSpot(m_world, q, 0.0, BodyKind::Pin);
+    if (!spot)
+        return tr("No free spot for a pin near (%1, %2).").arg(q.x, 0, 'f', 0).arg(q.y, 0, 'f', 0);
+    m_undoStack.push(new AddPinCommand(this, *spot));
+    return {};
+}
+
+void SceneDocument::removePin(int j)
+{
+    if (j < 0 || j >= static_cast<int>(m_world.pins.size()))
+        return;
+    m_undoStack.push(new RemovePinCommand(this, j));
+}
+
+QString SceneDocument::setMarblePosition(int i, Vec2 p)
+{
+    if (!validMarble(m_world, i))
+        return tr("No such marble.");
+    if (!isFreeSpot(m_world, p, m_world.radius[i], BodyKind::Marble, i))
+        return tr("The marble would overlap the stage edge, a pin or another marble there.");
+    const MarbleState before = MarbleState::of(m_world, i);
+    MarbleState after = before;
+    after.position = p;
+    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble position"),
+                                          CommandId::EditMarblePosition));
+    return {};
+}
+
+QString SceneDocument::setMarbleVelocity(int i, Vec2 v)
+{
+    if (!validMarble(m_world, i))
+        return tr("No such marble.");
+    if (!isFinite(v))
+        return tr("A velocity must be finite.");
+    const MarbleState before = MarbleState::of(m_world, i);
+    MarbleState after = before;
+    after.velocity = v;
+    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble velocity"),
+                                          CommandId::EditMarbleVelocity));
+    return {};
+}
+
+QString SceneDocument::setMarbleRadius(int i, double r)
+{
+    if (!validMarble(m_world, i))
+        return tr("No such marble.");
+    if (!(r > 0.0) || !std::isfinite(r))
+        return tr("A marble's radius must be > 0.");
+    const MarbleState before = MarbleState::of(m_world, i);
+    MarbleState after = before;
+    after.radius = r;
+    if (!after.hasMass)
+        after.mass = m_world.params.massScale * r;
+    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble radius"),
+                                          CommandId::EditMarbleRadius));
+    return {};
+}
+
+QString SceneDocument::setMarbleMass(int i, double m)
+{
+    if (!validMarble(m_world, i))
+        return tr("No such marble.");
+    if (!(m >= 0.0) || !std::isfinite(m))
+        return tr("A marble's mass must be > 0 (or 0 for massScale * radius).");
+    const MarbleState before = MarbleState::of(m_world, i);
+    MarbleState after = before;
+    after.hasMass = m > 0.0;
+    after.mass = after.hasMass ? m : m_world.params.massScale * before.radius;
+    m_undoStack.push(
+        new SetMarbleCommand(this, i, before, after, tr("Set marble mass"), CommandId::EditMarbleMass));
+    return {};
+}
+
+QString SceneDocument::setParam(const QString &key, const QString &value)
+{
+    World trial = m_world;
+    const QByteArray k = key.toUtf8();
+    const QByteArray v = value.toUtf8();
+    std::string error = marbles::setParam(trial, std::string_view(k.constData(), static_cast<std::size_t>(k.size())),
+                                          std::string_view(v.constData(), static_cast<std::size_t>(v.size())));
+    if (error.empty())
+        error = validateParams(trial.params);
+    if (!error.empty())
+        return QString::fromStdString(error);
+    const ParamState before = ParamState::of(m_world);
+    const ParamState after = ParamState::of(trial);
+    if (before.params == after.params && before.stage == after.stage && before.mass == after.mass)
+        return {};
+    m_undoStack.push(new SetParamCommand(this, key, before, after));
+    return {};
+}
+
+void SceneDocument::applyChange(Change change)
+{
+    // An added or removed marble starts a new timeline: the kept frames describe other marbles.
+    if (!m_history.fits(m_world))
+        m_history.reset(m_world);
+    if (!validMarble(m_world, m_held))
+        m_held = -1;
+    emitModification();
+    Q_EMIT sceneChanged(change);
+    Q_EMIT timelineReset();
+    Q_EMIT stepped();
+}
+
+} // namespace marbles

@@ -1,0 +1,155 @@
+#pragma once
+
+#include "core/world.h"
+#include "ui/history.h"
+
+#include <QElapsedTimer>
+#include <QObject>
+#include <QString>
+#include <QUndoStack>
+
+namespace marbles {
+
+/// The open scene: owns the World, its undo stack and the step-back history, and is the only
+/// thing that changes the world. Views and docks mirror it through its signals.
+/// Every edit is a QUndoCommand pushed on undoStack(); simulating and pushing marbles are not
+/// edits (they are the experiment itself, and stepping back undoes them).
+class SceneDocument : public QObject {
+    Q_OBJECT
+
+public:
+    /// What an applied edit touched, so that listeners rebuild only what they must.
+    enum class Change {
+        Marbles,   ///< marble properties (position, velocity, radius, mass); same marbles
+        Structure, ///< marbles or pins added or removed
+        Params,    ///< params or stage
+    };
+
+    explicit SceneDocument(QObject *parent = nullptr);
+
+    /// The simulated world. Do not store the reference across edits that replace the scene.
+    const World &world() const { return m_world; }
+    /// The document's undo stack (owned by the document).
+    QUndoStack *undoStack() { return &m_undoStack; }
+
+    /// Replaces the scene with `world` (at frame 0), clears undo and history; `fileName` may be empty.
+    void resetScene(const World &world, const QString &fileName = {});
+    /// Reads and checks a scene file without touching any document; on error returns false and sets
+    /// `error` to the loader's message, which names the file.
+    static bool readSceneFile(const QString &path, World &out, QString *error);
+    /// Loads a scene file; on error returns false, leaves the scene untouched and sets `error`
+    /// to the loader's message, which names the file.
+    bool openFile(const QString &path, QString *error);
+    /// Writes the scene atomically (QSaveFile); on success the document is clean and named `path`.
+    bool saveFile(const QString &path, QString *error);
+    /// Path of the scene file, or empty for an unsaved scene.
+    QString fileName() const { return m_fileName; }
+    /// Name shown to the user: the file's name, or "Untitled".
+    QString displayName() const;
+    /// True when there are edits not saved yet.
+    bool isModified() const { return !m_undoStack.isClean() || m_dirtyWithoutUndo; }
+    /// Marks the scene modified without an undo step (a scene recovered from an autosave).
+    void markModified();
+
+    /// Simulates one frame. Returns the core's result; on a non-finite state emits simulationFailed().
+    StepResult step();
+    /// Simulates up to `frames` frames, stopping at a failure; returns the frames done.
+    int advance(int frames);
+    /// True when the frame before the current one is kept.
+    bool canStepBack() const { return m_history.canStepBack(m_world); }
+    /// Restores the previous frame exactly; false when it is not kept.
+    bool stepBack();
+    /// Restores the first frame of the timeline (frame 0 unless marbles were added or removed since).
+    bool rewind();
+    /// Frame number that rewind() returns to.
+    std::int64_t startFrame() const { return m_history.startFrame(); }
+    /// Mean physics time per simulated frame over the recent frames, ms.
+    double physicsMsPerFrame() const { return m_physicsMsPerFrame; }
+
+    /// The chapter's click: World::push on marble i at `at` (stage px); acts on the next frame.
+    void pushMarble(int i, Vec2 at);
+
+    /// Starts holding marble i with the mouse: it stays where it is held, at zero velocity, while frames run.
+    void beginHold(int i);
+    /// Moves the held marble to `p` (stage px).
+    void moveHeld(Vec2 p);
+    /// Drops the held marble at `p`: moved to the nearest free spot and pushed as one undo step.
+    /// Returns "" or why the drop was refused (the marble then goes back to where it was picked up).
+    QString endHold(Vec2 p);
+    /// Index of the held marble, or -1.
+    int heldMarble() const { return m_held; }
+
+    /// Starts dragging pin j.
+    void beginPinDrag(int j);
+    /// Moves the dragged pin to `q`.
+    void movePinDrag(Vec2 q);
+    /// Drops the dragged pin at `q` (one undo step); returns "" or why it was refused.
+    QString endPinDrag(Vec2 q);
+    /// Index of the dragged pin, or -1.
+    int draggedPin() const { return m_draggedPin; }
+
+    /// Adds a marble of radius `r` px at (or nearest free spot to) `p`; returns "" or why not.
+    QString addMarble(Vec2 p, double r);
+    /// Removes marble i.
+    void removeMarble(int i);
+    /// Adds a pin at (or nearest free spot to) `q`; returns "" or why not.
+    QString addPin(Vec2 q);
+    /// Removes pin j.
+    void removePin(int j);
+    /// Sets marble i's position; refused (with the reason) when it would overlap something.
+    QString setMarblePosition(int i, Vec2 p);
+    /// Sets marble i's velocity, px/frame.
+    QString setMarbleVelocity(int i, Vec2 v);
+    /// Sets marble i's radius (> 0 px); its derived mass follows.
+    QString setMarbleRadius(int i, double r);
+    /// Gives marble i an explicit mass (> 0), or 0 for massScale * radius.
+    QString setMarbleMass(int i, double m);
+    /// Applies a setting as setParam() takes it ("friction", "0.2"); refused when invalid.
+    QString setParam(const QString &key, const QString &value);
+
+    /// For undo commands: the world to change. Call applyChange() afterwards.
+    World &editableWorld() { return m_world; }
+    /// For undo commands: tells the listeners what an edit changed.
+    void applyChange(Change change);
+
+Q_SIGNALS:
+    /// One frame was simulated (emitted once per frame, before stepped()).
+    void frameAdvanced();
+    /// The dynamic state changed (frames ran, a jump, a push, a held marble moved): re-sync poses.
+    void stepped();
+    /// The scene changed beyond the dynamic state (new scene, edit, undo): rebuild.
+    void sceneChanged(marbles::SceneDocument::Change change);
+    /// The sequence of frames restarted (new scene, jump back, edit): plots start over.
+    void timelineReset();
+    /// The simulation left finite numbers; `message` names the frame and the marble.
+    void simulationFailed(const QString &message);
+    /// The file name changed (open, save as, new).
+    void fileNameChanged(const QString &fileName);
+    /// Whether there are unsaved edits changed.
+    void modificationChanged(bool modified);
+
+private:
+    void applyHold();
+    void setFileName(const QString &fileName);
+    void emitModification();
+
+    World m_world;
+    QUndoStack m_undoStack;
+    FrameHistory m_history;
+    QString m_fileName;
+    bool m_dirtyWithoutUndo = false;
+    bool m_lastModified = false;
+
+    int m_held = -1;
+    Vec2 m_heldAt;
+    Vec2 m_holdStartPosition;
+    Vec2 m_holdStartVelocity;
+    Vec2 m_holdStartAcceleration;
+
+    int m_draggedPin = -1;
+    Vec2 m_pinStart;
+
+    double m_physicsMsPerFrame = 0.0;
+};
+
+} // namespace marbles

@@ -1,0 +1,459 @@
+#include "ui/stageview.h"
+
+#include "ui/marbleitem.h"
+#include "ui/pinitem.h"
+#include "ui/trailitem.h"
+#include "ui/vectoritem.h"
+#include "ui/worldedit.h"
+
+#include <QContextMenuEvent>
+#include <QGraphicsScene>
+#include <QMenu>
+#include <QMouseEvent>
+#include <QPainter>
+#include <QScrollBar>
+#include <QWheelEvent>
+
+#include <algorithm>
+#include <cmath>
+
+namespace marbles {
+
+namespace {
+
+/// Margin around the stage inside the scene rectangle, stage px.
+constexpr double kSceneMarginPx = 30.0;
+/// Pins are picked within this many viewport px of the mouse.
+constexpr double kPinPickPx = 7.0;
+/// Zoom range, view px per stage px.
+constexpr double kMinZoom = 0.05;
+constexpr double kMaxZoom = 40.0;
+
+QColor colorOf(const MarbleInfo &info)
+{
+    if (info.color.empty())
+        return {};
+    QColor c(QString::fromStdString(info.color));
+    return c.isValid() ? c : QColor();
+}
+
+} // namespace
+
+StageView::StageView(SceneDocument *document, QWidget *parent)
+    : QGraphicsView(parent)
+    , m_document(document)
+    , m_scene(new QGraphicsScene(this))
+{
+    setObjectName(QStringLiteral("stageView"));
+    // Items move every frame: an index would be rebuilt constantly for nothing.
+    m_scene->setItemIndexMethod(QGraphicsScene::NoIndex);
+    setScene(m_scene);
+    setRenderHints(QPainter::Antialiasing | QPainter::SmoothPixmapTransform);
+    setViewportUpdateMode(QGraphicsView::FullViewportUpdate);
+    setTransformationAnchor(QGraphicsView::AnchorUnderMouse);
+    setResizeAnchor(QGraphicsView::AnchorViewCenter);
+    setDragMode(QGraphicsView::NoDrag);
+    setFocusPolicy(Qt::StrongFocus);
+    setMouseTracking(false);
+    setMinimumSize(320, 240);
+
+    m_trail = new TrailItem();
+    m_trail->setZValue(-1.0);
+    m_trail->setVisible(m_trailsVisible);
+    m_scene->addItem(m_trail);
+
+    connect(m_document, &SceneDocument::stepped, this, &StageView::syncPoses);
+    connect(m_document, &SceneDocument::frameAdvanced, this, &StageView::sampleTrail);
+    connect(m_document, &SceneDocument::timelineReset, this, &StageView::resetTrail);
+    connect(m_document, &SceneDocument::sceneChanged, this, &StageView::rebuild);
+    rebuild();
+}
+
+StageView::~StageView() = default;
+
+void StageView::setTool(Tool tool)
+{
+    m_tool = tool;
+    viewport()->setCursor(tool == Tool::Select ? Qt::ArrowCursor : Qt::CrossCursor);
+}
+
+void StageView::selectMarble(int i)
+{
+    if (i < 0 || i >= m_document->world().marbleCount()) {
+        clearSelection();
+        return;
+    }
+    m_selectionKind = SelectionKind::Marble;
+    m_selectionIndex = i;
+    updateHighlights();
+    Q_EMIT selectionChanged();
+}
+
+void StageView::selectPin(int j)
+{
+    if (j < 0 || j >= static_cast<int>(m_document->world().pins.size())) {
+        clearSelection();
+        return;
+    }
+    m_selectionKind = SelectionKind::Pin;
+    m_selectionIndex = j;
+    updateHighlights();
+    Q_EMIT selectionChanged();
+}
+
+void StageView::clearSelection()
+{
+    if (m_selectionKind == SelectionKind::None)
+        return;
+    m_selectionKind = SelectionKind::None;
+    m_selectionIndex = -1;
+    updateHighlights();
+    Q_EMIT selectionChanged();
+}
+
+void StageView::deleteSelection()
+{
+    const SelectionKind kind = m_selectionKind;
+    const int index = m_selectionIndex;
+    clearSelection();
+    if (kind == SelectionKind::Marble)
+        m_document->removeMarble(index);
+    else if (kind == SelectionKind::Pin)
+        m_document->removePin(index);
+}
+
+void StageView::setVectorsVisible(bool visible)
+{
+    m_vectorsVisible = visible;
+    for (VectorItem *item : m_vectors)
+        item->setVisible(visible);
+    syncPoses();
+}
+
+void StageView::setTrailsVisible(bool visible)
+{
+    m_trailsVisible = visible;
+    m_trail->clear();
+    m_trail->setVisible(visible);
+}
+
+void StageView::fitToStage()
+{
+    m_autoFit = true;
+    const Stage &stage = m_document->world().stage;
+    fitInView(QRectF(-kSceneMarginPx / 2, -kSceneMarginPx / 2, stage.width + kSceneMarginPx,
+                     stage.height + kSceneMarginPx),
+              Qt::KeepAspectRatio);
+}
+
+void StageView::zoomBy(double factor)
+{
+    const double current = transform().m11();
+    const double target = std::clamp(current * factor, kMinZoom, kMaxZoom);
+    if (target == current)
+        return;
+    m_autoFit = false;
+    const ViewportAnchor anchor = transformationAnchor();
+    setTransformationAnchor(QGraphicsView::AnchorViewCenter);
+    scale(target / current, target / current);
+    setTransformationAnchor(anchor);
+}
+
+QPoint StageView::viewportPoint(Vec2 p) const
+{
+    return viewportTransform().map(QPointF(p.x, p.y)).toPoint();
+}
+
+Vec2 StageView::stagePoint(QPointF pos) const
+{
+    const QPointF s = viewportTransform().inverted().map(pos);
+    return {s.x(), s.y()};
+}
+
+void StageView::setContextActions(const QList<QAction *> &actions)
+{
+    m_contextActions = actions;
+}
+
+void StageView::rebuild()
+{
+    const World &world = m_document->world();
+    const int n = world.marbleCount();
+    while (static_cast<int>(m_marbles.size()) > n) {
+        delete m_marbles.back();
+        m_marbles.pop_back();
+        delete m_vectors.back();
+        m_vectors.pop_back();
+    }
+    while (static_cast<int>(m_marbles.size()) < n) {
+        auto *marble = new MarbleItem();
+        m_scene->addItem(marble);
+        m_marbles.push_back(marble);
+        auto *vectors = new VectorItem();
+        vectors->setZValue(2.0);
+        m_scene->addItem(vectors);
+        m_vectors.push_back(vectors);
+    }
+    for (int i = 0; i < n; ++i) {
+        m_marbles[i]->setRadius(world.radius[i]);
+        m_marbles[i]->setColor(colorOf(world.info[i]));
+        m_marbles[i]->setToolTip(QString::fromStdString(world.info[i].name));
+    }
+    const int pinCount = static_cast<int>(world.pins.size());
+    while (static_cast<int>(m_pins.size()) > pinCount) {
+        delete m_pins.back();
+        m_pins.pop_back();
+    }
+    while (static_cast<int>(m_pins.size()) < pinCount) {
+        auto *pin = new PinItem();
+        pin->setZValue(1.0);
+        m_scene->addItem(pin);
+        m_pins.push_back(pin);
+    }
+    for (int j = 0; j < pinCount; ++j)
+        m_pins[j]->setPos(world.pins[j].x, world.pins[j].y);
+
+    const QRectF stageRect(0, 0, world.stage.width, world.stage.height);
+    m_scene->setSceneRect(stageRect.adjusted(-kSceneMarginPx, -kSceneMarginPx, kSceneMarginPx, kSceneMarginPx));
+    m_trail->setArea(stageRect);
+    if (m_selectionKind == SelectionKind::Marble && m_selectionIndex >= n)
+        clearSelection();
+    if (m_selectionKind == SelectionKind::Pin && m_selectionIndex >= pinCount)
+        clearSelection();
+    updateHighlights();
+    syncPoses();
+    if (m_autoFit)
+        fitToStage();
+    m_scene->update();
+}
+
+void StageView::syncPoses()
+{
+    const World &world = m_document->world();
+    const int n = std::min(world.marbleCount(), static_cast<int>(m_marbles.size()));
+    const int held = m_document->heldMarble();
+    for (int i = 0; i < n; ++i) {
+        const QPointF p(world.position[i].x, world.position[i].y);
+        m_marbles[i]->setPos(p);
+        m_marbles[i]->setHeld(i == held);
+        if (m_vectorsVisible) {
+            m_vectors[i]->setPos(p);
+            m_vectors[i]->setHit(world.lastHit[i], world.radius[i]);
+        }
+    }
+}
+
+void StageView::sampleTrail()
+{
+    if (m_trailsVisible)
+        m_trail->sample(m_document->world());
+}
+
+void StageView::resetTrail()
+{
+    m_trail->clear();
+}
+
+void StageView::updateHighlights()
+{
+    for (int i = 0; i < static_cast<int>(m_marbles.size()); ++i)
+        m_marbles[i]->setHighlighted(m_selectionKind == SelectionKind::Marble && i == m_selectionIndex);
+    for (int j = 0; j < static_cast<int>(m_pins.size()); ++j)
+        m_pins[j]->setHighlighted(m_selectionKind == SelectionKind::Pin && j == m_selectionIndex);
+}
+
+void StageView::pickAt(Vec2 p)
+{
+    const World &world = m_document->world();
+    const int pin = pinAt(world, p, kPinPickPx / transform().m11());
+    if (pin >= 0) {
+        selectPin(pin);
+        return;
+    }
+    const int marble = marbleAt(world, p);
+    if (marble >= 0)
+        selectMarble(marble);
+    else
+        clearSelection();
+}
+
+void StageView::report(const QString &text)
+{
+    if (!text.isEmpty())
+        Q_EMIT message(text);
+}
+
+void StageView::drawBackground(QPainter *painter, const QRectF &rect)
+{
+    painter->fillRect(rect, palette().color(QPalette::Window).darker(112));
+    const Stage &stage = m_document->world().stage;
+    const QRectF stageRect(0, 0, stage.width, stage.height);
+    painter->fillRect(stageRect, QColor(0xfb, 0xfa, 0xf6));
+
+    // A faint 50 px grid: positions and speeds can be read off the screen.
+    QPen grid(QColor(0xe6, 0xe3, 0xda));
+    grid.setCosmetic(true);
+    painter->setPen(grid);
+    for (double x = 50.0; x < stage.width; x += 50.0)
+        painter->drawLine(QPointF(x, 0), QPointF(x, stage.height));
+    for (double y = 50.0; y < stage.height; y += 50.0)
+        painter->drawLine(QPointF(0, y), QPointF(stage.width, y));
+
+    painter->setRenderHint(QPainter::Antialiasing, false);
+    if (stage.walls) {
+        QPen wall(QColor(0x37, 0x47, 0x4f));
+        wall.setWidthF(6.0);
+        wall.setCosmetic(true);
+        wall.setJoinStyle(Qt::MiterJoin);
+        painter->setPen(wall);
+        const double half = 3.0 / transform().m11();
+        painter->drawRect(stageRect.adjusted(-half, -half, half, half));
+    } else {
+        QPen edge(QColor(0x90, 0x90, 0x90));
+        edge.setCosmetic(true);
+        edge.setStyle(Qt::DashLine);
+        painter->setPen(edge);
+        painter->drawRect(stageRect);
+    }
+    painter->setRenderHint(QPainter::Antialiasing, true);
+}
+
+void StageView::mousePressEvent(QMouseEvent *event)
+{
+    if (event->button() != Qt::LeftButton) {
+        QGraphicsView::mousePressEvent(event);
+        return;
+    }
+    setFocus(Qt::MouseFocusReason);
+    const Vec2 p = stagePoint(event->position());
+    m_pressPos = event->position();
+    m_gesture = Gesture::None;
+    switch (m_tool) {
+    case Tool::AddMarble:
+        report(m_document->addMarble(p, kNewMarbleRadius));
+        selectMarble(m_document->world().marbleCount() - 1);
+        return;
+    case Tool::AddPin:
+        report(m_document->addPin(p));
+        return;
+    case Tool::Select:
+        break;
+    }
+    pickAt(p);
+    const World &world = m_document->world();
+    if (m_selectionKind == SelectionKind::Marble) {
+        m_gesture = Gesture::PressMarble;
+        m_gestureIndex = m_selectionIndex;
+        const Vec2 c = world.position[m_gestureIndex];
+        m_grabOffset = {c.x - p.x, c.y - p.y};
+    } else if (m_selectionKind == SelectionKind::Pin) {
+        m_gesture = Gesture::PressPin;
+        m_gestureIndex = m_selectionIndex;
+        const Vec2 q = world.pins[m_gestureIndex];
+        m_grabOffset = {q.x - p.x, q.y - p.y};
+    }
+    event->accept();
+}
+
+void StageView::mouseMoveEvent(QMouseEvent *event)
+{
+    if (m_gesture == Gesture::None) {
+        QGraphicsView::mouseMoveEvent(event);
+        return;
+    }
+    const QPointF moved = event->position() - m_pressPos;
+    const bool beyondClick = std::abs(moved.x()) + std::abs(moved.y()) > kClickTolerancePx;
+    const Vec2 p = stagePoint(event->position());
+    const Vec2 target{p.x + m_grabOffset.x, p.y + m_grabOffset.y};
+    if (m_gesture == Gesture::PressMarble && beyondClick) {
+        m_gesture = Gesture::DragMarble;
+        m_document->beginHold(m_gestureIndex);
+    } else if (m_gesture == Gesture::PressPin && beyondClick) {
+        m_gesture = Gesture::DragPin;
+        m_document->beginPinDrag(m_gestureIndex);
+    }
+    if (m_gesture == Gesture::DragMarble)
+        m_document->moveHeld(target);
+    else if (m_gesture == Gesture::DragPin)
+        m_document->movePinDrag(target);
+    event->accept();
+}
+
+void StageView::mouseReleaseEvent(QMouseEvent *event)
+{
+    if (event->button() != Qt::LeftButton || m_gesture == Gesture::None) {
+        QGraphicsView::mouseReleaseEvent(event);
+        return;
+    }
+    const Vec2 p = stagePoint(event->position());
+    const Vec2 target{p.x + m_grabOffset.x, p.y + m_grabOffset.y};
+    const Gesture gesture = m_gesture;
+    m_gesture = Gesture::None;
+    switch (gesture) {
+    case Gesture::PressMarble:
+        // The chapter's hitMarble runs on release, with the mouse position at release.
+        m_document->pushMarble(m_gestureIndex, p);
+        break;
+    case Gesture::DragMarble:
+        report(m_document->endHold(target));
+        break;
+    case Gesture::DragPin:
+        report(m_document->endPinDrag(target));
+        break;
+    case Gesture::PressPin:
+    case Gesture::None:
+        break;
+    }
+    event->accept();
+}
+
+void StageView::mouseDoubleClickEvent(QMouseEvent *event)
+{
+    // A second click on a marble is a second push, as in the chapter (no special double-click).
+    mousePressEvent(event);
+}
+
+void StageView::wheelEvent(QWheelEvent *event)
+{
+    const double steps = event->angleDelta().y() / 120.0;
+    if (steps == 0.0) {
+        QGraphicsView::wheelEvent(event);
+        return;
+    }
+    const double current = transform().m11();
+    const double target = std::clamp(current * std::pow(1.15, steps), kMinZoom, kMaxZoom);
+    m_autoFit = false;
+    scale(target / current, target / current);
+    event->accept();
+}
+
+void StageView::resizeEvent(QResizeEvent *event)
+{
+    QGraphicsView::resizeEvent(event);
+    if (m_autoFit)
+        fitToStage();
+}
+
+void StageView::contextMenuEvent(QContextMenuEvent *event)
+{
+    m_contextPoint = stagePoint(event->pos());
+    pickAt(m_contextPoint);
+    if (m_contextActions.isEmpty())
+        return;
+    QMenu menu(this);
+    for (QAction *action : std::as_const(m_contextActions)) {
+        if (action)
+            menu.addAction(action);
+        else
+            menu.addSeparator();
+    }
+    menu.exec(event->globalPos());
+}
+
+void StageView::paintEvent(QPaintEvent *event)
+{
+    ++m_paintCount;
+    QGraphicsView::paintEvent(event);
+}
+
+} // namespace marbles

@@ -1,0 +1,142 @@
+#pragma once
+
+#include "core/world.h"
+#include "ui/scenedocument.h"
+
+#include <QGraphicsView>
+#include <QList>
+#include <QPoint>
+
+#include <vector>
+
+class QAction;
+class QGraphicsScene;
+
+namespace marbles {
+
+class MarbleItem;
+class PinItem;
+class TrailItem;
+class VectorItem;
+
+/// The stage: a QGraphicsView whose items mirror the document's world. Poses are synced on
+/// SceneDocument::stepped(), items are rebuilt on sceneChanged(). The mouse edits through the
+/// document: drag marbles and pins, click a marble to push it (the chapter's hitMarble), add
+/// marbles or pins with the add tools. Wheel zooms; the view fits the stage until the user zooms.
+class StageView : public QGraphicsView {
+    Q_OBJECT
+
+public:
+    /// What a left click on the stage does.
+    enum class Tool { Select, AddMarble, AddPin };
+    /// What is selected: nothing, one marble or one pin.
+    enum class SelectionKind { None, Marble, Pin };
+
+    /// A press and release closer than this (viewport px) is a click, not a drag.
+    static constexpr int kClickTolerancePx = 4;
+    /// Radius of a marble made with the add-marble tool, stage px.
+    static constexpr double kNewMarbleRadius = 20.0;
+
+    /// A view of `document`, which must outlive it.
+    explicit StageView(SceneDocument *document, QWidget *parent = nullptr);
+    ~StageView() override;
+
+    /// The current tool.
+    Tool tool() const { return m_tool; }
+    /// Chooses the tool for left clicks.
+    void setTool(Tool tool);
+
+    /// Kind of the current selection.
+    SelectionKind selectionKind() const { return m_selectionKind; }
+    /// Selected marble index, or -1.
+    int selectedMarble() const { return m_selectionKind == SelectionKind::Marble ? m_selectionIndex : -1; }
+    /// Selected pin index, or -1.
+    int selectedPin() const { return m_selectionKind == SelectionKind::Pin ? m_selectionIndex : -1; }
+    /// Selects marble i (or nothing with -1).
+    void selectMarble(int i);
+    /// Selects pin j (or nothing with -1).
+    void selectPin(int j);
+    /// Selects nothing.
+    void clearSelection();
+    /// Deletes the selected marble or pin (one undo step).
+    void deleteSelection();
+
+    /// Shows or hides the Figure 11.12 vectors.
+    void setVectorsVisible(bool visible);
+    /// Shows or hides the fading trails.
+    void setTrailsVisible(bool visible);
+    /// True when the vectors overlay is shown.
+    bool vectorsVisible() const { return m_vectorsVisible; }
+    /// True when trails are shown.
+    bool trailsVisible() const { return m_trailsVisible; }
+
+    /// Scales the view so that the whole stage fits, and keeps fitting on resize.
+    void fitToStage();
+    /// Zooms by `factor` (> 1 zooms in) about the viewport centre; stops fitting on resize.
+    void zoomBy(double factor);
+
+    /// The viewport pixel that shows stage point `p` (for tests and tools).
+    QPoint viewportPoint(Vec2 p) const;
+    /// The stage point under viewport pixel `pos`.
+    Vec2 stagePoint(QPointF pos) const;
+    /// The stage point where the last context menu was opened.
+    Vec2 contextPoint() const { return m_contextPoint; }
+    /// Actions for the context menu (created once by the main window, shared with menus and toolbars).
+    void setContextActions(const QList<QAction *> &actions);
+
+    /// Number of times the viewport was painted (for the display fps).
+    qint64 paintCount() const { return m_paintCount; }
+
+Q_SIGNALS:
+    /// The selection changed.
+    void selectionChanged();
+    /// A note for the status bar (a refused drop, a moved drop).
+    void message(const QString &text);
+
+protected:
+    void drawBackground(QPainter *painter, const QRectF &rect) override;
+    void mousePressEvent(QMouseEvent *event) override;
+    void mouseMoveEvent(QMouseEvent *event) override;
+    void mouseReleaseEvent(QMouseEvent *event) override;
+    void mouseDoubleClickEvent(QMouseEvent *event) override;
+    void wheelEvent(QWheelEvent *event) override;
+    void resizeEvent(QResizeEvent *event) override;
+    void contextMenuEvent(QContextMenuEvent *event) override;
+    void paintEvent(QPaintEvent *event) override;
+
+private:
+    void rebuild();
+    void syncPoses();
+    void sampleTrail();
+    void resetTrail();
+    void updateHighlights();
+    void pickAt(Vec2 p);
+    void report(const QString &text);
+
+    SceneDocument *m_document;
+    QGraphicsScene *m_scene;
+    std::vector<MarbleItem *> m_marbles;
+    std::vector<VectorItem *> m_vectors;
+    std::vector<PinItem *> m_pins;
+    TrailItem *m_trail = nullptr;
+
+    Tool m_tool = Tool::Select;
+    SelectionKind m_selectionKind = SelectionKind::None;
+    int m_selectionIndex = -1;
+    bool m_vectorsVisible = true;
+    bool m_trailsVisible = false;
+    bool m_autoFit = true;
+
+    // Mouse gesture in progress.
+    enum class Gesture { None, PressMarble, DragMarble, PressPin, DragPin };
+    Gesture m_gesture = Gesture::None;
+    int m_gestureIndex = -1;
+    QPointF m_pressPos;
+    Vec2 m_grabOffset;
+
+    Vec2 m_contextPoint;
+    QList<QAction *> m_contextActions;
+    qint64 m_paintCount = 0;
+};
+
+} // namespace marbles
