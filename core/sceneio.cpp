@@ -273,14 +273,14 @@ std::int64_t readInteger(const Json &j, const std::string &place, std::int64_t l
     return v;
 }
 
-const Json &requireObject(const Json &j, const std::string &place)
+Json &requireObject(Json &j, const std::string &place)
 {
     if (!j.is_object())
         fail(place, "must be an object, got " + describe(j));
     return j;
 }
 
-const Json &requireArray(const Json &j, const std::string &place)
+Json &requireArray(Json &j, const std::string &place)
 {
     if (!j.is_array())
         fail(place, "must be an array, got " + describe(j));
@@ -305,11 +305,11 @@ std::string extraText(const Json &extras)
     return extras.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
-void readStage(const Json &j, Stage &stage, std::string &extraJson)
+void readStage(Json &j, Stage &stage, std::string &extraJson)
 {
     requireObject(j, "stage");
     Json extras = Json::object();
-    for (const auto &[key, value] : j.items()) {
+    for (auto &&[key, value] : j.items()) {
         const std::string place = member("stage", key);
         if (key == "width")
             stage.width = readPositive(value, place);
@@ -318,16 +318,16 @@ void readStage(const Json &j, Stage &stage, std::string &extraJson)
         else if (key == "walls")
             stage.walls = readBool(value, place);
         else
-            extras[key] = value;
+            extras[key] = std::move(value);
     }
     extraJson = extraText(extras);
 }
 
-void readParams(const Json &j, Params &p, std::string &extraJson)
+void readParams(Json &j, Params &p, std::string &extraJson)
 {
     requireObject(j, "params");
     Json extras = Json::object();
-    for (const auto &[key, value] : j.items()) {
+    for (auto &&[key, value] : j.items()) {
         const std::string place = member("params", key);
         if (key == "model") {
             if (!value.is_string() || !parseModelName(value.get_ref<const Json::string_t &>(), p.model))
@@ -354,13 +354,13 @@ void readParams(const Json &j, Params &p, std::string &extraJson)
         } else if (key == "shortCircuit") {
             p.shortCircuit = readBool(value, place);
         } else {
-            extras[key] = value;
+            extras[key] = std::move(value);
         }
     }
     extraJson = extraText(extras);
 }
 
-void readMarble(const Json &j, const std::string &place, World &world)
+void readMarble(Json &j, const std::string &place, World &world)
 {
     requireObject(j, place);
     Vec2 p;
@@ -369,7 +369,7 @@ void readMarble(const Json &j, const std::string &place, World &world)
     double m = 0.0;
     MarbleInfo info;
     Json extras = Json::object();
-    for (const auto &[key, value] : j.items()) {
+    for (auto &&[key, value] : j.items()) {
         const std::string at = member(place, key);
         if (key == "x") {
             p.x = readNumber(value, at);
@@ -390,7 +390,7 @@ void readMarble(const Json &j, const std::string &place, World &world)
             if (!isColor(info.color))
                 fail(at, "must be a colour \"#rrggbb\", got " + describe(value));
         } else {
-            extras[key] = value;
+            extras[key] = std::move(value);
         }
     }
     const int i = world.addMarble(p, r, v, m);
@@ -399,29 +399,29 @@ void readMarble(const Json &j, const std::string &place, World &world)
     world.info[i] = std::move(info);
 }
 
-void readPin(const Json &j, const std::string &place, World &world)
+void readPin(Json &j, const std::string &place, World &world)
 {
     requireObject(j, place);
     Vec2 q;
     Json extras = Json::object();
-    for (const auto &[key, value] : j.items()) {
+    for (auto &&[key, value] : j.items()) {
         if (key == "x")
             q.x = readNumber(value, member(place, key));
         else if (key == "y")
             q.y = readNumber(value, member(place, key));
         else
-            extras[key] = value;
+            extras[key] = std::move(value);
     }
     const int k = world.addPin(q);
     world.pinExtraJson[k] = extraText(extras);
 }
 
 // Pushes have no slot for unknown keys in World, so those are read and dropped.
-void readPush(const Json &j, const std::string &place, World &world)
+void readPush(Json &j, const std::string &place, World &world)
 {
     requireObject(j, place);
     Push push;
-    for (const auto &[key, value] : j.items()) {
+    for (auto &&[key, value] : j.items()) {
         const std::string at = member(place, key);
         if (key == "frame") {
             push.frame = readInteger(value, at, 0, std::numeric_limits<std::int64_t>::max());
@@ -447,8 +447,8 @@ void readPush(const Json &j, const std::string &place, World &world)
     world.pushes.push_back(push);
 }
 
-/// Builds the scene from a parsed document; throws SceneError.
-World readScene(const Json &doc)
+/// Builds the scene from a parsed document, moving unknown keys out of it; throws SceneError.
+World readScene(Json &doc)
 {
     if (!doc.is_object())
         fail("top level", "must be a JSON object (a scene), got " + describe(doc));
@@ -477,26 +477,26 @@ World readScene(const Json &doc)
     }
     // Marbles after params: a marble's derived mass is massScale * radius.
     if (const auto it = doc.find("marbles"); it != doc.end()) {
-        const Json &list = requireArray(*it, "marbles");
+        Json &list = requireArray(*it, "marbles");
         for (std::size_t i = 0; i < list.size(); ++i)
             readMarble(list[i], element("marbles", i), world);
     }
     if (const auto it = doc.find("pins"); it != doc.end()) {
-        const Json &list = requireArray(*it, "pins");
+        Json &list = requireArray(*it, "pins");
         for (std::size_t i = 0; i < list.size(); ++i)
             readPin(list[i], element("pins", i), world);
     }
     // Pushes after marbles: each must name a marble that exists.
     if (const auto it = doc.find("pushes"); it != doc.end()) {
-        const Json &list = requireArray(*it, "pushes");
+        Json &list = requireArray(*it, "pushes");
         for (std::size_t i = 0; i < list.size(); ++i)
             readPush(list[i], element("pushes", i), world);
     }
 
     Json extras = Json::object();
-    for (const auto &[key, value] : doc.items()) {
+    for (auto &&[key, value] : doc.items()) {
         if (!isSceneKey(key))
-            extras[key] = value;
+            extras[key] = std::move(value);
     }
     world.sceneExtraJson = extraText(extras);
     world.frame = 0;
@@ -516,44 +516,20 @@ public:
     {
     }
 
-    bool null()
-    {
-        countElement();
-        return m_dom.null();
-    }
-    bool boolean(bool b)
-    {
-        countElement();
-        return m_dom.boolean(b);
-    }
-    bool number_integer(Json::number_integer_t v)
-    {
-        countElement();
-        return m_dom.number_integer(v);
-    }
-    bool number_unsigned(Json::number_unsigned_t v)
-    {
-        countElement();
-        return m_dom.number_unsigned(v);
-    }
+    bool null() { return admit(0) && m_dom.null(); }
+    bool boolean(bool b) { return admit(0) && m_dom.boolean(b); }
+    bool number_integer(Json::number_integer_t v) { return admit(0) && m_dom.number_integer(v); }
+    bool number_unsigned(Json::number_unsigned_t v) { return admit(0) && m_dom.number_unsigned(v); }
     bool number_float(Json::number_float_t v, const Json::string_t &text)
     {
-        countElement();
-        return m_dom.number_float(v, text);
+        return admit(0) && m_dom.number_float(v, text);
     }
-    bool string(Json::string_t &s)
-    {
-        countElement();
-        return m_dom.string(s);
-    }
-    bool binary(Json::binary_t &b)
-    {
-        countElement();
-        return m_dom.binary(b);
-    }
+    bool string(Json::string_t &s) { return admit(heapString(s.size())) && m_dom.string(s); }
+    bool binary(Json::binary_t &b) { return admit(b.size() + kHeapBlock) && m_dom.binary(b); }
     bool start_object(std::size_t n)
     {
-        countElement();
+        if (!admit(kObjectCost))
+            return false;
         m_path.push_back({false, 0, {}});
         return m_dom.start_object(n);
     }
@@ -569,7 +545,8 @@ public:
     }
     bool start_array(std::size_t n)
     {
-        countElement();
+        if (!admit(kArrayCost))
+            return false;
         m_path.push_back({true, 0, {}});
         return m_dom.start_array(n);
     }
@@ -592,6 +569,7 @@ public:
     }
 
     bool failed() const { return m_failed; }
+    bool overBudget() const { return m_overBudget; }
     std::size_t position() const { return m_position; }
     const std::string &lastToken() const { return m_lastToken; }
     int errorId() const { return m_errorId; }
@@ -605,10 +583,37 @@ private:
         std::string key;       ///< key being read (objects)
     };
 
-    void countElement()
+    // Memory estimate of nlohmann's document, measured with glibc on x86-64 and rounded up:
+    // a value is 16 bytes in its array (24 with the vector's spare capacity) or a std::map node
+    // of about 96 bytes in its object; an object's map and an array's vector cost a heap block
+    // each; a string or key longer than the 15-byte small-string buffer costs its own block.
+    static constexpr std::size_t kHeapBlock = 17;
+    static constexpr std::size_t kArraySlot = 24;
+    static constexpr std::size_t kObjectMember = 96;
+    static constexpr std::size_t kObjectCost = 64;
+    static constexpr std::size_t kArrayCost = 40;
+
+    static std::size_t heapString(std::size_t length) { return length > 15 ? length + kHeapBlock : 0; }
+
+    /// Counts a value about to be added (its place in the parent plus `own` bytes); false once
+    /// the document would outgrow kMaxSceneMemoryBytes, which stops the parse before it allocates.
+    bool admit(std::size_t own)
     {
-        if (!m_path.empty() && m_path.back().isArray)
+        std::size_t cost = own;
+        if (m_path.empty()) {
+            cost += 16;
+        } else if (m_path.back().isArray) {
             ++m_path.back().count;
+            cost += kArraySlot;
+        } else {
+            cost += kObjectMember + heapString(m_path.back().key.size());
+        }
+        m_bytes += cost;
+        if (m_bytes > kMaxSceneMemoryBytes) {
+            m_overBudget = true;
+            return false;
+        }
+        return true;
     }
 
     /// Place of the value being read when the error happened. An open array level points at its
@@ -632,6 +637,8 @@ private:
     nlohmann::detail::json_sax_dom_parser<Json> m_dom;
     std::vector<Level> m_path;
     bool m_failed = false;
+    bool m_overBudget = false;
+    std::size_t m_bytes = 0;
     std::size_t m_position = 0;
     std::string m_lastToken;
     int m_errorId = 0;
@@ -723,6 +730,9 @@ std::string parseInto(std::string_view text, World &world)
     TrackingBuilder builder(doc);
     const bool parsed = Json::sax_parse(text.data(), text.data() + text.size(), &builder,
                                         Json::input_format_t::json, true, false);
+    if (builder.overBudget())
+        return "size: reading this scene would take more than " + std::to_string(kMaxSceneMemoryBytes >> 20)
+            + " MiB of memory (it holds too many values)";
     if (!parsed || builder.failed()) {
         // 406: a number too large for a double (1e999): JSON allows it, a scene does not.
         if (builder.errorId() == 406) {
@@ -1104,14 +1114,19 @@ std::string validateParams(const Params &p)
 
 namespace {
 
-bool parseDouble(std::string_view text, double &out)
+/// Reads a whole decimal number the way JSON and C write it, whatever the locale; "" or the rule broken.
+std::string parseDouble(std::string_view text, double &out)
 {
     if (!text.empty() && text.front() == '+')
         text.remove_prefix(1);
     if (text.empty())
-        return false;
+        return "must be a number";
     const auto result = std::from_chars(text.data(), text.data() + text.size(), out);
-    return result.ec == std::errc() && result.ptr == text.data() + text.size();
+    if (result.ptr != text.data() + text.size())
+        return "must be a number";
+    if (result.ec == std::errc::result_out_of_range)
+        return "must be a number within the range of a double";
+    return result.ec == std::errc() ? std::string() : std::string("must be a number");
 }
 
 bool parseInteger(std::string_view text, std::int64_t &out)
@@ -1147,8 +1162,8 @@ std::string setParam(World &world, std::string_view key, std::string_view value)
     // A number with its one-field rule; `rule` returns "" or the rule broken.
     auto setNumber = [&](double &target, std::string (*rule)(double)) -> std::string {
         double v = 0.0;
-        if (!parseDouble(value, v))
-            return head + "must be a number";
+        if (std::string broken = parseDouble(value, v); !broken.empty())
+            return head + broken;
         if (std::string broken = rule(v); !broken.empty())
             return head + broken;
         target = v;
@@ -1185,8 +1200,8 @@ std::string setParam(World &world, std::string_view key, std::string_view value)
     if (key == "gravity") {
         const std::size_t comma = value.find(',');
         Vec2 g;
-        if (comma == std::string_view::npos || !parseDouble(value.substr(0, comma), g.x)
-            || !parseDouble(value.substr(comma + 1), g.y))
+        if (comma == std::string_view::npos || !parseDouble(value.substr(0, comma), g.x).empty()
+            || !parseDouble(value.substr(comma + 1), g.y).empty())
             return head + "must be two numbers \"x,y\"";
         if (!isFinite(g))
             return head + "must be two finite numbers";

@@ -10,6 +10,10 @@ namespace marbles {
 
 /// Largest scene text the loader accepts, in bytes (256 MiB); larger input is refused before it is read whole.
 inline constexpr std::size_t kMaxSceneBytes = std::size_t{256} * 1024 * 1024;
+/// Most memory the parsed JSON document of a scene may take, in bytes (1 GiB, estimated while
+/// parsing): `[{},{},...]` costs about 27 times its size in memory, so the file limit alone
+/// would still let a hostile 256 MiB file take 7 GiB.
+inline constexpr std::size_t kMaxSceneMemoryBytes = std::size_t{1} << 30;
 /// Deepest nesting of JSON arrays and objects the loader accepts (a scene needs 3 levels).
 inline constexpr int kMaxSceneNesting = 256;
 /// Largest `params.substeps` accepted: more would make one impulse-model frame take minutes.

@@ -203,6 +203,8 @@ private slots:
     void placeOfSyntaxError();
     void garbageIsRefusedQuickly();
     void deepButAllowedNesting();
+    void memoryBudget();
+    void largeSceneRoundTrips();
     void utf8ByteOrderMarkIsAccepted();
     void defaults_data();
     void defaults();
@@ -482,6 +484,38 @@ void TestSceneIo::deepButAllowedNesting()
     const SceneLoad refused = parseScene(view(tooDeep), kSource);
     QVERIFY(!refused.ok);
     QVERIFY2(q(refused.error).contains("nested deeper than 256 levels"), refused.error.c_str());
+}
+
+void TestSceneIo::memoryBudget()
+{
+    // 13 million empty objects: 39 MB of text that nlohmann would turn into about 1.1 GB.
+    // The parse stops when its estimate passes kMaxSceneMemoryBytes.
+    const int count = 13'000'000;
+    QByteArray text = R"({"format": "marbles-scene", "version": 1, "note": [{})";
+    text.reserve(text.size() + 3 * count + 2);
+    for (int i = 1; i < count; ++i)
+        text += ",{}";
+    text += "]}";
+    const SceneLoad load = parseScene(view(text), kSource);
+    QVERIFY(!load.ok);
+    QCOMPARE(q(load.error),
+             QString("demo.marbles.json: size: reading this scene would take more than 1024 MiB of memory "
+                     "(it holds too many values)"));
+}
+
+void TestSceneIo::largeSceneRoundTrips()
+{
+    // 100,000 marbles, a realistic big scene, well inside the memory budget.
+    World w;
+    for (int i = 0; i < 100'000; ++i)
+        w.addMarble({i * 0.1, i / 3.0}, 1.0 + (i % 7), {0.5, -0.25});
+    QElapsedTimer timer;
+    timer.start();
+    const std::string saved = sceneToJson(w);
+    const SceneLoad load = parseScene(saved, kSource);
+    QVERIFY2(load.ok, load.error.c_str());
+    QCOMPARE(difference(w, load.world), QString());
+    QCOMPARE_LE(timer.elapsed(), 10000);
 }
 
 void TestSceneIo::utf8ByteOrderMarkIsAccepted()
@@ -1005,7 +1039,9 @@ void TestSceneIo::setParamRejects_data()
     QTest::addRow("friction comma decimal") << "friction" << "0,1" << "friction=0,1: must be a number";
     QTest::addRow("friction nan") << "friction" << "nan" << "friction=nan: must be a finite number";
     QTest::addRow("friction inf") << "friction" << "inf" << "friction=inf: must be a finite number";
-    QTest::addRow("friction overflow") << "friction" << "1e999" << "friction=1e999: must be a number";
+    QTest::addRow("friction overflow") << "friction" << "1e999" << "friction=1e999: must be a number within the range of a double";
+    QTest::addRow("friction hexadecimal") << "friction" << "0x10" << "friction=0x10: must be a number";
+    QTest::addRow("friction leading space") << "friction" << " 0.1" << "friction= 0.1: must be a number";
     QTest::addRow("massScale zero") << "massScale" << "0" << "massScale=0: must be > 0";
     QTest::addRow("zeroThreshold negative") << "zeroThreshold" << "-0.5" << "zeroThreshold=-0.5: must be >= 0";
     QTest::addRow("pushScale infinite") << "pushScale" << "-inf" << "pushScale=-inf: must be a finite number";
