@@ -1,0 +1,552 @@
+#include "core/world.h"
+#include "ui/plotdock.h"
+#include "ui/ringbuffer.h"
+
+#include <QChart>
+#include <QChartView>
+#include <QCheckBox>
+#include <QFile>
+#include <QImage>
+#include <QLineSeries>
+#include <QRadioButton>
+#include <QSignalSpy>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QValueAxis>
+
+#include <cmath>
+#include <limits>
+
+using namespace marbles;
+
+class TestPlotDock : public QObject {
+    Q_OBJECT
+
+private slots:
+    void ringBuffer_data();
+    void ringBuffer();
+    void oneSamplePerFrame_data();
+    void oneSamplePerFrame();
+    void speedsAndTotals_data();
+    void speedsAndTotals();
+    void resetClears();
+    void plottedMarbles_data();
+    void plottedMarbles();
+    void selectionKeepsHistory();
+    void lineColours();
+    void chartGetsSamples();
+    void liveRefresh();
+    void thinningKeepsSpikes();
+    void secondsAxis();
+    void totalsOnRequest();
+    void hoverShowsExactValues_data();
+    void hoverShowsExactValues();
+    void exportCsv();
+    void exportCsvError();
+    void exportPng();
+};
+
+namespace {
+
+/// Marbles at rest in a row; radius r gives mass 1.25 r.
+World worldWith(int marbles)
+{
+    World world;
+    for (int i = 0; i < marbles; ++i)
+        world.addMarble({50.0 + 30.0 * i, 100.0}, 10.0);
+    return world;
+}
+
+/// Sets every marble's velocity from the frame number (a different, known speed per frame) and
+/// records the frame: frames 1..n.
+void runFrames(PlotDock &dock, World &world, int n)
+{
+    for (int f = 1; f <= n; ++f) {
+        world.frame = f;
+        for (int i = 0; i < world.marbleCount(); ++i)
+            world.velocity[static_cast<std::size_t>(i)] = {0.01 * f, -0.5 * i};
+        dock.appendFrame(world);
+    }
+}
+
+double maxY(const QLineSeries *series)
+{
+    double m = -std::numeric_limits<double>::infinity();
+    for (const QPointF &p : series->points())
+        m = std::max(m, p.y());
+    return m;
+}
+
+} // namespace
+
+void TestPlotDock::ringBuffer_data()
+{
+    QTest::addColumn<int>("capacity");
+    QTest::addColumn<int>("pushes");
+
+    QTest::addRow("empty") << 4 << 0;
+    QTest::addRow("partly full") << 4 << 3;
+    QTest::addRow("exactly full") << 4 << 4;
+    QTest::addRow("wrapped once") << 4 << 6;
+    QTest::addRow("wrapped many times") << 4 << 103;
+    QTest::addRow("capacity 1") << 1 << 5;
+}
+
+void TestPlotDock::ringBuffer()
+{
+    QFETCH(int, capacity);
+    QFETCH(int, pushes);
+
+    RingBuffer<int> ring(static_cast<std::size_t>(capacity));
+    for (int v = 1; v <= pushes; ++v)
+        ring.push(v);
+    const int held = std::min(capacity, pushes);
+    QCOMPARE(ring.size(), static_cast<std::size_t>(held));
+    // The newest `held` values, oldest first.
+    for (int i = 0; i < held; ++i)
+        QCOMPARE(ring.at(static_cast<std::size_t>(i)), pushes - held + 1 + i);
+    if (held > 0)
+        QCOMPARE(ring.last(), pushes);
+    ring.clear();
+    QVERIFY(ring.isEmpty());
+    QCOMPARE(ring.capacity(), static_cast<std::size_t>(capacity));
+}
+
+void TestPlotDock::oneSamplePerFrame_data()
+{
+    QTest::addColumn<int>("capacity"); // 0: the default
+    QTest::addColumn<int>("frames");
+
+    QTest::addRow("one frame") << 0 << 1;
+    QTest::addRow("ten frames") << 0 << 10;
+    QTest::addRow("full") << 0 << int(PlotDock::kDefaultCapacity);
+    QTest::addRow("one past full") << 0 << int(PlotDock::kDefaultCapacity) + 1;
+    QTest::addRow("small buffer wrapped") << 10 << 25;
+}
+
+void TestPlotDock::oneSamplePerFrame()
+{
+    QFETCH(int, capacity);
+    QFETCH(int, frames);
+
+    PlotDock dock;
+    if (capacity > 0)
+        dock.setCapacity(capacity);
+    const qsizetype bound = capacity > 0 ? capacity : PlotDock::kDefaultCapacity;
+    QCOMPARE(dock.capacity(), bound);
+    World world = worldWith(3);
+    dock.reset(world);
+    QCOMPARE(dock.sampleCount(), 0);
+    runFrames(dock, world, frames);
+
+    const qsizetype held = std::min<qsizetype>(frames, bound);
+    QCOMPARE(dock.sampleCount(), held);
+    // The newest frames are kept, in order, one sample each.
+    for (qsizetype i = 0; i < held; ++i)
+        QCOMPARE(dock.sampleFrame(i), std::int64_t(frames - held + 1 + i));
+    // The speed columns wrap together with the frames: sample i holds frame i's speed 0.01 f.
+    const std::int64_t f = dock.sampleFrame(0);
+    QCOMPARE_LE(std::abs(dock.sampleSpeed(0, 0) - 0.01 * double(f)), 1e-12);
+}
+
+void TestPlotDock::speedsAndTotals_data()
+{
+    QTest::addColumn<double>("vx0");
+    QTest::addColumn<double>("vy0");
+    QTest::addColumn<double>("vx1");
+    QTest::addColumn<double>("vy1");
+
+    QTest::addRow("3-4-5") << 3.0 << 4.0 << -6.0 << 0.0;
+    QTest::addRow("at rest") << 0.0 << 0.0 << 0.0 << 0.0;
+    QTest::addRow("tiny") << -1e-3 << 2e-3 << 5e-9 << -5e-9;
+    QTest::addRow("large") << 1e6 << -1e6 << -2.5e5 << 7.0;
+    QTest::addRow("opposite momenta") << 2.0 << 0.0 << -4.0 << 0.0;
+}
+
+void TestPlotDock::speedsAndTotals()
+{
+    QFETCH(double, vx0);
+    QFETCH(double, vy0);
+    QFETCH(double, vx1);
+    QFETCH(double, vy1);
+
+    World world;
+    world.addMarble({100, 100}, 10.0, {vx0, vy0}, 2.0);
+    world.addMarble({300, 100}, 20.0, {vx1, vy1}, 1.0);
+    world.frame = 7;
+    PlotDock dock;
+    dock.reset(world);
+    dock.appendFrame(world);
+    QCOMPARE(dock.sampleCount(), 1);
+    QCOMPARE(dock.sampleFrame(0), std::int64_t(7));
+
+    auto close = [](double actual, double expected) {
+        return std::abs(actual - expected) <= 1e-12 * std::max(1.0, std::abs(expected));
+    };
+    QVERIFY(close(dock.sampleSpeed(0, 0), std::sqrt(vx0 * vx0 + vy0 * vy0)));
+    QVERIFY(close(dock.sampleSpeed(0, 1), std::sqrt(vx1 * vx1 + vy1 * vy1)));
+    const double kinetic = 0.5 * 2.0 * (vx0 * vx0 + vy0 * vy0) + 0.5 * 1.0 * (vx1 * vx1 + vy1 * vy1);
+    const double px = 2.0 * vx0 + 1.0 * vx1;
+    const double py = 2.0 * vy0 + 1.0 * vy1;
+    QVERIFY(close(dock.sampleKineticEnergy(0), kinetic));
+    QVERIFY(close(dock.sampleMomentum(0), std::sqrt(px * px + py * py)));
+    QVERIFY(std::isnan(dock.sampleSpeed(0, 2))); // no such marble
+}
+
+void TestPlotDock::resetClears()
+{
+    PlotDock dock;
+    World world = worldWith(4);
+    dock.reset(world);
+    runFrames(dock, world, 30);
+    dock.refreshChart();
+    QCOMPARE(dock.speedSeries(0)->count(), 30);
+
+    World smaller = worldWith(2);
+    dock.reset(smaller);
+    QCOMPARE(dock.sampleCount(), 0);
+    QCOMPARE(dock.plottedMarbles(), QList<int>({0, 1}));
+    dock.refreshChart();
+    QCOMPARE(dock.speedSeries(0)->count(), 0);
+    QVERIFY(!dock.speedSeries(3));
+
+    runFrames(dock, smaller, 5);
+    QCOMPARE(dock.sampleCount(), 5);
+    QCOMPARE(dock.sampleFrame(0), std::int64_t(1));
+}
+
+void TestPlotDock::plottedMarbles_data()
+{
+    QTest::addColumn<int>("marbles");
+    QTest::addColumn<QList<int>>("selection");
+    QTest::addColumn<QList<int>>("plotted");
+
+    QList<int> firstTwelve;
+    for (int i = 0; i < PlotDock::kMaxPlottedMarbles; ++i)
+        firstTwelve.append(i);
+    QList<int> fifteen;
+    for (int i = 14; i >= 0; --i)
+        fifteen.append(i);
+
+    QTest::addRow("no marbles") << 0 << QList<int>{} << QList<int>{};
+    QTest::addRow("all of three") << 3 << QList<int>{} << QList<int>{0, 1, 2};
+    QTest::addRow("all, capped") << 40 << QList<int>{} << firstTwelve;
+    QTest::addRow("selection order") << 5 << QList<int>{4, 1} << QList<int>{4, 1};
+    QTest::addRow("selection, duplicates and strangers") << 5 << QList<int>{7, 2, 2, -1} << QList<int>{2};
+    QTest::addRow("selection, capped") << 20 << fifteen << fifteen.mid(0, PlotDock::kMaxPlottedMarbles);
+}
+
+void TestPlotDock::plottedMarbles()
+{
+    QFETCH(int, marbles);
+    QFETCH(QList<int>, selection);
+    QFETCH(QList<int>, plotted);
+
+    PlotDock dock;
+    World world = worldWith(marbles);
+    dock.reset(world);
+    dock.setSelectedMarbles(selection);
+    QCOMPARE(dock.plottedMarbles(), plotted);
+    // One line per plotted marble, plus the two totals.
+    QCOMPARE(dock.chartView()->chart()->series().size(), plotted.size() + 2);
+    for (int m : plotted)
+        QVERIFY(dock.speedSeries(m));
+
+    // The selection also holds when it comes before the scene.
+    PlotDock early;
+    early.setSelectedMarbles(selection);
+    early.reset(world);
+    QCOMPARE(early.plottedMarbles(), plotted);
+}
+
+void TestPlotDock::selectionKeepsHistory()
+{
+    PlotDock dock;
+    World world = worldWith(3);
+    dock.reset(world);
+    dock.setSelectedMarbles({0});
+    runFrames(dock, world, 10);
+
+    dock.setSelectedMarbles({2, 0});
+    QCOMPARE(dock.plottedMarbles(), QList<int>({2, 0}));
+    QCOMPARE(dock.sampleCount(), 10);
+    // Marble 0 kept its ten samples; marble 2 has none before it was selected.
+    QCOMPARE_LE(std::abs(dock.sampleSpeed(0, 0) - 0.01), 1e-15);
+    QVERIFY(std::isnan(dock.sampleSpeed(9, 2)));
+
+    world.frame = 11;
+    world.velocity[2] = {3.0, 4.0};
+    dock.appendFrame(world);
+    QCOMPARE_LE(std::abs(dock.sampleSpeed(10, 2) - 5.0), 1e-15);
+    dock.refreshChart();
+    QCOMPARE(dock.speedSeries(2)->count(), 1); // no points for the frames it was not plotted
+    QCOMPARE(dock.speedSeries(0)->count(), 11);
+}
+
+void TestPlotDock::lineColours()
+{
+    World world = worldWith(3);
+    world.info[1].color = "#e04040";
+    world.info[2].name = "red giant";
+    PlotDock dock;
+    dock.reset(world);
+    QCOMPARE(dock.speedSeries(1)->pen().color(), QColor(0xe0, 0x40, 0x40));
+    // Marbles without a colour get a blue: hue in the blue range.
+    const QColor c0 = dock.speedSeries(0)->pen().color();
+    QVERIFY2(c0.hslHue() >= 180 && c0.hslHue() <= 260, qPrintable(c0.name()));
+    QVERIFY(dock.speedSeries(2)->name().contains(QStringLiteral("red giant")));
+    QCOMPARE(dock.speedSeries(0)->name(), QStringLiteral("marble 0"));
+}
+
+void TestPlotDock::chartGetsSamples()
+{
+    PlotDock dock;
+    World world = worldWith(2);
+    dock.reset(world);
+    runFrames(dock, world, 50);
+    dock.refreshChart();
+
+    QLineSeries *line = dock.speedSeries(0);
+    QCOMPARE(line->count(), 50);
+    for (int i = 0; i < line->count(); ++i) {
+        QCOMPARE_LE(std::abs(line->at(i).x() - double(i + 1)), 1e-12);
+        QCOMPARE_LE(std::abs(line->at(i).y() - 0.01 * double(i + 1)), 1e-12);
+    }
+    // Autoscaled axes cover every point.
+    auto *xAxis = qobject_cast<QValueAxis *>(line->attachedAxes().at(0));
+    auto *yAxis = qobject_cast<QValueAxis *>(line->attachedAxes().at(1));
+    QVERIFY(xAxis && yAxis);
+    QCOMPARE_LE(xAxis->min(), 1.0);
+    QCOMPARE_GE(xAxis->max(), 50.0);
+    QCOMPARE_LE(yAxis->min(), 0.0);
+    QCOMPARE_GE(yAxis->max(), std::max(maxY(line), maxY(dock.speedSeries(1))));
+    QCOMPARE(dock.chartView()->chart()->animationOptions(), QChart::NoAnimation);
+}
+
+void TestPlotDock::liveRefresh()
+{
+    // appendFrame never touches the chart; the timer hands samples over a few times a second.
+    PlotDock dock;
+    dock.resize(500, 350);
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    World world = worldWith(1);
+    dock.reset(world);
+    dock.refreshChart();
+    runFrames(dock, world, 20);
+    QCOMPARE(dock.speedSeries(0)->count(), 0);
+    QTRY_COMPARE_WITH_TIMEOUT(dock.speedSeries(0)->count(), 20, 5 * PlotDock::kRefreshIntervalMs);
+}
+
+void TestPlotDock::thinningKeepsSpikes()
+{
+    PlotDock dock;
+    World world = worldWith(1);
+    dock.reset(world);
+    const int frames = int(PlotDock::kDefaultCapacity);
+    for (int f = 1; f <= frames; ++f) {
+        world.frame = f;
+        world.velocity[0] = {f == 2501 ? 40.0 : 1.0 + 0.001 * (f % 7), 0.0};
+        dock.appendFrame(world);
+    }
+    dock.refreshChart();
+    QLineSeries *line = dock.speedSeries(0);
+    // Fewer points than samples, but the one-frame spike is still drawn at its height and place.
+    QCOMPARE_LT(line->count(), frames);
+    QCOMPARE_LE(std::abs(maxY(line) - 40.0), 1e-12);
+    bool found = false;
+    for (const QPointF &p : line->points())
+        found = found || (p.x() == 2501.0 && p.y() == 40.0);
+    QVERIFY(found);
+}
+
+void TestPlotDock::secondsAxis()
+{
+    PlotDock dock;
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    World world = worldWith(1);
+    world.params.frameMs = 25.0;
+    dock.reset(world);
+    runFrames(dock, world, 8);
+
+    auto *seconds = dock.findChild<QRadioButton *>(QStringLiteral("secondAxisButton"));
+    QVERIFY(seconds);
+    QTest::mouseClick(seconds, Qt::LeftButton, {}, QPoint(seconds->height() / 2, seconds->height() / 2));
+    QVERIFY(dock.isTimeInSeconds());
+    dock.refreshChart();
+    QLineSeries *line = dock.speedSeries(0);
+    QCOMPARE(line->count(), 8);
+    for (int i = 0; i < 8; ++i)
+        QCOMPARE_LE(std::abs(line->at(i).x() - double(i + 1) * 25.0 / 1000.0), 1e-15);
+    auto *xAxis = qobject_cast<QValueAxis *>(line->attachedAxes().at(0));
+    QCOMPARE(xAxis->titleText(), QStringLiteral("time (s)"));
+
+    auto *frames = dock.findChild<QRadioButton *>(QStringLiteral("frameAxisButton"));
+    QTest::mouseClick(frames, Qt::LeftButton, {}, QPoint(frames->height() / 2, frames->height() / 2));
+    QVERIFY(!dock.isTimeInSeconds());
+    dock.refreshChart();
+    QCOMPARE_LE(std::abs(line->at(7).x() - 8.0), 1e-15);
+    QCOMPARE(xAxis->titleText(), QStringLiteral("frame"));
+}
+
+void TestPlotDock::totalsOnRequest()
+{
+    PlotDock dock;
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    World world = worldWith(2);
+    dock.reset(world);
+    runFrames(dock, world, 12);
+    dock.refreshChart();
+
+    QLineSeries *kinetic = nullptr;
+    QLineSeries *momentum = nullptr;
+    for (QAbstractSeries *s : dock.chartView()->chart()->series()) {
+        if (s->name() == QStringLiteral("kinetic energy"))
+            kinetic = qobject_cast<QLineSeries *>(s);
+        if (s->name() == QStringLiteral("|momentum|"))
+            momentum = qobject_cast<QLineSeries *>(s);
+    }
+    QVERIFY(kinetic && momentum);
+    QVERIFY(!kinetic->isVisible());
+    QCOMPARE(kinetic->count(), 0);
+
+    auto *box = dock.findChild<QCheckBox *>(QStringLiteral("kineticCheck"));
+    QTest::mouseClick(box, Qt::LeftButton, {}, QPoint(box->height() / 2, box->height() / 2));
+    dock.refreshChart();
+    QVERIFY(kinetic->isVisible());
+    QCOMPARE(kinetic->count(), 12);
+    QVERIFY(!momentum->isVisible());
+    // KE at frame 12: each marble m = 12.5, v = (0.12, -0.5 i).
+    const double v0 = 0.12 * 0.12;
+    const double v1 = 0.12 * 0.12 + 0.25;
+    QCOMPARE_LE(std::abs(kinetic->at(11).y() - 0.5 * 12.5 * (v0 + v1)), 1e-12);
+
+    box = dock.findChild<QCheckBox *>(QStringLiteral("momentumCheck"));
+    QTest::mouseClick(box, Qt::LeftButton, {}, QPoint(box->height() / 2, box->height() / 2));
+    dock.refreshChart();
+    QVERIFY(momentum->isVisible());
+    QCOMPARE(momentum->count(), 12);
+    const double px = 12.5 * 0.24;
+    const double py = 12.5 * -0.5;
+    QCOMPARE_LE(std::abs(momentum->at(11).y() - std::sqrt(px * px + py * py)), 1e-12);
+}
+
+void TestPlotDock::hoverShowsExactValues_data()
+{
+    QTest::addColumn<bool>("seconds");
+    QTest::addColumn<double>("hoverX"); // not exactly on a sample: the nearest one is described
+    QTest::addColumn<QString>("expected");
+
+    QTest::addRow("frames") << false << 6.8 << "frame 7 (0.14 s): marble 1, speed 1.23457 px/frame";
+    QTest::addRow("seconds") << true << 0.141 << "frame 7 (0.14 s): marble 1, speed 1.23457 px/frame";
+}
+
+void TestPlotDock::hoverShowsExactValues()
+{
+    QFETCH(bool, seconds);
+    QFETCH(double, hoverX);
+    QFETCH(QString, expected);
+
+    PlotDock dock;
+    World world = worldWith(2);
+    dock.reset(world);
+    for (int f = 1; f <= 10; ++f) {
+        world.frame = f;
+        world.velocity[1] = {f == 7 ? 1.2345678 : 0.5, 0.0};
+        dock.appendFrame(world);
+    }
+    dock.setTimeInSeconds(seconds);
+    dock.refreshChart();
+    QLineSeries *line = dock.speedSeries(1);
+    emit line->hovered(QPointF(hoverX, 1.2), true);
+    QCOMPARE(dock.hoverText(), expected);
+    emit line->hovered(QPointF(hoverX, 1.2), false);
+    QCOMPARE(dock.hoverText(), QString());
+}
+
+void TestPlotDock::exportCsv()
+{
+    World world;
+    world.params.frameMs = 20.0;
+    world.addMarble({100, 100}, 10.0, {3.0, 4.0}, 2.0);
+    world.addMarble({300, 100}, 20.0, {-6.0, 0.0}, 1.0);
+    PlotDock dock;
+    dock.reset(world);
+    dock.setSelectedMarbles({0});
+    for (int f = 1; f <= 2; ++f) {
+        world.frame = f;
+        dock.appendFrame(world);
+    }
+    dock.setSelectedMarbles({}); // marble 1 is plotted from frame 3 on
+    world.frame = 3;
+    world.velocity[1] = {-0.1, 0.0};
+    dock.appendFrame(world);
+
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    const QString path = dir.filePath(QStringLiteral("plot.csv"));
+    QCOMPARE(dock.exportCsv(path), QString());
+
+    QFile file(path);
+    QVERIFY(file.open(QIODevice::ReadOnly | QIODevice::Text));
+    const QStringList lines = QString::fromUtf8(file.readAll()).split(QLatin1Char('\n'));
+    // KE = 2*25/2 + 1*36/2 = 43 and |p| = |(6, 8) + (-6, 0)| = 8 at frames 1-2;
+    // KE = 25 + 0.005 and |p| = |(5.9, 8)| at frame 3.
+    const QStringList expected = {
+        QStringLiteral("frame,time_s,speed_0,speed_1,kinetic,momentum"),
+        QStringLiteral("1,0.02,5,,43,8"),
+        QStringLiteral("2,0.04,5,,43,8"),
+        QStringLiteral("3,0.06,5,0.1,%1,%2")
+            .arg(QString::number(25.0 + 0.5 * 0.1 * 0.1, 'g', QLocale::FloatingPointShortest),
+                 QString::number(std::sqrt(5.9 * 5.9 + 64.0), 'g', QLocale::FloatingPointShortest)),
+        QString(), // the file ends with a newline
+    };
+    QCOMPARE(lines.size(), expected.size());
+    for (qsizetype i = 0; i < lines.size(); ++i)
+        QCOMPARE(lines.at(i), expected.at(i));
+}
+
+void TestPlotDock::exportCsvError()
+{
+    PlotDock dock;
+    World world = worldWith(1);
+    dock.reset(world);
+    runFrames(dock, world, 3);
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("no/such/folder/plot.csv"));
+    const QString error = dock.exportCsv(path);
+    QVERIFY(error.startsWith(path));
+    QVERIFY(!QFile::exists(path));
+}
+
+void TestPlotDock::exportPng()
+{
+    PlotDock dock;
+    dock.resize(640, 420);
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    World world = worldWith(3);
+    dock.reset(world);
+    runFrames(dock, world, 100);
+
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("plot.png"));
+    QCOMPARE(dock.exportPng(path), QString());
+    QImage image(path);
+    QVERIFY(!image.isNull());
+    const qreal dpr = dock.chartView()->devicePixelRatioF();
+    QCOMPARE(image.size(), dock.chartView()->size() * dpr);
+    // Not blank: the marbles' lines are drawn.
+    const QColor line = dock.speedSeries(0)->pen().color();
+    int linePixels = 0;
+    for (int y = 0; y < image.height(); ++y) {
+        for (int x = 0; x < image.width(); ++x)
+            linePixels += image.pixelColor(x, y) == line ? 1 : 0;
+    }
+    QCOMPARE_GT(linePixels, 50);
+}
+
+QTEST_MAIN(TestPlotDock)
+#include "tst_plotdock.moc"
