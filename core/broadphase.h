@@ -1,0 +1,80 @@
+#pragma once
+
+#include "core/vec2.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace marbles {
+
+/// The lattice of a uniform grid: square cells of side `cellSize` px, with cell (kx, ky)
+/// covering [kx c, (kx + 1) c) x [ky c, (ky + 1) c). The plane is unbounded (marbles may leave
+/// the stage when walls are off), so the lattice is *folded*: cell (kx, ky) is stored in bucket
+/// (kx mod nx, ky mod ny). Two far-apart cells may share a bucket; that only adds candidates,
+/// which the exact distance test then rejects, so folding never loses a contact.
+/// With cellSize >= the largest contact distance, every pair in contact lies in the same or in
+/// adjacent cells: the 3 x 3 neighbourhood of a cell holds all its possible partners.
+class GridGeometry {
+public:
+    /// Cell coordinates are clamped to +-coordLimit so that far-away (or absurd) positions never
+    /// overflow an integer; all bodies beyond the limit share the outermost row or column.
+    static constexpr std::int64_t coordLimit = std::int64_t(1) << 40;
+
+    /// Chooses the lattice for contact distances up to `contactPx`, over a region of about
+    /// `widthPx` x `heightPx`, holding about `itemCount` bodies (at most ~2 buckets per body).
+    static GridGeometry fit(double contactPx, double widthPx, double heightPx, int itemCount);
+
+    /// Cell side, px.
+    double cellSize() const { return m_cellSize; }
+    /// Buckets along x and y (each >= 3, so a 3 x 3 neighbourhood has 9 distinct buckets).
+    int bucketsX() const { return m_nx; }
+    int bucketsY() const { return m_ny; }
+    /// Number of buckets, nx * ny.
+    int bucketCount() const { return m_nx * m_ny; }
+
+    /// Cell coordinate floor(x / cellSize), clamped to +-coordLimit (NaN maps to 0).
+    std::int64_t coord(double x) const;
+    /// Position of the lattice line k * cellSize, px.
+    double line(std::int64_t k) const { return static_cast<double>(k) * m_cellSize; }
+    /// Bucket of cell (kx, ky).
+    int bucket(std::int64_t kx, std::int64_t ky) const;
+
+    /// The 9 buckets of the 3 x 3 neighbourhood of cell (kx, ky), row by row.
+    void neighbourhood(std::int64_t kx, std::int64_t ky, int out[9]) const;
+
+private:
+    double m_cellSize = 1.0;
+    double m_invCellSize = 1.0;
+    int m_nx = 3;
+    int m_ny = 3;
+};
+
+/// A static uniform grid: bodies sorted into buckets by a counting sort (stable, so each bucket
+/// lists its bodies in ascending index order). Rebuilt from scratch when asked; the buffers are
+/// kept between builds, so a steady-state rebuild allocates nothing.
+class UniformGrid {
+public:
+    /// Sorts `points[0..count)` into the buckets of `geometry`.
+    void build(const GridGeometry &geometry, const Vec2 *points, int count);
+
+    /// The lattice in use.
+    const GridGeometry &geometry() const { return m_geometry; }
+    /// Bodies in bucket b: items()[begin(b) .. end(b)), ascending indices.
+    int begin(int b) const { return m_start[b]; }
+    int end(int b) const { return m_start[b + 1]; }
+    /// The sorted body indices.
+    const std::vector<int> &items() const { return m_items; }
+    /// Cell coordinates of body i at the last build.
+    std::int64_t cellX(int i) const { return m_cellX[i]; }
+    std::int64_t cellY(int i) const { return m_cellY[i]; }
+
+private:
+    GridGeometry m_geometry;
+    std::vector<int> m_start;
+    std::vector<int> m_items;
+    std::vector<int> m_bucketOf;
+    std::vector<std::int64_t> m_cellX;
+    std::vector<std::int64_t> m_cellY;
+};
+
+} // namespace marbles

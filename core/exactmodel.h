@@ -1,0 +1,125 @@
+#pragma once
+
+#include "core/broadphase.h"
+#include "core/world.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace marbles {
+
+/// The "exact" model of PHYSICS.md: an event-driven simulation in continuous time. Between
+/// events every marble moves exactly under linear drag and gravity; collisions (marble-marble,
+/// marble-pin, marble-wall) happen at their exact time of contact and are resolved by an
+/// impulse along the contact normal with restitution e. See exactmodel.cpp for the derivations.
+///
+/// Data structures (designed for 1e5 marbles): a folded uniform grid with doubly linked bucket
+/// lists (marbles change cell through "cell crossing" events), one pending event per marble in
+/// a tournament tree (so the calendar holds at most N entries and never fills with stale
+/// events), and per-marble collision stamps that reveal stale partner events lazily.
+/// All buffers are kept between frames (no allocation in steady state) and are rebuilt from
+/// the World at the start of every frame, so they are caches only.
+class ExactModel final : public Stepper {
+public:
+    /// After this many marble-marble or marble-pin collisions of a marble within one frame, its
+    /// further collisions in that frame are elastic (the inelastic-collapse guard, first stage).
+    static constexpr int elasticAfterCollisions = 32;
+    /// After this many marble-marble or marble-pin collisions (or re-checks) of a marble within
+    /// one frame, it is frozen (held at rest as an immovable body) until the frame ends.
+    static constexpr int freezeAfterCollisions = 256;
+    /// After this many resting contacts (marble-marble or marble-pin contacts approaching slower
+    /// than sqrt(2 |g| restHeightPx)) of a marble within one frame, it is frozen likewise.
+    static constexpr int freezeAfterRestingContacts = 16;
+    /// After this many wall bounces of a marble within one frame, it is frozen likewise.
+    static constexpr int freezeAfterWallBounces = 1 << 16;
+    /// A wall bounce that would rise less than this height against gravity (px) becomes resting
+    /// contact: the marble slides along the wall until something lifts it off.
+    static constexpr double restHeightPx = 1e-3;
+
+    ExactModel();
+    ~ExactModel() override;
+
+    /// Advances `world` one frame (PHYSICS.md, model "exact"). Consumes pending pushes as an
+    /// instant velocity change; leaves acceleration zero; does not touch world.frame.
+    void step(World &world) override;
+
+    /// Events handled in the last frame: collisions, cell crossings and re-predictions.
+    std::int64_t lastEventCount() const { return m_eventCount; }
+    /// Collisions (impulses applied) in the last frame.
+    std::int64_t lastCollisionCount() const { return m_collisionCount; }
+    /// Marbles the inelastic-collapse guard froze in the last frame.
+    int lastFrozenCount() const { return m_frozenCount; }
+
+private:
+    enum class EventKind : std::uint8_t { Wall, Pin, Pair, Cross, RecheckPin, RecheckPair, None };
+
+    struct Event {
+        double time = 0.0;   // absolute time within the frame, frames in [0, 1]
+        EventKind kind = EventKind::None;
+        int other = -1;      // partner marble, pin index, wall (0..3) or crossing side (0..3)
+        std::uint32_t stamp = 0; // the partner's stamp when predicted (pairs only)
+    };
+
+    void beginFrame(World &world);
+    void endFrame(World &world);
+    void predict(int i, double now);
+    bool earlier(int a, int b) const;
+    void buildTree();
+    void updateTree(int i);
+    void positionAt(int i, double t, Vec2 &p, Vec2 &v) const;
+    void rebase(int i, double t);
+    void collidePair(World &world, int i, int j, double t);
+    void collidePin(World &world, int i, int pin, double t);
+    void collideWall(World &world, int i, int wall, double t);
+    void crossCell(int i, int side);
+    void freeze(int i);
+    bool countContact(int i, double t);
+    void unlockMoved(int i);
+    void linkIntoBucket(int i, int bucket);
+    void unlinkFromBucket(int i);
+
+    // Frame constants.
+    double m_lambda = 0.0;       // drag rate, 1/frame
+    double m_restitution = 1.0;
+    double m_restSpeed = 0.0;    // sqrt(2 |g| restHeightPx), px/frame
+    Vec2 m_gravity;
+    double m_width = 0.0;
+    double m_height = 0.0;
+    bool m_walls = true;
+    GridGeometry m_geometry;
+    const World *m_world = nullptr;
+
+    // Marbles: trajectory p(t) = base + vel phi1(t - t0) + grav phi2(t - t0) (see the .cpp).
+    std::vector<Vec2> m_base;
+    std::vector<Vec2> m_vel;
+    std::vector<Vec2> m_grav;
+    std::vector<double> m_t0;
+    std::vector<double> m_radius;
+    std::vector<double> m_invMass; // 0 while frozen
+    std::vector<std::uint32_t> m_stamp;
+    std::vector<int> m_pairHits;
+    std::vector<int> m_restHits;
+    std::vector<int> m_wallHits;
+    std::vector<std::uint8_t> m_frozen;
+    std::vector<std::uint8_t> m_locked; // bit 0: x held against a wall, bit 1: y
+
+    // Grid: cell coordinates, bucket linked lists.
+    std::vector<std::int64_t> m_cellX;
+    std::vector<std::int64_t> m_cellY;
+    std::vector<int> m_bucketOf;
+    std::vector<int> m_head;
+    std::vector<int> m_next;
+    std::vector<int> m_prev;
+    UniformGrid m_pinGrid;
+
+    // Calendar: one event per marble, tournament tree over the marbles.
+    std::vector<Event> m_event;
+    std::vector<int> m_tree;
+    int m_leaves = 1;
+
+    std::int64_t m_eventCount = 0;
+    std::int64_t m_collisionCount = 0;
+    int m_frozenCount = 0;
+};
+
+} // namespace marbles
