@@ -23,7 +23,9 @@
 #include <QMenu>
 #include <QMenuBar>
 #include <QSettings>
+#include <QShowEvent>
 #include <QStatusBar>
+#include <QStyle>
 #include <QTimer>
 #include <QToolBar>
 #include <QToolButton>
@@ -41,6 +43,12 @@ namespace {
 constexpr double kSpeeds[] = {0.1, 0.25, 0.5, 1.0, 2.0, 4.0};
 /// Index of 1x in kSpeeds.
 constexpr int kRealTimeSpeedIndex = 3;
+
+/// The desktop theme's icon, or the style's own when the theme has none (bare X servers).
+QIcon themeIcon(const QString &name, QStyle::StandardPixmap fallback)
+{
+    return QIcon::fromTheme(name, QApplication::style()->standardIcon(fallback));
+}
 
 QString keyRecentFiles()
 {
@@ -112,7 +120,6 @@ MainWindow::MainWindow(QWidget *parent)
     updateTitle();
     updateFrameDisplay();
     updateEditActions();
-    m_statisticsClock.start();
     updateStatistics();
     m_view->setFocus();
 }
@@ -127,18 +134,18 @@ void MainWindow::setPrompts(std::unique_ptr<Prompts> prompts)
 
 void MainWindow::createActions()
 {
-    m_newAction = new QAction(QIcon::fromTheme(QStringLiteral("document-new")), tr("&New"), this);
+    m_newAction = new QAction(themeIcon(QStringLiteral("document-new"), QStyle::SP_FileIcon), tr("&New"), this);
     m_newAction->setObjectName(QStringLiteral("actionNew"));
     m_newAction->setShortcut(QKeySequence::New);
     m_newAction->setStatusTip(tr("Start again from the chapter's four marbles"));
     connect(m_newAction, &QAction::triggered, this, &MainWindow::newScene);
 
-    m_openAction = new QAction(QIcon::fromTheme(QStringLiteral("document-open")), tr("&Open…"), this);
+    m_openAction = new QAction(themeIcon(QStringLiteral("document-open"), QStyle::SP_DialogOpenButton), tr("&Open…"), this);
     m_openAction->setObjectName(QStringLiteral("actionOpen"));
     m_openAction->setShortcut(QKeySequence::Open);
     connect(m_openAction, &QAction::triggered, this, &MainWindow::open);
 
-    m_saveAction = new QAction(QIcon::fromTheme(QStringLiteral("document-save")), tr("&Save"), this);
+    m_saveAction = new QAction(themeIcon(QStringLiteral("document-save"), QStyle::SP_DialogSaveButton), tr("&Save"), this);
     m_saveAction->setObjectName(QStringLiteral("actionSave"));
     m_saveAction->setShortcut(QKeySequence::Save);
     connect(m_saveAction, &QAction::triggered, this, &MainWindow::save);
@@ -155,14 +162,14 @@ void MainWindow::createActions()
 
     m_undoAction = m_document->undoStack()->createUndoAction(this, tr("&Undo"));
     m_undoAction->setObjectName(QStringLiteral("actionUndo"));
-    m_undoAction->setIcon(QIcon::fromTheme(QStringLiteral("edit-undo")));
+    m_undoAction->setIcon(themeIcon(QStringLiteral("edit-undo"), QStyle::SP_ArrowBack));
     m_undoAction->setShortcut(QKeySequence::Undo);
     m_redoAction = m_document->undoStack()->createRedoAction(this, tr("&Redo"));
     m_redoAction->setObjectName(QStringLiteral("actionRedo"));
-    m_redoAction->setIcon(QIcon::fromTheme(QStringLiteral("edit-redo")));
+    m_redoAction->setIcon(themeIcon(QStringLiteral("edit-redo"), QStyle::SP_ArrowForward));
     m_redoAction->setShortcuts({QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z), QKeySequence(QKeySequence::Redo)});
 
-    m_deleteAction = new QAction(QIcon::fromTheme(QStringLiteral("edit-delete")), tr("&Delete"), this);
+    m_deleteAction = new QAction(themeIcon(QStringLiteral("edit-delete"), QStyle::SP_TrashIcon), tr("&Delete"), this);
     m_deleteAction->setObjectName(QStringLiteral("actionDelete"));
     m_deleteAction->setShortcut(QKeySequence::Delete);
     m_deleteAction->setStatusTip(tr("Delete the selected marble or pin"));
@@ -195,25 +202,25 @@ void MainWindow::createActions()
     m_addPinHereAction->setObjectName(QStringLiteral("actionAddPinHere"));
     connect(m_addPinHereAction, &QAction::triggered, this, &MainWindow::addPinHere);
 
-    m_playAction = new QAction(QIcon::fromTheme(QStringLiteral("media-playback-start")), tr("&Play"), this);
+    m_playAction = new QAction(themeIcon(QStringLiteral("media-playback-start"), QStyle::SP_MediaPlay), tr("&Play"), this);
     m_playAction->setObjectName(QStringLiteral("actionPlay"));
     m_playAction->setShortcut(QKeySequence(Qt::Key_Space));
     m_playAction->setStatusTip(tr("Run or pause the simulation"));
     connect(m_playAction, &QAction::triggered, this, &MainWindow::togglePlay);
 
-    m_stepAction = new QAction(QIcon::fromTheme(QStringLiteral("media-seek-forward")), tr("S&tep"), this);
+    m_stepAction = new QAction(themeIcon(QStringLiteral("media-seek-forward"), QStyle::SP_MediaSeekForward), tr("S&tep"), this);
     m_stepAction->setObjectName(QStringLiteral("actionStep"));
     m_stepAction->setShortcut(QKeySequence(Qt::Key_Right));
     m_stepAction->setStatusTip(tr("Simulate one frame"));
     connect(m_stepAction, &QAction::triggered, this, &MainWindow::stepForward);
 
-    m_stepBackAction = new QAction(QIcon::fromTheme(QStringLiteral("media-seek-backward")), tr("Step &Back"), this);
+    m_stepBackAction = new QAction(themeIcon(QStringLiteral("media-seek-backward"), QStyle::SP_MediaSeekBackward), tr("Step &Back"), this);
     m_stepBackAction->setObjectName(QStringLiteral("actionStepBack"));
     m_stepBackAction->setShortcut(QKeySequence(Qt::Key_Left));
     m_stepBackAction->setStatusTip(tr("Go back one frame, exactly as it was"));
     connect(m_stepBackAction, &QAction::triggered, this, &MainWindow::stepBackward);
 
-    m_rewindAction = new QAction(QIcon::fromTheme(QStringLiteral("media-skip-backward")), tr("Back to &Start"), this);
+    m_rewindAction = new QAction(themeIcon(QStringLiteral("media-skip-backward"), QStyle::SP_MediaSkipBackward), tr("Back to &Start"), this);
     m_rewindAction->setObjectName(QStringLiteral("actionRewind"));
     m_rewindAction->setShortcut(QKeySequence(Qt::Key_Home));
     m_rewindAction->setStatusTip(tr("Go back to frame 0"));
@@ -316,11 +323,15 @@ void MainWindow::createToolBars()
 
     QToolBar *runBar = addToolBar(tr("Run"));
     runBar->setObjectName(QStringLiteral("runToolBar"));
-    runBar->setToolButtonStyle(Qt::ToolButtonTextBesideIcon);
     runBar->addAction(m_rewindAction);
     runBar->addAction(m_stepBackAction);
     runBar->addAction(m_playAction);
     runBar->addAction(m_stepAction);
+    // Play/Pause is the button everyone looks for: it carries its name; the others show it on hover.
+    if (auto *play = qobject_cast<QToolButton *>(runBar->widgetForAction(m_playAction))) {
+        play->setToolButtonStyle(Qt::ToolButtonTextBesideIcon);
+        play->setMinimumWidth(90);
+    }
     m_speedBox = new QComboBox(runBar);
     m_speedBox->setObjectName(QStringLiteral("speedBox"));
     m_speedBox->setToolTip(tr("Run speed: simulated time per wall-clock time"));
@@ -356,6 +367,8 @@ void MainWindow::createToolBars()
 
 void MainWindow::createDocks()
 {
+    // The right-hand docks run the full height; the plot sits under the stage only.
+    setCorner(Qt::BottomRightCorner, Qt::RightDockWidgetArea);
     m_parametersDock = new ParametersDock(this);
     addDockWidget(Qt::RightDockWidgetArea, m_parametersDock);
     connect(m_parametersDock, &ParametersDock::paramEdited, this, &MainWindow::onParamEdited);
@@ -397,9 +410,10 @@ void MainWindow::createStatusBar()
     m_timeLabel = addLabel(QStringLiteral("timeLabel"), tr("Simulated time: frame × frameMs"));
     m_countLabel = addLabel(QStringLiteral("countLabel"), tr("Marbles and pins on the stage"));
     m_physicsLabel = addLabel(QStringLiteral("physicsLabel"), tr("Time the physics takes per frame"));
-    m_fpsLabel = addLabel(QStringLiteral("fpsLabel"), tr("Frames drawn per second"));
+    m_fpsLabel = addLabel(QStringLiteral("fpsLabel"), tr("Times per second the stage was redrawn (0 while nothing moves)"));
     m_energyLabel = addLabel(QStringLiteral("energyLabel"), tr("Total kinetic energy, sum of m v² / 2"));
     m_momentumLabel = addLabel(QStringLiteral("momentumLabel"), tr("Total momentum, sum of m v"));
+    m_statisticsClock.start();
     m_statisticsTimer = new QTimer(this);
     m_statisticsTimer->setInterval(250);
     connect(m_statisticsTimer, &QTimer::timeout, this, &MainWindow::updateStatistics);
@@ -412,7 +426,9 @@ void MainWindow::readSettings()
     const QByteArray geometry = settings.value(QStringLiteral("window/geometry")).toByteArray();
     if (geometry.isEmpty() || !restoreGeometry(geometry))
         resize(1400, 900);
-    restoreState(settings.value(QStringLiteral("window/state")).toByteArray());
+    if (!restoreState(settings.value(QStringLiteral("window/state")).toByteArray())) {
+        m_firstLayout = true;
+    }
     m_vectorsAction->setChecked(settings.value(QStringLiteral("view/vectors"), true).toBool());
     m_trailsAction->setChecked(settings.value(QStringLiteral("view/trails"), false).toBool());
     const int speed = settings.value(QStringLiteral("run/speedIndex"), kRealTimeSpeedIndex).toInt();
@@ -596,6 +612,19 @@ void MainWindow::offerRecovery()
     m_autoSaver->discard();
 }
 
+void MainWindow::showEvent(QShowEvent *event)
+{
+    QMainWindow::showEvent(event);
+    if (!m_firstLayout)
+        return;
+    // First start (no saved layout): the stage gets most of the room, the plot a strip below it.
+    // Dock sizes only apply once the window has its size, hence here and not in the constructor.
+    m_firstLayout = false;
+    resizeDocks({m_parametersDock, m_inspectorDock}, {350, 350}, Qt::Horizontal);
+    resizeDocks({m_parametersDock, m_inspectorDock}, {560, 260}, Qt::Vertical);
+    resizeDocks({m_plotDock}, {210}, Qt::Vertical);
+}
+
 void MainWindow::closeEvent(QCloseEvent *event)
 {
     if (!maybeSave()) {
@@ -652,8 +681,8 @@ void MainWindow::onSpeedChosen(int index)
 void MainWindow::onRunningChanged(bool running)
 {
     m_playAction->setText(running ? tr("&Pause") : tr("&Play"));
-    m_playAction->setIcon(QIcon::fromTheme(running ? QStringLiteral("media-playback-pause")
-                                                   : QStringLiteral("media-playback-start")));
+    m_playAction->setIcon(running ? themeIcon(QStringLiteral("media-playback-pause"), QStyle::SP_MediaPause)
+                                  : themeIcon(QStringLiteral("media-playback-start"), QStyle::SP_MediaPlay));
 }
 
 void MainWindow::onSimulationFailed(const QString &message)
@@ -763,7 +792,7 @@ void MainWindow::updateStatistics()
     const qint64 elapsed = m_statisticsClock.restart();
     const qint64 paints = m_view->paintCount();
     if (elapsed > 0)
-        m_fpsLabel->setText(tr("%1 fps").arg(static_cast<double>(paints - m_lastPaintCount) * 1000.0 / elapsed, 0, 'f', 0));
+        m_fpsLabel->setText(tr("display %1 fps").arg(static_cast<double>(paints - m_lastPaintCount) * 1000.0 / elapsed, 0, 'f', 0));
     m_lastPaintCount = paints;
     const Vec2 p = world.momentum();
     m_energyLabel->setText(tr("KE %1").arg(world.kineticEnergy(), 0, 'g', 5));

@@ -74,6 +74,7 @@ public:
     QString barMessage() const;
 
 protected:
+    void showEvent(QShowEvent *event) override;
     void closeEvent(QCloseEvent *event) override;
 
 private:
@@ -122,6 +123,7 @@ private:
     AutoSaver *m_autoSaver = nullptr;
     std::unique_ptr<Prompts> m_prompts;
     QString m_presetTitle;
+    bool m_firstLayout = false;
 
     ParametersDock *m_parametersDock = nullptr;
     PlotDock *m_plotDock = nullptr;

@@ -22,7 +22,7 @@ namespace marbles {
 namespace {
 
 /// Margin around the stage inside the scene rectangle, stage px.
-constexpr double kSceneMarginPx = 30.0;
+constexpr double kSceneMarginPx = 16.0;
 /// Pins are picked within this many viewport px of the mouse.
 constexpr double kPinPickPx = 7.0;
 /// Zoom range, view px per stage px.
@@ -140,10 +140,8 @@ void StageView::setTrailsVisible(bool visible)
 void StageView::fitToStage()
 {
     m_autoFit = true;
-    const Stage &stage = m_document->world().stage;
-    fitInView(QRectF(-kSceneMarginPx / 2, -kSceneMarginPx / 2, stage.width + kSceneMarginPx,
-                     stage.height + kSceneMarginPx),
-              Qt::KeepAspectRatio);
+    // The whole scene rectangle (stage and margin) fits, so no scroll bar is needed.
+    fitInView(m_scene->sceneRect(), Qt::KeepAspectRatio);
 }
 
 void StageView::zoomBy(double factor)

@@ -1,0 +1,480 @@
+// MainWindow driven as a user drives it: real widgets, QTest mouse and key events on the stage
+// view's viewport, scripted answers instead of modal dialogs. The checks read the world.
+
+#include "core/presets.h"
+#include "core/sceneio.h"
+#include "ui/autosaver.h"
+#include "ui/mainwindow.h"
+#include "ui/parametersdock.h"
+#include "ui/plotdock.h"
+#include "ui/prompts.h"
+#include "ui/runcontroller.h"
+#include "ui/scenedocument.h"
+#include "ui/stageview.h"
+
+#include <QAction>
+#include <QDir>
+#include <QDoubleSpinBox>
+#include <QSettings>
+#include <QStandardPaths>
+#include <QTemporaryDir>
+#include <QTest>
+
+#include <cmath>
+#include <memory>
+
+using namespace marbles;
+
+namespace {
+
+/// Answers the window's questions from the test script, and records that they were asked.
+class ScriptedPrompts : public Prompts {
+public:
+    SaveChoice saveChoice = SaveChoice::Cancel;
+    bool recoverAnswer = true;
+    QString openName;
+    QString saveName;
+    int saveQuestions = 0;
+    int recoverQuestions = 0;
+    QStringList errors;
+
+    SaveChoice askSaveChanges(QWidget *, const QString &) override
+    {
+        ++saveQuestions;
+        return saveChoice;
+    }
+    bool askRecover(QWidget *, const QString &) override
+    {
+        ++recoverQuestions;
+        return recoverAnswer;
+    }
+    QString askOpenFileName(QWidget *, const QString &) override { return openName; }
+    QString askSaveFileName(QWidget *, const QString &) override { return saveName; }
+    void showError(QWidget *, const QString &, const QString &text) override { errors << text; }
+};
+
+bool sameDynamicState(const World &a, const World &b)
+{
+    return a.frame == b.frame && a.position == b.position && a.velocity == b.velocity
+        && a.acceleration == b.acceleration && a.lastHit == b.lastHit;
+}
+
+} // namespace
+
+class TestMainWindow : public QObject {
+    Q_OBJECT
+
+private Q_SLOTS:
+    void initTestCase();
+    void init();
+    void cleanup();
+
+    void opensOnFourMarbles();
+    void dragMovesMarbleByMouseDelta_data();
+    void dragMovesMarbleByMouseDelta();
+    void clickPushesByBookFormula_data();
+    void clickPushesByBookFormula();
+    void stepKeysAreExact_data();
+    void stepKeysAreExact();
+    void parameterEditReachesWorldAndUndoes();
+    void deleteAndAddToolsAreUndoable();
+    void saveThenOpenRoundTrips();
+    void invalidFileLeavesSceneAsItWas();
+    void unsavedChangesAreAskedAbout_data();
+    void unsavedChangesAreAskedAbout();
+    void plotGetsOneSamplePerFrame();
+    void runKeepsRealTimeAndStopsOnNonFinite();
+    void autosaveIsRecoveredAfterCrash();
+    void layoutIsRestored();
+
+private:
+    void makeWindow();
+    QPoint viewportPoint(Vec2 p) const { return m_window->stageView()->viewportPoint(p); }
+    QWidget *viewport() const { return m_window->stageView()->viewport(); }
+
+    std::unique_ptr<MainWindow> m_window;
+    ScriptedPrompts *m_prompts = nullptr;
+};
+
+void TestMainWindow::initTestCase()
+{
+    QStandardPaths::setTestModeEnabled(true);
+    QCoreApplication::setOrganizationName(QStringLiteral("MarblesTests"));
+    QCoreApplication::setApplicationName(QStringLiteral("tst_mainwindow"));
+    QSettings().clear();
+    QDir(QStandardPaths::writableLocation(QStandardPaths::AppDataLocation)).removeRecursively();
+}
+
+void TestMainWindow::makeWindow()
+{
+    m_window = std::make_unique<MainWindow>();
+    auto prompts = std::make_unique<ScriptedPrompts>();
+    m_prompts = prompts.get();
+    m_window->setPrompts(std::move(prompts));
+    m_window->resize(1400, 900);
+    m_window->show();
+    QVERIFY(QTest::qWaitForWindowExposed(m_window.get()));
+    m_window->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(m_window.get()));
+    m_window->stageView()->setFocus();
+    QCoreApplication::processEvents();
+}
+
+void TestMainWindow::init()
+{
+    makeWindow();
+}
+
+void TestMainWindow::cleanup()
+{
+    if (m_window) {
+        m_prompts->saveChoice = Prompts::SaveChoice::Discard;
+        m_window->close();
+        m_window.reset();
+    }
+    QSettings().clear();
+}
+
+void TestMainWindow::opensOnFourMarbles()
+{
+    World expected;
+    QVERIFY(makePreset("four-marbles", expected));
+    const World &w = m_window->document()->world();
+    QCOMPARE(sceneToJson(w), sceneToJson(expected));
+    QCOMPARE(w.frame, 0);
+    QVERIFY2(m_window->frameText().contains(QStringLiteral("Frame 0")), qPrintable(m_window->frameText()));
+    QVERIFY(!m_window->document()->isModified());
+}
+
+void TestMainWindow::dragMovesMarbleByMouseDelta_data()
+{
+    QTest::addColumn<int>("marble");
+    QTest::addColumn<QPoint>("grab");  // where on the marble it is grabbed, viewport px from its centre
+    QTest::addColumn<QPoint>("delta"); // mouse movement, viewport px
+    QTest::addRow("large up") << 0 << QPoint(6, -4) << QPoint(0, -80);
+    QTest::addRow("medium left-down") << 3 << QPoint(-5, 5) << QPoint(-100, 60);
+    QTest::addRow("largest right") << 2 << QPoint(0, 0) << QPoint(70, 30);
+}
+
+void TestMainWindow::dragMovesMarbleByMouseDelta()
+{
+    QFETCH(int, marble);
+    QFETCH(QPoint, grab);
+    QFETCH(QPoint, delta);
+    SceneDocument *doc = m_window->document();
+    StageView *view = m_window->stageView();
+    const World before = doc->world();
+    const QPoint press = viewportPoint(before.position[marble]) + grab;
+    const QPoint release = press + delta;
+
+    QTest::mousePress(viewport(), Qt::LeftButton, {}, press);
+    for (int k = 1; k <= 4; ++k)
+        QTest::mouseMove(viewport(), press + delta * k / 4);
+    QCOMPARE(doc->heldMarble(), marble);
+    QTest::mouseRelease(viewport(), Qt::LeftButton, {}, release);
+    QCOMPARE(doc->heldMarble(), -1);
+
+    const Vec2 from = view->stagePoint(press);
+    const Vec2 to = view->stagePoint(release);
+    const Vec2 p = doc->world().position[marble];
+    QCOMPARE_LE(std::abs(p.x - (before.position[marble].x + (to.x - from.x))), 1e-9);
+    QCOMPARE_LE(std::abs(p.y - (before.position[marble].y + (to.y - from.y))), 1e-9);
+    QCOMPARE(view->selectedMarble(), marble);
+    // One drag, one undo step; undo puts it back exactly.
+    QCOMPARE(doc->undoStack()->count(), 1);
+    QTest::keyClick(view, Qt::Key_Z, Qt::ControlModifier);
+    QCOMPARE(doc->world().position[marble], before.position[marble]);
+    QCOMPARE(doc->world().velocity[marble], before.velocity[marble]);
+    QTest::keyClick(view, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+    QCOMPARE(doc->world().position[marble], p);
+}
+
+void TestMainWindow::clickPushesByBookFormula_data()
+{
+    QTest::addColumn<int>("marble");
+    QTest::addColumn<QPoint>("offset"); // click point, viewport px from the marble's centre
+    QTest::addRow("medium, left edge") << 3 << QPoint(-24, 0);
+    QTest::addRow("largest, above right") << 2 << QPoint(12, -35);
+    QTest::addRow("small, near centre") << 1 << QPoint(3, 4);
+}
+
+void TestMainWindow::clickPushesByBookFormula()
+{
+    QFETCH(int, marble);
+    QFETCH(QPoint, offset);
+    SceneDocument *doc = m_window->document();
+    const World before = doc->world();
+    const QPoint at = viewportPoint(before.position[marble]) + offset;
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, at);
+
+    // The book's hitMarble: a += (p - c) * pushScale / m, with c the click point on the stage.
+    const Vec2 c = m_window->stageView()->stagePoint(at);
+    const Vec2 p = before.position[marble];
+    const double k = before.params.pushScale;
+    const double m = before.mass[marble];
+    const Vec2 expected{((p.x - c.x) * k) / m, ((p.y - c.y) * k) / m};
+    const Vec2 a = doc->world().acceleration[marble];
+    QCOMPARE_LE(std::abs(a.x - expected.x), 1e-12);
+    QCOMPARE_LE(std::abs(a.y - expected.y), 1e-12);
+    QCOMPARE(doc->world().position[marble], p); // a click is not a drag
+    QCOMPARE(doc->undoStack()->count(), 0);     // a push is the experiment, not an edit
+
+    // The next frame turns it into velocity: v = 0 + a (friction acts on the old v = 0).
+    QTest::keyClick(m_window->stageView(), Qt::Key_Right);
+    const Vec2 v = doc->world().velocity[marble];
+    QCOMPARE_LE(std::abs(v.x - expected.x), 1e-12);
+    QCOMPARE_LE(std::abs(v.y - expected.y), 1e-12);
+}
+
+void TestMainWindow::stepKeysAreExact_data()
+{
+    QTest::addColumn<QString>("preset");
+    QTest::addColumn<int>("frames");
+    QTest::addRow("four-marbles, 1") << "four-marbles" << 1;
+    QTest::addRow("four-marbles, 40") << "four-marbles" << 40;
+    QTest::addRow("pachinko, 25") << "pachinko" << 25;
+    QTest::addRow("newtons-cradle, 30") << "newtons-cradle" << 30;
+}
+
+void TestMainWindow::stepKeysAreExact()
+{
+    QFETCH(QString, preset);
+    QFETCH(int, frames);
+    QVERIFY(m_window->openPreset(preset));
+    SceneDocument *doc = m_window->document();
+    StageView *view = m_window->stageView();
+    World previous;
+    for (int f = 0; f < frames; ++f) {
+        previous = doc->world();
+        QTest::keyClick(view, Qt::Key_Right);
+        QCOMPARE(doc->world().frame, previous.frame + 1);
+    }
+    QVERIFY(!m_window->runController()->isRunning());
+    QVERIFY(m_window->frameText().contains(QStringLiteral("Frame %1").arg(frames)));
+    const World last = doc->world();
+    QTest::keyClick(view, Qt::Key_Left);
+    QVERIFY(sameDynamicState(doc->world(), previous));
+    QTest::keyClick(view, Qt::Key_Right);
+    QVERIFY(sameDynamicState(doc->world(), last));
+    QTest::keyClick(view, Qt::Key_Home);
+    QCOMPARE(doc->world().frame, 0);
+}
+
+void TestMainWindow::parameterEditReachesWorldAndUndoes()
+{
+    auto *friction = m_window->parametersDock()->findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit"));
+    QVERIFY(friction);
+    SceneDocument *doc = m_window->document();
+    friction->setValue(0.37);
+    QCOMPARE_LE(std::abs(doc->world().params.friction - 0.37), 1e-12);
+    QCOMPARE(doc->undoStack()->count(), 1);
+    QVERIFY(doc->isModified());
+    QVERIFY(m_window->isWindowModified());
+    QTest::keyClick(m_window->stageView(), Qt::Key_Z, Qt::ControlModifier);
+    QCOMPARE(doc->world().params.friction, 0.1);
+    QCOMPARE_LE(std::abs(friction->value() - 0.1), 1e-12);
+    QVERIFY(!doc->isModified());
+}
+
+void TestMainWindow::deleteAndAddToolsAreUndoable()
+{
+    SceneDocument *doc = m_window->document();
+    StageView *view = m_window->stageView();
+    const std::string before = sceneToJson(doc->world());
+    // Select the small marble and press Delete.
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, viewportPoint(doc->world().position[1]));
+    QCOMPARE(view->selectedMarble(), 1);
+    QTest::keyClick(view, Qt::Key_Delete);
+    QCOMPARE(doc->world().marbleCount(), 3);
+    // Add a marble and a pin with the tools.
+    m_window->findChild<QAction *>(QStringLiteral("actionAddMarbleTool"))->trigger();
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, viewportPoint({100, 100}));
+    QCOMPARE(doc->world().marbleCount(), 4);
+    QCOMPARE(doc->world().position[3], (Vec2{view->stagePoint(viewportPoint({100, 100}))}));
+    m_window->findChild<QAction *>(QStringLiteral("actionAddPinTool"))->trigger();
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, viewportPoint({400, 500}));
+    QCOMPARE(doc->world().pins.size(), std::size_t{1});
+    QCOMPARE(doc->undoStack()->count(), 3);
+    for (int k = 0; k < 3; ++k)
+        QTest::keyClick(view, Qt::Key_Z, Qt::ControlModifier);
+    QCOMPARE(sceneToJson(doc->world()), before);
+}
+
+void TestMainWindow::saveThenOpenRoundTrips()
+{
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("saved.marbles.json"));
+    SceneDocument *doc = m_window->document();
+    QVERIFY(m_window->openPreset(QStringLiteral("masses")));
+    QVERIFY(doc->setParam(QStringLiteral("gravity"), QStringLiteral("0,0.25")).isEmpty());
+    const World saved = doc->world();
+    m_prompts->saveName = path;
+    m_window->findChild<QAction *>(QStringLiteral("actionSaveAs"))->trigger();
+    QVERIFY(m_prompts->errors.isEmpty());
+    QVERIFY(!doc->isModified());
+    QCOMPARE(doc->fileName(), QFileInfo(path).absoluteFilePath());
+    QVERIFY(m_window->windowTitle().contains(QStringLiteral("saved.marbles.json")));
+
+    QVERIFY(m_window->openPreset(QStringLiteral("pins")));
+    QVERIFY(m_window->openFile(path));
+    QCOMPARE(sceneToJson(doc->world()), sceneToJson(saved));
+    QCOMPARE(doc->world().mass, saved.mass);
+    QCOMPARE(m_window->recentFiles().value(0), QFileInfo(path).absoluteFilePath());
+}
+
+void TestMainWindow::invalidFileLeavesSceneAsItWas()
+{
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("broken.marbles.json"));
+    QFile file(path);
+    QVERIFY(file.open(QIODevice::WriteOnly));
+    file.write(R"({"format":"marbles-scene","version":1,"params":{"friction":-2}})");
+    file.close();
+
+    SceneDocument *doc = m_window->document();
+    QTest::keyClick(m_window->stageView(), Qt::Key_Right);
+    QVERIFY(doc->setParam(QStringLiteral("pushScale"), QStringLiteral("12")).isEmpty());
+    const World before = doc->world();
+    QVERIFY(!m_window->openFile(path));
+    QCOMPARE(m_prompts->errors.size(), 1);
+    QVERIFY2(m_prompts->errors.first().startsWith(QStringLiteral("broken.marbles.json: ")),
+             qPrintable(m_prompts->errors.first()));
+    QVERIFY2(m_prompts->errors.first().contains(QStringLiteral("friction")), qPrintable(m_prompts->errors.first()));
+    QCOMPARE(m_prompts->saveQuestions, 0); // refused before anything was asked
+    QCOMPARE(sceneToJson(doc->world()), sceneToJson(before));
+    QVERIFY(sameDynamicState(doc->world(), before));
+    QVERIFY(doc->isModified());
+    QCOMPARE(doc->undoStack()->count(), 1);
+}
+
+void TestMainWindow::unsavedChangesAreAskedAbout_data()
+{
+    QTest::addColumn<int>("choice");
+    QTest::addColumn<bool>("opened");
+    QTest::addRow("cancel") << static_cast<int>(Prompts::SaveChoice::Cancel) << false;
+    QTest::addRow("discard") << static_cast<int>(Prompts::SaveChoice::Discard) << true;
+    QTest::addRow("save") << static_cast<int>(Prompts::SaveChoice::Save) << true;
+}
+
+void TestMainWindow::unsavedChangesAreAskedAbout()
+{
+    QFETCH(int, choice);
+    QFETCH(bool, opened);
+    QTemporaryDir dir;
+    const QString other = dir.filePath(QStringLiteral("other.marbles.json"));
+    World pins;
+    QVERIFY(makePreset("pins", pins));
+    QVERIFY(saveSceneFile(pins, other.toStdString()).empty());
+
+    SceneDocument *doc = m_window->document();
+    QVERIFY(doc->setMarbleRadius(0, 33.0).isEmpty());
+    const World edited = doc->world();
+    m_prompts->saveChoice = static_cast<Prompts::SaveChoice>(choice);
+    m_prompts->saveName = dir.filePath(QStringLiteral("edited.marbles.json"));
+    QCOMPARE(m_window->openFile(other), opened);
+    QCOMPARE(m_prompts->saveQuestions, 1);
+    QCOMPARE(sceneToJson(doc->world()), sceneToJson(opened ? pins : edited));
+    if (static_cast<Prompts::SaveChoice>(choice) == Prompts::SaveChoice::Save) {
+        QString error;
+        World reread;
+        QVERIFY(SceneDocument::readSceneFile(m_prompts->saveName, reread, &error));
+        QCOMPARE(reread.radius[0], 33.0);
+    }
+}
+
+void TestMainWindow::plotGetsOneSamplePerFrame()
+{
+    PlotDock *plot = m_window->plotDock();
+    SceneDocument *doc = m_window->document();
+    QCOMPARE(plot->sampleCount(), 0);
+    for (int k = 1; k <= 7; ++k) {
+        QTest::keyClick(m_window->stageView(), Qt::Key_Right);
+        QCOMPARE(plot->sampleCount(), k);
+    }
+    // Running: still one sample per simulated frame, however the frames were grouped into ticks.
+    m_window->runController()->setSpeed(4.0);
+    m_window->runController()->play();
+    QTRY_VERIFY_WITH_TIMEOUT(doc->world().frame >= 60, 5000);
+    m_window->runController()->pause();
+    QCOMPARE(plot->sampleCount(), static_cast<qsizetype>(doc->world().frame));
+    // A jump back starts the plot over.
+    QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+    QCOMPARE(plot->sampleCount(), 0);
+}
+
+void TestMainWindow::runKeepsRealTimeAndStopsOnNonFinite()
+{
+    SceneDocument *doc = m_window->document();
+    RunController *run = m_window->runController();
+    // Real time: at 1x and 20 ms frames, about 50 frames per second of wall clock.
+    QElapsedTimer clock;
+    clock.start();
+    QTest::keyClick(m_window->stageView(), Qt::Key_Space);
+    QVERIFY(run->isRunning());
+    QTest::qWait(600);
+    QTest::keyClick(m_window->stageView(), Qt::Key_Space);
+    const double expected = static_cast<double>(clock.elapsed()) / doc->world().params.frameMs;
+    QVERIFY(!run->isRunning());
+    QCOMPARE_GE(static_cast<double>(doc->world().frame), expected * 0.6);
+    QCOMPARE_LE(static_cast<double>(doc->world().frame), expected + 2.0);
+
+    // Friction k = 1000 multiplies the book model's velocity by (1 - k) every frame: it overflows.
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("1000")).isEmpty());
+    doc->pushMarble(0, {145, 300});
+    run->setSpeed(4.0);
+    run->play();
+    QTRY_VERIFY_WITH_TIMEOUT(!run->isRunning(), 10000);
+    int bad = -1;
+    for (int i = doc->world().marbleCount() - 1; i >= 0; --i) {
+        if (!isFinite(doc->world().position[i]) || !isFinite(doc->world().velocity[i]))
+            bad = i;
+    }
+    QVERIFY(bad >= 0);
+    const QString message = m_window->barMessage();
+    QVERIFY2(message.contains(QStringLiteral("frame %1").arg(doc->world().frame)), qPrintable(message));
+    QVERIFY2(message.contains(QStringLiteral("marble %1").arg(bad)), qPrintable(message));
+}
+
+void TestMainWindow::autosaveIsRecoveredAfterCrash()
+{
+    SceneDocument *doc = m_window->document();
+    QVERIFY(doc->addPin({400, 100}).isEmpty());
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.25")).isEmpty());
+    const std::string edited = sceneToJson(doc->world());
+    QVERIFY(m_window->autoSaver()->saveNow());
+    QVERIFY(QFile::exists(m_window->autoSaver()->scenePath()));
+    // A crash: the window goes away without closing.
+    m_window.reset();
+
+    makeWindow();
+    m_prompts->recoverAnswer = true;
+    m_window->offerRecovery();
+    QCOMPARE(m_prompts->recoverQuestions, 1);
+    QCOMPARE(sceneToJson(m_window->document()->world()), edited);
+    QVERIFY(m_window->document()->isModified());
+
+    // A clean exit leaves nothing to recover.
+    m_prompts->saveChoice = Prompts::SaveChoice::Discard;
+    const QString autosave = m_window->autoSaver()->scenePath();
+    QVERIFY(m_window->close());
+    QVERIFY(!QFile::exists(autosave));
+    m_window.reset();
+    makeWindow();
+    m_window->offerRecovery();
+    QCOMPARE(m_prompts->recoverQuestions, 0);
+}
+
+void TestMainWindow::layoutIsRestored()
+{
+    m_window->plotDock()->hide();
+    m_window->findChild<QAction *>(QStringLiteral("actionTrails"))->setChecked(true);
+    QVERIFY(m_window->close());
+    m_window.reset();
+    makeWindow();
+    QVERIFY(!m_window->plotDock()->isVisible());
+    QVERIFY(m_window->parametersDock()->isVisible());
+    QVERIFY(m_window->stageView()->trailsVisible());
+}
+
+QTEST_MAIN(TestMainWindow)
+#include "tst_mainwindow.moc"

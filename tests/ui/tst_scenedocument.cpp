@@ -1,0 +1,354 @@
+// SceneDocument: the only thing that changes the world. Step-back is bit-identical, edits undo
+// exactly, invalid input is refused without a trace, and files round-trip.
+
+#include "core/presets.h"
+#include "core/sceneio.h"
+#include "ui/history.h"
+#include "ui/scenedocument.h"
+#include "ui/worldedit.h"
+
+#include <QSignalSpy>
+#include <QTemporaryDir>
+#include <QTest>
+
+#include <cmath>
+
+using namespace marbles;
+
+namespace {
+
+/// Exact equality of the dynamic state (bit-identical doubles, PHYSICS.md determinism).
+bool sameDynamicState(const World &a, const World &b)
+{
+    return a.frame == b.frame && a.position == b.position && a.velocity == b.velocity
+        && a.acceleration == b.acceleration && a.lastHit == b.lastHit;
+}
+
+/// Exact equality of everything a scene file holds, plus the derived masses.
+bool sameScene(const World &a, const World &b)
+{
+    return sceneToJson(a) == sceneToJson(b) && a.mass == b.mass && a.frame == b.frame;
+}
+
+World preset(const char *id)
+{
+    World w;
+    if (!makePreset(id, w))
+        qFatal("unknown preset %s", id);
+    return w;
+}
+
+} // namespace
+
+class TestSceneDocument : public QObject {
+    Q_OBJECT
+
+private Q_SLOTS:
+    void stepBackIsBitIdentical_data();
+    void stepBackIsBitIdentical();
+    void rewindReturnsToFrameZero();
+    void historyIsBounded();
+    void editUndoesExactly_data();
+    void editUndoesExactly();
+    void paramEditsMergeAndInvalidIsRefused();
+    void heldMarbleStaysStill();
+    void dropOntoMarbleFindsFreeSpot();
+    void dropWithNoRoomIsRefused();
+    void nonFiniteStateStopsWithMessage();
+    void saveThenOpenRoundTrips();
+    void invalidFileLeavesSceneUntouched_data();
+    void invalidFileLeavesSceneUntouched();
+};
+
+void TestSceneDocument::stepBackIsBitIdentical_data()
+{
+    QTest::addColumn<QString>("presetId");
+    QTest::addColumn<int>("frames");
+    for (const PresetInfo &p : presets()) {
+        QTest::addRow("%s-1", p.id.c_str()) << QString::fromStdString(p.id) << 1;
+        QTest::addRow("%s-157", p.id.c_str()) << QString::fromStdString(p.id) << 157;
+    }
+}
+
+void TestSceneDocument::stepBackIsBitIdentical()
+{
+    QFETCH(QString, presetId);
+    QFETCH(int, frames);
+    SceneDocument doc;
+    doc.resetScene(preset(presetId.toUtf8().constData()));
+    std::vector<World> states;
+    for (int f = 0; f < frames; ++f) {
+        states.push_back(doc.world());
+        doc.step();
+    }
+    // Walk all the way back: every frame restores exactly, then stepping forward again
+    // reproduces the same frames bit for bit (determinism).
+    const World last = doc.world();
+    for (int f = frames - 1; f >= 0; --f) {
+        QVERIFY(doc.stepBack());
+        QVERIFY2(sameDynamicState(doc.world(), states[static_cast<std::size_t>(f)]),
+                 qPrintable(QStringLiteral("frame %1").arg(f)));
+    }
+    QVERIFY(!doc.stepBack());
+    QCOMPARE(doc.advance(frames), frames);
+    QVERIFY(sameDynamicState(doc.world(), last));
+}
+
+void TestSceneDocument::rewindReturnsToFrameZero()
+{
+    SceneDocument doc;
+    doc.resetScene(preset("four-marbles"));
+    const World start = doc.world();
+    doc.advance(300);
+    QCOMPARE(doc.world().frame, 300);
+    QVERIFY(doc.rewind());
+    QVERIFY(sameDynamicState(doc.world(), start));
+}
+
+void TestSceneDocument::historyIsBounded()
+{
+    World w = preset("four-marbles");
+    FrameHistory byFrames(10, FrameHistory::kDefaultMaxBytes);
+    byFrames.reset(w);
+    const std::size_t oneFrame = FrameSnapshot::of(w).byteSize();
+    FrameHistory byBytes(FrameHistory::kDefaultMaxFrames, oneFrame * 5);
+    byBytes.reset(w);
+    for (int f = 0; f < 40; ++f) {
+        byFrames.record(w);
+        byBytes.record(w);
+        w.step();
+    }
+    QCOMPARE(byFrames.size(), std::size_t{10});
+    QCOMPARE(byBytes.size(), std::size_t{5});
+    QVERIFY(byBytes.byteSize() <= oneFrame * 5);
+    // The newest frames are the ones kept, and the start is never forgotten.
+    QVERIFY(byFrames.stepBack(w));
+    QCOMPARE(w.frame, 39);
+    QVERIFY(byFrames.rewind(w));
+    QCOMPARE(w.frame, 0);
+}
+
+void TestSceneDocument::editUndoesExactly_data()
+{
+    QTest::addColumn<QString>("edit");
+    QTest::addRow("add marble") << "addMarble";
+    QTest::addRow("remove marble") << "removeMarble";
+    QTest::addRow("add pin") << "addPin";
+    QTest::addRow("remove pin") << "removePin";
+    QTest::addRow("radius") << "radius";
+    QTest::addRow("mass") << "mass";
+    QTest::addRow("position") << "position";
+    QTest::addRow("velocity") << "velocity";
+    QTest::addRow("massScale") << "massScale";
+    QTest::addRow("walls") << "walls";
+}
+
+void TestSceneDocument::editUndoesExactly()
+{
+    QFETCH(QString, edit);
+    SceneDocument doc;
+    doc.resetScene(preset("pins"));
+    doc.advance(25); // edits happen mid-run too
+    const World before = doc.world();
+    QString error;
+    if (edit == QLatin1String("addMarble"))
+        error = doc.addMarble({60, 540}, 15);
+    else if (edit == QLatin1String("removeMarble"))
+        doc.removeMarble(1);
+    else if (edit == QLatin1String("addPin"))
+        error = doc.addPin({30, 30});
+    else if (edit == QLatin1String("removePin"))
+        doc.removePin(3);
+    else if (edit == QLatin1String("radius"))
+        error = doc.setMarbleRadius(0, 12.5);
+    else if (edit == QLatin1String("mass"))
+        error = doc.setMarbleMass(0, 99.0);
+    else if (edit == QLatin1String("position"))
+        error = doc.setMarblePosition(2, {60, 560});
+    else if (edit == QLatin1String("velocity"))
+        error = doc.setMarbleVelocity(2, {3.5, -1.25});
+    else if (edit == QLatin1String("massScale"))
+        error = doc.setParam(QStringLiteral("massScale"), QStringLiteral("2"));
+    else if (edit == QLatin1String("walls"))
+        error = doc.setParam(QStringLiteral("walls"), QStringLiteral("false"));
+    QVERIFY2(error.isEmpty(), qPrintable(error));
+    QCOMPARE(doc.undoStack()->count(), 1);
+    QVERIFY(doc.isModified());
+    const World after = doc.world();
+    QVERIFY(!sameScene(before, after));
+    doc.undoStack()->undo();
+    QVERIFY(sameScene(doc.world(), before));
+    QVERIFY(sameDynamicState(doc.world(), before));
+    QVERIFY(!doc.isModified());
+    doc.undoStack()->redo();
+    QVERIFY(sameScene(doc.world(), after));
+}
+
+void TestSceneDocument::paramEditsMergeAndInvalidIsRefused()
+{
+    SceneDocument doc;
+    doc.resetScene(preset("four-marbles"));
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.2")).isEmpty());
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
+    QCOMPARE(doc.undoStack()->count(), 1); // scrubbing one field is one undo step
+    QCOMPARE(doc.world().params.friction, 0.3);
+    QVERIFY(doc.setParam(QStringLiteral("pushScale"), QStringLiteral("20")).isEmpty());
+    QCOMPARE(doc.undoStack()->count(), 2);
+
+    const World before = doc.world();
+    QVERIFY(!doc.setParam(QStringLiteral("friction"), QStringLiteral("-1")).isEmpty());
+    QVERIFY(!doc.setParam(QStringLiteral("restitution"), QStringLiteral("2")).isEmpty());
+    QVERIFY(!doc.setParam(QStringLiteral("model"), QStringLiteral("magic")).isEmpty());
+    QVERIFY(!doc.setParam(QStringLiteral("noSuchKey"), QStringLiteral("1")).isEmpty());
+    QCOMPARE(doc.undoStack()->count(), 2);
+    QVERIFY(sameScene(doc.world(), before));
+
+    doc.undoStack()->undo();
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().params.friction, 0.1);
+    QCOMPARE(doc.world().params.pushScale, 10.0);
+}
+
+void TestSceneDocument::heldMarbleStaysStill()
+{
+    SceneDocument doc;
+    doc.resetScene(preset("pins"));
+    const Vec2 start = doc.world().position[0];
+    const Vec2 target{start.x + 17.0, start.y + 3.0};
+    doc.beginHold(0);
+    doc.moveHeld(target);
+    doc.advance(30);
+    QCOMPARE(doc.world().position[0], target);
+    QCOMPARE(doc.world().velocity[0], Vec2{});
+    QVERIFY(doc.world().position[1] != World(preset("pins")).position[1]); // the others still move
+    QVERIFY(doc.endHold(target).isEmpty());
+    QCOMPARE(doc.heldMarble(), -1);
+    QCOMPARE(doc.undoStack()->count(), 1);
+    QCOMPARE(doc.world().position[0], target);
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().position[0], start);
+    QCOMPARE(doc.world().velocity[0], preset("pins").velocity[0]);
+}
+
+void TestSceneDocument::dropOntoMarbleFindsFreeSpot()
+{
+    SceneDocument doc;
+    doc.resetScene(preset("four-marbles"));
+    const World &w = doc.world();
+    // Drop the small marble (1) right on the centre of the largest (2).
+    doc.beginHold(1);
+    const QString note = doc.endHold(w.position[2]);
+    QVERIFY(!note.isEmpty());
+    QVERIFY(isFreeSpot(w, w.position[1], w.radius[1], BodyKind::Marble, 1));
+    // The nearest free spot touches the largest marble: its distance is the sum of radii, give or
+    // take the 2 px search step.
+    const double d = distance(w.position[1], w.position[2]);
+    QCOMPARE_GE(d, w.radius[1] + w.radius[2]);
+    QCOMPARE_LE(d, w.radius[1] + w.radius[2] + 2.5);
+    QCOMPARE(doc.undoStack()->count(), 1);
+}
+
+void TestSceneDocument::dropWithNoRoomIsRefused()
+{
+    // A 100 x 100 stage with a marble of radius 49 in the middle: the farthest a radius-15 marble
+    // can get from its centre is the corner spot (15, 15), 49.5 px away, short of 49 + 15.
+    World tight;
+    tight.stage = {100, 100, true};
+    tight.addMarble({50, 50}, 49);
+    tight.addMarble({15, 15}, 15);
+    SceneDocument doc;
+    doc.resetScene(tight);
+    doc.beginHold(1);
+    doc.moveHeld({50, 50});
+    QVERIFY(!doc.endHold({50, 50}).isEmpty());
+    QCOMPARE(doc.world().position[1], (Vec2{15, 15}));
+    QCOMPARE(doc.undoStack()->count(), 0);
+    QVERIFY(!doc.addMarble({50, 50}, 30).isEmpty());
+    QCOMPARE(doc.world().marbleCount(), 2);
+}
+
+void TestSceneDocument::nonFiniteStateStopsWithMessage()
+{
+    // Friction k > 2 makes the book model's velocity grow as (1 - k)^n: it overflows to infinity.
+    World w;
+    w.params.friction = 2.9;
+    w.stage.walls = false;
+    w.addMarble({400, 300}, 20, {5, 0});
+    SceneDocument doc;
+    doc.resetScene(w);
+    QSignalSpy failed(&doc, &SceneDocument::simulationFailed);
+    const int done = doc.advance(5000);
+    QCOMPARE(failed.count(), 1);
+    QCOMPARE(done, static_cast<int>(doc.world().frame));
+    const QString message = failed.first().first().toString();
+    QVERIFY2(message.contains(QStringLiteral("frame %1").arg(doc.world().frame)), qPrintable(message));
+    QVERIFY2(message.contains(QStringLiteral("marble 0")), qPrintable(message));
+}
+
+void TestSceneDocument::saveThenOpenRoundTrips()
+{
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    SceneDocument doc;
+    doc.resetScene(preset("pachinko"));
+    doc.advance(40);
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
+    QVERIFY(doc.isModified());
+    const QString path = dir.filePath(QStringLiteral("round.marbles.json"));
+    QString error;
+    QVERIFY2(doc.saveFile(path, &error), qPrintable(error));
+    QVERIFY(!doc.isModified());
+    QCOMPARE(doc.fileName(), path);
+
+    SceneDocument other;
+    QVERIFY2(other.openFile(path, &error), qPrintable(error));
+    QCOMPARE(other.fileName(), path);
+    QVERIFY(!other.isModified());
+    // The file holds the state at the moment of saving; the reopened scene starts its own frame 0.
+    QCOMPARE(sceneToJson(other.world()), sceneToJson(doc.world()));
+    QCOMPARE(other.world().position, doc.world().position);
+    QCOMPARE(other.world().velocity, doc.world().velocity);
+    QCOMPARE(other.world().mass, doc.world().mass);
+}
+
+void TestSceneDocument::invalidFileLeavesSceneUntouched_data()
+{
+    QTest::addColumn<QByteArray>("content");
+    QTest::addColumn<QString>("expected");
+    QTest::addRow("not json") << QByteArray("{ nope") << QString();
+    QTest::addRow("negative radius")
+        << QByteArray(R"({"format":"marbles-scene","version":1,"marbles":[{"x":1,"y":2,"radius":-5}]})")
+        << QStringLiteral("marbles[0].radius");
+    QTest::addRow("wrong format") << QByteArray(R"({"format":"other","version":1})") << QStringLiteral("format");
+    QTest::addRow("missing file") << QByteArray() << QString();
+}
+
+void TestSceneDocument::invalidFileLeavesSceneUntouched()
+{
+    QFETCH(QByteArray, content);
+    QFETCH(QString, expected);
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("bad.marbles.json"));
+    if (!content.isEmpty()) {
+        QFile file(path);
+        QVERIFY(file.open(QIODevice::WriteOnly));
+        file.write(content);
+    }
+    SceneDocument doc;
+    doc.resetScene(preset("pins"));
+    doc.advance(10);
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
+    const World before = doc.world();
+    QSignalSpy changed(&doc, &SceneDocument::sceneChanged);
+    QString error;
+    QVERIFY(!doc.openFile(path, &error));
+    QVERIFY2(error.startsWith(QStringLiteral("bad.marbles.json: ")), qPrintable(error));
+    QVERIFY2(error.contains(expected), qPrintable(error));
+    QVERIFY(sameScene(doc.world(), before));
+    QVERIFY(sameDynamicState(doc.world(), before));
+    QCOMPARE(doc.undoStack()->count(), 1);
+    QCOMPARE(changed.count(), 0);
+}
+
+QTEST_GUILESS_MAIN(TestSceneDocument)
+#include "tst_scenedocument.moc"
