@@ -18,6 +18,27 @@ bool isNegativeZero(double x)
     return x == 0.0 && std::signbit(x);
 }
 
+// True when sqrt(d2) >= reach is certain: d2 > 1.0000001 reach^2 means d > reach (1 + 4e-8),
+// far beyond rounding. Only used while reach^2 is a normal number (no underflow).
+bool isClearMiss(double d2, double reach)
+{
+    const double reach2 = reach * reach;
+    return reach2 > 1e-290 && d2 > 1.0000001 * reach2;
+}
+
+// Insertion sort: candidate lists hold a handful of indices, where it beats std::sort.
+template<typename It>
+void sortSmall(It first, It last)
+{
+    for (It i = first; i != last; ++i) {
+        const auto value = *i;
+        It j = i;
+        for (; j != first && *(j - 1) > value; --j)
+            *j = *(j - 1);
+        *j = value;
+    }
+}
+
 // The book's helpers, with its arithmetic. Each returns false where the book would divide by
 // zero, so that the caller can keep the state as it was (PHYSICS.md's one deviation).
 
@@ -212,7 +233,13 @@ void BookModel::step(World &world)
             const std::span<const int> pins = pinCandidates(old, p);
             for (int j : pins) {
                 const Vec2 q = world.pins[j];
-                if (distance(q, p) <= r) {
+                // dist(q, p) <= r as the book computes it, after the same sure-miss test.
+                const double dx = q.x - p.x;
+                const double dy = q.y - p.y;
+                const double d2 = dx * dx + dy * dy;
+                if (isClearMiss(d2, r))
+                    continue;
+                if (std::sqrt(d2) <= r) {
                     p = old;
                     hit = true;
                     HitRecord record;
@@ -229,20 +256,62 @@ void BookModel::step(World &world)
         // 7. Other marbles, in scene order: closer than the sum of the radii is a hit.
         //    Marbles before i have already moved this frame, marbles after i have not.
         if (!(hit && shortCircuit)) {
-            const std::span<const int> others = marbleCandidates(i, old, p);
-            for (int j : others) {
-                if (j == i)
-                    continue;
-                if (distance(p, pos[j]) < r + world.radius[j]) {
-                    p = old;
-                    hit = true;
-                    HitRecord record;
-                    if (bookShareCollision(p, v, world.mass[i], pos[j], vel[j], world.mass[j], &record)) {
-                        record.frame = producedFrame;
-                        world.lastHit[i] = record;
+            auto touches = [&](int j) {
+                // Hit test exactly as the book: sqrt(dx^2 + dy^2) < r_i + r_j. The squared
+                // distance first rules out clear misses (d^2 > 1.0000001 R^2 implies d > R even
+                // after rounding), which skips the square root without changing any result.
+                const double reach = r + world.radius[j];
+                const double dx = p.x - pos[j].x;
+                const double dy = p.y - pos[j].y;
+                const double d2 = dx * dx + dy * dy;
+                if (isClearMiss(d2, reach))
+                    return false;
+                return std::sqrt(d2) < reach;
+            };
+            auto collide = [&](int j) {
+                p = old;
+                hit = true;
+                HitRecord record;
+                if (bookShareCollision(p, v, world.mass[i], pos[j], vel[j], world.mass[j], &record)) {
+                    record.frame = producedFrame;
+                    world.lastHit[i] = record;
+                }
+            };
+            if (!m_useMarbleGrid) {
+                for (int j = 0; j < n; ++j) {
+                    if (j != i && touches(j)) {
+                        collide(j);
+                        if (shortCircuit)
+                            break;
                     }
+                }
+            } else {
+                // Candidates around where the tests start. After the first hit the marble is
+                // back at `old`: partners near `old` that come later in scene order join the
+                // remaining list, which is kept sorted, so the order is the all-pairs order.
+                m_candidates.clear();
+                m_marbleGrid.gather(i, p, m_candidates);
+                sortSmall(m_candidates.begin(), m_candidates.end());
+                bool widened = p == old;
+                for (std::size_t c = 0; c < m_candidates.size(); ++c) {
+                    const int j = m_candidates[c];
+                    if (!touches(j))
+                        continue;
+                    collide(j);
                     if (shortCircuit)
                         break;
+                    if (!widened) {
+                        widened = true;
+                        m_widened.clear();
+                        m_marbleGrid.gather(i, old, m_widened);
+                        const auto tail = m_candidates.begin() + static_cast<std::ptrdiff_t>(c) + 1;
+                        const std::size_t keep = m_candidates.size();
+                        for (int k : m_widened) {
+                            if (k > j && !std::binary_search(tail, m_candidates.begin() + static_cast<std::ptrdiff_t>(keep), k))
+                                m_candidates.push_back(k);
+                        }
+                        sortSmall(m_candidates.begin() + static_cast<std::ptrdiff_t>(c) + 1, m_candidates.end());
+                    }
                 }
             }
         }
@@ -277,10 +346,6 @@ void BookModel::prepare(const World &world)
         m_allPins.resize(static_cast<std::size_t>(pinCount));
         std::iota(m_allPins.begin(), m_allPins.end(), 0);
     }
-    if (!m_useMarbleGrid && static_cast<int>(m_allMarbles.size()) != n) {
-        m_allMarbles.resize(static_cast<std::size_t>(n));
-        std::iota(m_allMarbles.begin(), m_allMarbles.end(), 0);
-    }
     if (!m_useMarbleGrid && !m_usePinGrid)
         return;
 
@@ -301,7 +366,6 @@ void BookModel::prepare(const World &world)
         if (m_marbleGrid.size() != n || m_gridPositions != world.position || m_gridRadii != world.radius) {
             m_marbleGrid.build(GridGeometry::fit(contact, world.stage.width, world.stage.height, n),
                                world.position.data(), n);
-            m_marbleMark.assign(static_cast<std::size_t>(n), 0);
         }
     }
 }
@@ -328,31 +392,25 @@ std::span<const int> BookModel::pinCandidates(Vec2 oldPosition, Vec2 newPosition
         if (oldPosition == newPosition)
             break;
     }
-    std::sort(m_candidates.begin(), m_candidates.end());
-    return m_candidates;
-}
-
-std::span<const int> BookModel::marbleCandidates(int i, Vec2 oldPosition, Vec2 newPosition)
-{
-    if (!m_useMarbleGrid)
-        return m_allMarbles;
-    m_candidates.clear();
-    ++m_stamp;
-    m_marbleGrid.gather(i, newPosition, oldPosition, m_candidates, m_marbleMark, m_stamp);
-    std::sort(m_candidates.begin(), m_candidates.end());
+    sortSmall(m_candidates.begin(), m_candidates.end());
     return m_candidates;
 }
 
 void MovingGrid::build(const GridGeometry &geometry, const Vec2 *points, int count)
 {
     m_geometry = geometry;
-    m_head.assign(static_cast<std::size_t>(geometry.bucketCount()), -1);
-    m_next.assign(static_cast<std::size_t>(count), -1);
-    m_prev.assign(static_cast<std::size_t>(count), -1);
-    m_bucketOf.assign(static_cast<std::size_t>(count), -1);
-    // Linked in descending order so that each bucket lists its bodies in ascending order.
-    for (int i = count - 1; i >= 0; --i)
-        link(i, bucketOf(points[i]));
+    const auto buckets = static_cast<std::size_t>(geometry.bucketCount());
+    m_buckets.assign(buckets, Bucket{});
+    if (m_overflow.size() != buckets)
+        m_overflow.resize(buckets);
+    for (std::vector<int> &spill : m_overflow)
+        spill.clear();
+    m_bucketOf.resize(static_cast<std::size_t>(count));
+    for (int i = 0; i < count; ++i) {
+        const int b = bucketOf(points[i]);
+        m_bucketOf[static_cast<std::size_t>(i)] = b;
+        insert(i, b);
+    }
 }
 
 int MovingGrid::bucketOf(Vec2 p) const
@@ -360,57 +418,87 @@ int MovingGrid::bucketOf(Vec2 p) const
     return m_geometry.bucket(m_geometry.coord(p.x), m_geometry.coord(p.y));
 }
 
-void MovingGrid::link(int i, int b)
+void MovingGrid::insert(int i, int b)
 {
-    const auto u = static_cast<std::size_t>(i);
-    m_bucketOf[u] = b;
-    m_prev[u] = -1;
-    m_next[u] = m_head[static_cast<std::size_t>(b)];
-    if (m_next[u] >= 0)
-        m_prev[static_cast<std::size_t>(m_next[u])] = i;
-    m_head[static_cast<std::size_t>(b)] = i;
+    Bucket &bucket = m_buckets[static_cast<std::size_t>(b)];
+    if (bucket.count < inlineCapacity)
+        bucket.items[bucket.count] = i;
+    else
+        m_overflow[static_cast<std::size_t>(b)].push_back(i);
+    ++bucket.count;
 }
 
-void MovingGrid::unlink(int i)
+void MovingGrid::remove(int i, int b)
 {
-    const auto u = static_cast<std::size_t>(i);
-    if (m_prev[u] >= 0)
-        m_next[static_cast<std::size_t>(m_prev[u])] = m_next[u];
-    else
-        m_head[static_cast<std::size_t>(m_bucketOf[u])] = m_next[u];
-    if (m_next[u] >= 0)
-        m_prev[static_cast<std::size_t>(m_next[u])] = m_prev[u];
+    Bucket &bucket = m_buckets[static_cast<std::size_t>(b)];
+    std::vector<int> &spill = m_overflow[static_cast<std::size_t>(b)];
+    // The last body of the bucket fills the hole that i leaves.
+    const int last = bucket.count > inlineCapacity ? spill.back() : bucket.items[bucket.count - 1];
+    const int inlineCount = std::min(bucket.count, inlineCapacity);
+    bool found = false;
+    for (int k = 0; k < inlineCount && !found; ++k) {
+        if (bucket.items[k] == i) {
+            bucket.items[k] = last;
+            found = true;
+        }
+    }
+    for (std::size_t k = 0; k < spill.size() && !found; ++k) {
+        if (spill[k] == i) {
+            spill[k] = last;
+            found = true;
+        }
+    }
+    if (bucket.count > inlineCapacity)
+        spill.pop_back();
+    --bucket.count;
 }
 
 void MovingGrid::update(int i, Vec2 to)
 {
     const int b = bucketOf(to);
-    if (b == m_bucketOf[static_cast<std::size_t>(i)])
+    int &current = m_bucketOf[static_cast<std::size_t>(i)];
+    if (b == current)
         return;
-    unlink(i);
-    link(i, b);
+    remove(i, current);
+    insert(i, b);
+    current = b;
 }
 
-void MovingGrid::gather(int self, Vec2 a, Vec2 b, std::vector<int> &out, std::vector<std::uint64_t> &mark,
-                        std::uint64_t stamp) const
+void MovingGrid::gather(int self, Vec2 at, std::vector<int> &out) const
 {
-    const auto cellA = std::pair{m_geometry.coord(a.x), m_geometry.coord(a.y)};
-    const auto cellB = std::pair{m_geometry.coord(b.x), m_geometry.coord(b.y)};
-    int buckets[18];
-    m_geometry.neighbourhood(cellA.first, cellA.second, buckets);
-    int count = 9;
-    if (cellB != cellA) {
-        m_geometry.neighbourhood(cellB.first, cellB.second, buckets + 9);
-        count = 18;
-    }
-    for (int k = 0; k < count; ++k) {
-        for (int j = m_head[static_cast<std::size_t>(buckets[k])]; j >= 0; j = m_next[static_cast<std::size_t>(j)]) {
-            if (j != self && mark[static_cast<std::size_t>(j)] != stamp) {
-                mark[static_cast<std::size_t>(j)] = stamp;
-                out.push_back(j);
+    auto take = [&](int b) {
+        const Bucket &bucket = m_buckets[static_cast<std::size_t>(b)];
+        const int inlineCount = std::min(bucket.count, inlineCapacity);
+        for (int k = 0; k < inlineCount; ++k) {
+            if (bucket.items[k] != self)
+                out.push_back(bucket.items[k]);
+        }
+        if (bucket.count > inlineCapacity) {
+            for (int j : m_overflow[static_cast<std::size_t>(b)]) {
+                if (j != self)
+                    out.push_back(j);
             }
         }
+    };
+    // The 9 buckets of a neighbourhood are distinct (the lattice has >= 3 buckets a side), so
+    // every body is listed once. Inside the lattice (the common case) the neighbourhood is
+    // three runs of three adjacent buckets and needs no wrap-around arithmetic.
+    const std::int64_t kx = m_geometry.coord(at.x);
+    const std::int64_t ky = m_geometry.coord(at.y);
+    const int nx = m_geometry.bucketsX();
+    if (kx >= 1 && ky >= 1 && kx < nx - 1 && ky < m_geometry.bucketsY() - 1) {
+        const int centre = static_cast<int>(kx + ky * nx);
+        for (int row : {centre - nx, centre, centre + nx}) {
+            take(row - 1);
+            take(row);
+            take(row + 1);
+        }
+        return;
     }
+    int buckets[9];
+    m_geometry.neighbourhood(kx, ky, buckets);
+    for (int b : buckets)
+        take(b);
 }
 
 } // namespace marbles

@@ -10,8 +10,9 @@
 namespace marbles {
 
 /// A uniform grid whose bodies move one at a time: the book model updates marbles in place, so
-/// the grid must follow each marble as soon as it moves. Buckets are intrusive doubly linked
-/// lists (O(1) move, no allocation in steady state).
+/// the grid must follow each marble as soon as it moves. Each bucket holds a few bodies inline
+/// (one half cache line) and spills the rest to an overflow list; moving a body is O(bucket),
+/// and nothing is allocated in steady state.
 class MovingGrid {
 public:
     /// Puts bodies 0..count-1 at `points` into the buckets of `geometry`.
@@ -20,21 +21,25 @@ public:
     int size() const { return static_cast<int>(m_bucketOf.size()); }
     /// Moves body i to the bucket of `to` (no-op when the bucket is unchanged).
     void update(int i, Vec2 to);
-    /// Appends to `out` every body except `self` in the 3 x 3 neighbourhoods of `a` and `b`,
-    /// each once (`mark`/`stamp` de-duplicate), in no particular order.
-    void gather(int self, Vec2 a, Vec2 b, std::vector<int> &out, std::vector<std::uint64_t> &mark,
-                std::uint64_t stamp) const;
+    /// Appends to `out` every body except `self` in the 3 x 3 cells around `at`, each once,
+    /// in no particular order.
+    void gather(int self, Vec2 at, std::vector<int> &out) const;
 
 private:
+    static constexpr int inlineCapacity = 7;
+    struct Bucket {
+        std::int32_t count = 0;
+        std::int32_t items[inlineCapacity];
+    };
+
     int bucketOf(Vec2 p) const;
-    void link(int i, int b);
-    void unlink(int i);
+    void insert(int i, int b);
+    void remove(int i, int b);
 
     GridGeometry m_geometry;
-    std::vector<int> m_head;     // first body of each bucket, -1 if empty
-    std::vector<int> m_next;     // next body in the same bucket, -1 at the end
-    std::vector<int> m_prev;     // previous body, -1 at the head
-    std::vector<int> m_bucketOf; // bucket of each body
+    std::vector<Bucket> m_buckets;
+    std::vector<std::vector<int>> m_overflow; // bodies past the inline capacity, per bucket
+    std::vector<int> m_bucketOf;              // bucket of each body
 };
 
 /// The chapter's updateMarbles(), verbatim (PHYSICS.md, model "book"): one explicit update per
@@ -58,7 +63,6 @@ public:
 private:
     void prepare(const World &world);
     std::span<const int> pinCandidates(Vec2 oldPosition, Vec2 newPosition);
-    std::span<const int> marbleCandidates(int i, Vec2 oldPosition, Vec2 newPosition);
 
     bool m_forceAllPairs = false;
     bool m_useMarbleGrid = false;
@@ -67,10 +71,9 @@ private:
     UniformGrid m_pinGrid;
     std::vector<Vec2> m_gridPositions; // positions the marble grid was left with
     std::vector<double> m_gridRadii;
-    std::vector<int> m_allMarbles; // 0..n-1, the all-pairs candidate list
     std::vector<int> m_allPins;    // 0..pins-1
     std::vector<int> m_candidates;
-    std::vector<std::uint64_t> m_marbleMark;
+    std::vector<int> m_widened;
     std::vector<std::uint64_t> m_pinMark;
     std::uint64_t m_stamp = 0;
 };

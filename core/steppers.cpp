@@ -1,7 +1,7 @@
 #include "core/bookmodel.h"
+#include "core/exactmodel.h"
+#include "core/impulsemodel.h"
 #include "core/world.h"
-
-#include <stdexcept>
 
 namespace marbles {
 
@@ -11,10 +11,11 @@ std::unique_ptr<Stepper> makeStepper(ModelKind kind)
     case ModelKind::Book:
         return std::make_unique<BookModel>();
     case ModelKind::Impulse:
+        return std::make_unique<ImpulseModel>();
     case ModelKind::Exact:
-        break;
+        return std::make_unique<ExactModel>();
     }
-    throw std::logic_error("model not built in yet");
+    return std::make_unique<BookModel>();
 }
 
 } // namespace marbles
