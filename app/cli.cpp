@@ -115,6 +115,9 @@ constexpr const char *usageText =
     "  marbles-cli check SCENE [--set KEY=VALUE ...]\n"
     "  marbles-cli preset list | marbles-cli preset ID [--out FILE]\n"
     "  marbles-cli gen crowd --n N [--seed S] [--moving FRACTION] [--out FILE]\n"
+    "  marbles-cli bench [--repeat R] [--csv FILE] [--plot FILE.png] [--crowd N]\n"
+    "  marbles-cli bench --scale [--frames F] [--repeat R] [--max-n N] [--csv FILE]\n"
+    "  marbles-cli stress [--quick] [--only TEXT] [--csv FILE]\n"
     "SCENE is a *.marbles.json file, '-' for standard input, or preset:ID (see 'preset list').\n";
 
 // Reads "--name VALUE" options; positional words are collected in order.
@@ -338,6 +341,10 @@ int main(int argc, char **argv)
             return presetCommand(args);
         if (command == "gen")
             return genCommand(args);
+        if (command == "bench")
+            return benchCommand(args);
+        if (command == "stress")
+            return stressCommand(args);
         throw InvalidInput{"unknown command '" + command + "'\n" + usageText};
     } catch (const InvalidInput &e) {
         std::cerr << "marbles-cli: " << e.message << '\n';

@@ -36,4 +36,9 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
 /// Writes `text` to `path` atomically (temporary file, then rename); throws InvalidInput on failure.
 void writeFileAtomically(const std::string &path, const std::string &text);
 
+/// `marbles-cli bench ...`: run time against error, or --scale; returns an exit code.
+int benchCommand(const std::vector<std::string> &args);
+/// `marbles-cli stress ...`: numerical stability; 0 only when every row meets its expectation.
+int stressCommand(const std::vector<std::string> &args);
+
 } // namespace marbles::cli

@@ -1,0 +1,482 @@
+// marbles-cli bench: run time against error (the work-precision diagram), and --scale.
+
+#include "app/clicommon.h"
+#include "app/pngplot.h"
+#include "core/diagnostics.h"
+#include "core/presets.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+namespace marbles::cli {
+
+namespace {
+
+// One model with one setting, as the bench rows name them.
+struct Variant {
+    ModelKind model;
+    int substeps = 1;
+
+    std::string setting() const
+    {
+        return model == ModelKind::Impulse ? "substeps=" + std::to_string(substeps) : "-";
+    }
+};
+
+std::vector<Variant> precisionVariants()
+{
+    std::vector<Variant> v{{ModelKind::Book}};
+    for (int n = 1; n <= 64; n *= 2)
+        v.push_back({ModelKind::Impulse, n});
+    v.push_back({ModelKind::Exact});
+    return v;
+}
+
+// A bench scene: its world, how long it runs, and, where the physics has one, the closed-form
+// positions at the last frame. Without one, the exact model's run is the reference.
+struct BenchScene {
+    std::string name;
+    std::string about;
+    World world;
+    int frames = 100;
+    std::function<std::vector<Vec2>(int frame)> closedForm; // empty: use "exact" as reference
+    bool chaotic = false; // many bodies: report conserved quantities and overlap only
+};
+
+World openStage(double friction)
+{
+    World w;
+    w.stage = {100000, 100000, false};
+    w.params.friction = friction;
+    w.params.zeroThreshold = 0.0;
+    return w;
+}
+
+// s(t) = (1 - e^{-lambda t}) / lambda, lambda = -ln(1 - k): the distance factor of linear drag
+// (s(t) = t without drag). p(t) = p0 + v0 s(t).
+double dragDistance(double k, double t)
+{
+    if (k == 0.0)
+        return t;
+    const double lambda = -std::log1p(-k);
+    return -std::expm1(-lambda * t) / lambda;
+}
+
+std::vector<BenchScene> precisionScenes(int crowdSize)
+{
+    std::vector<BenchScene> scenes;
+
+    {
+        // One marble gliding under air friction, no collisions: the book's Euler steps against
+        // the exact exponential decay.
+        BenchScene s{"glide", "one marble slowing under drag k = 0.05", openStage(0.05), 120, {}};
+        const Vec2 p0{500, 500}, v0{6, 2.5};
+        s.world.addMarble(p0, 10, v0);
+        s.closedForm = [p0, v0](int f) {
+            const double d = dragDistance(0.05, f);
+            return std::vector<Vec2>{{p0.x + v0.x * d, p0.y + v0.y * d}};
+        };
+        scenes.push_back(std::move(s));
+    }
+    {
+        // Gravity with drag: dv/dt = -lambda v + g  =>  p(t) = p0 + g t / lambda + (v0 - g / lambda) s(t).
+        BenchScene s{"fall", "one marble thrown up under gravity 0.25 and drag k = 0.02", openStage(0.02), 120, {}};
+        const Vec2 p0{500, 500}, v0{3, -4}, g{0, 0.25};
+        s.world.params.gravity = g;
+        s.world.addMarble(p0, 10, v0);
+        s.closedForm = [p0, v0, g](int f) {
+            const double lambda = -std::log1p(-0.02);
+            const double d = dragDistance(0.02, f);
+            return std::vector<Vec2>{{p0.x + g.x * f / lambda + (v0.x - g.x / lambda) * d,
+                                      p0.y + g.y * f / lambda + (v0.y - g.y / lambda) * d}};
+        };
+        scenes.push_back(std::move(s));
+    }
+    {
+        // Head-on elastic collision of unequal masses (1-D formulas), no friction.
+        BenchScene s{"head-on", "masses 1 and 3 meet head-on, e = 1", openStage(0.0), 100, {}};
+        const double x1 = 400, x2 = 520, r1 = 10, r2 = 20, v1 = 4, v2 = -2, m1 = 1, m2 = 3;
+        s.world.addMarble({x1, 500}, r1, {v1, 0}, m1);
+        s.world.addMarble({x2, 500}, r2, {v2, 0}, m2);
+        s.closedForm = [=](int f) {
+            const double tc = (x2 - x1 - (r1 + r2)) / (v1 - v2);
+            if (f <= tc)
+                return std::vector<Vec2>{{x1 + v1 * f, 500}, {x2 + v2 * f, 500}};
+            const double u1 = ((m1 - m2) * v1 + 2 * m2 * v2) / (m1 + m2);
+            const double u2 = ((m2 - m1) * v2 + 2 * m1 * v1) / (m1 + m2);
+            return std::vector<Vec2>{{x1 + v1 * tc + u1 * (f - tc), 500}, {x2 + v2 * tc + u2 * (f - tc), 500}};
+        };
+        scenes.push_back(std::move(s));
+    }
+    {
+        // A marble glancing off a pin at impact parameter b: a mirror reflection about the
+        // contact normal, at the exact time of contact.
+        BenchScene s{"pin", "a marble glances off a pin at impact parameter b = 6", openStage(0.0), 80, {}};
+        const double r = 10, b = 6, v = 5, x0 = 300, y0 = 500, qx = 420;
+        s.world.addMarble({x0, y0}, r, {v, 0});
+        s.world.addPin({qx, y0 + b});
+        s.closedForm = [=](int f) {
+            const double tc = (qx - x0 - std::sqrt(r * r - b * b)) / v;
+            if (f <= tc)
+                return std::vector<Vec2>{{x0 + v * f, y0}};
+            const Vec2 pc{x0 + v * tc, y0};
+            const Vec2 n{(pc.x - qx) / r, (pc.y - (y0 + b)) / r};
+            const double vn = v * n.x;
+            const Vec2 out{v - 2 * vn * n.x, -2 * vn * n.y};
+            return std::vector<Vec2>{{pc.x + out.x * (f - tc), pc.y + out.y * (f - tc)}};
+        };
+        scenes.push_back(std::move(s));
+    }
+    {
+        // Newton's cradle: equal elastic marbles in a touching row; the striker's momentum
+        // passes down the row and the last marble leaves with the striker's speed.
+        BenchScene s{"cradle", "a striker hits a row of five touching equal marbles", openStage(0.0), 60, {}};
+        World preset;
+        makePreset("newtons-cradle", preset);
+        for (int i = 0; i < preset.marbleCount(); ++i)
+            s.world.addMarble(preset.position[i], preset.radius[i], preset.velocity[i]);
+        const World start = s.world;
+        s.closedForm = [start](int f) {
+            std::vector<Vec2> p = start.position;
+            const int striker = start.marbleCount() - 1;
+            const double v = start.velocity[striker].x;
+            const double tc = (p[0].x - 2 * start.radius[0] - p[striker].x) / v;
+            if (f <= tc) {
+                p[striker].x += v * f;
+            } else {
+                p[striker].x += v * tc;
+                p[striker - 1].x += v * (f - tc);
+            }
+            return p;
+        };
+        scenes.push_back(std::move(s));
+    }
+    {
+        // The Pachinko board: gravity, drag, pins and marbles, e = 0.8. The exact model is the
+        // reference (validated against closed forms by the test suite).
+        BenchScene s{"pachinko", "marbles falling through pins (reference: exact)", World{}, 80, {}};
+        makePreset("pachinko", s.world);
+        scenes.push_back(std::move(s));
+    }
+    if (crowdSize > 0) {
+        BenchScene s{"crowd-" + std::to_string(crowdSize), "elastic crowd in a box: energy and overlap only",
+                     makeCrowd(crowdSize, 1), 200, {}};
+        s.chaotic = true;
+        scenes.push_back(std::move(s));
+    }
+    return scenes;
+}
+
+World withVariant(const World &base, const Variant &v)
+{
+    World w = base;
+    w.params.model = v.model;
+    w.params.substeps = v.substeps;
+    return w;
+}
+
+using Clock = std::chrono::steady_clock;
+
+// Median over `repeats` runs of the wall time per frame, ms. Each run starts from `base`.
+double msPerFrame(const World &base, int frames, int repeats)
+{
+    std::vector<double> samples;
+    for (int r = 0; r < repeats; ++r) {
+        World w = base;
+        const auto t0 = Clock::now();
+        for (int f = 0; f < frames; ++f)
+            w.step();
+        const std::chrono::duration<double, std::milli> dt = Clock::now() - t0;
+        samples.push_back(dt.count() / std::max(frames, 1));
+    }
+    std::nth_element(samples.begin(), samples.begin() + samples.size() / 2, samples.end());
+    return samples[samples.size() / 2];
+}
+
+struct Measured {
+    World end;
+    double maxOverlapPx = 0.0;
+    bool finite = true;
+};
+
+Measured measure(const World &base, int frames)
+{
+    Measured m{base};
+    m.maxOverlapPx = maxOverlap(m.end);
+    for (int f = 0; f < frames; ++f) {
+        if (!m.end.step().finite) {
+            m.finite = false;
+            break;
+        }
+        m.maxOverlapPx = std::max(m.maxOverlapPx, maxOverlap(m.end));
+    }
+    return m;
+}
+
+struct Row {
+    std::string scene, model, setting;
+    double ms = 0, positionError = NAN, energyError = NAN, momentumError = NAN, overlap = 0;
+    int escapes = 0;
+};
+
+std::string fmt(double x, const char *spec = "%.3g")
+{
+    if (std::isnan(x))
+        return "n/a";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, spec, x);
+    return buf;
+}
+
+std::string csvNumber(double x)
+{
+    if (std::isnan(x))
+        return "";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", x);
+    return buf;
+}
+
+void printTable(const std::vector<Row> &rows, bool withEscapes)
+{
+    std::printf("%-16s %-8s %-12s %12s %12s %12s %12s %12s%s\n", "scene", "model", "setting", "ms/frame",
+                "pos err px", "energy err", "momentum err", "overlap px", withEscapes ? "      escapes" : "");
+    for (const Row &r : rows) {
+        std::printf("%-16s %-8s %-12s %12s %12s %12s %12s %12s", r.scene.c_str(), r.model.c_str(), r.setting.c_str(),
+                    fmt(r.ms, "%.4g").c_str(), fmt(r.positionError).c_str(), fmt(r.energyError).c_str(),
+                    fmt(r.momentumError).c_str(), fmt(r.overlap).c_str());
+        if (withEscapes)
+            std::printf(" %12d", r.escapes);
+        std::printf("\n");
+    }
+    std::fflush(stdout);
+}
+
+std::string rowsToCsv(const std::vector<Row> &rows)
+{
+    std::string csv = "scene,model,setting,ms_per_frame,position_error_px,energy_error,momentum_error,max_overlap_px,escapes\n";
+    for (const Row &r : rows) {
+        csv += r.scene + "," + r.model + "," + r.setting + "," + csvNumber(r.ms) + "," + csvNumber(r.positionError)
+               + "," + csvNumber(r.energyError) + "," + csvNumber(r.momentumError) + "," + csvNumber(r.overlap) + ","
+               + std::to_string(r.escapes) + "\n";
+    }
+    return csv;
+}
+
+double relative(double value, double reference, double scale)
+{
+    return std::abs(value - reference) / std::max(scale, 1e-300);
+}
+
+std::vector<Row> precisionBench(int repeats, int crowdSize)
+{
+    std::vector<Row> rows;
+    for (BenchScene &scene : precisionScenes(crowdSize)) {
+        const int frames = scene.frames;
+        // The reference end state: closed form where there is one, else the exact model.
+        std::optional<Measured> exactRun;
+        auto exactReference = [&]() -> const Measured & {
+            if (!exactRun)
+                exactRun = measure(withVariant(scene.world, {ModelKind::Exact}), frames);
+            return *exactRun;
+        };
+        const World &reference = exactReference().end;
+        const std::vector<Vec2> closed = scene.closedForm ? scene.closedForm(frames) : std::vector<Vec2>{};
+        const double e0 = scene.world.kineticEnergy();
+        const double pScale = std::max(momentumScale(scene.world), momentumScale(reference));
+
+        for (const Variant &v : precisionVariants()) {
+            const World start = withVariant(scene.world, v);
+            Row row{scene.name, std::string(modelName(v.model)), v.setting()};
+            const Measured m = v.model == ModelKind::Exact ? exactReference() : measure(start, frames);
+            row.ms = msPerFrame(start, frames, repeats);
+            row.overlap = m.maxOverlapPx;
+            row.escapes = escapedMarbles(m.end);
+            if (!m.finite) {
+                row.positionError = row.energyError = row.momentumError = INFINITY;
+                rows.push_back(row);
+                continue;
+            }
+            if (scene.chaotic) {
+                // Elastic, frictionless box: energy is conserved; walls change momentum.
+                row.energyError = relative(m.end.kineticEnergy(), e0, e0);
+            } else {
+                double worst = 0.0;
+                for (int i = 0; i < m.end.marbleCount(); ++i) {
+                    const Vec2 want = closed.empty() ? reference.position[i] : closed[i];
+                    worst = std::max(worst, distance(m.end.position[i], want));
+                }
+                row.positionError = worst;
+                row.energyError = relative(m.end.kineticEnergy(), reference.kineticEnergy(),
+                                           std::max(reference.kineticEnergy(), e0));
+                const Vec2 pm = m.end.momentum(), pr = reference.momentum();
+                row.momentumError = std::hypot(pm.x - pr.x, pm.y - pr.y) / std::max(pScale, 1e-300);
+            }
+            rows.push_back(row);
+        }
+    }
+    return rows;
+}
+
+// The work-precision diagram: for each model, the largest position error over the closed-form
+// scenes against the summed time per frame over them; impulse is one line over its substeps.
+plot::Chart precisionChart(const std::vector<Row> &rows)
+{
+    plot::Chart chart;
+    chart.title = "Run time against error (marbles-cli bench)";
+    chart.xLabel = "ms per frame, summed over the closed-form scenes";
+    chart.yLabel = "largest position error at the end, px";
+    const std::vector<std::string> closedScenes{"glide", "fall", "head-on", "pin", "cradle"};
+    struct Point {
+        double ms = 0, error = 0;
+    };
+    std::vector<std::pair<std::string, Point>> points; // key: model + setting
+    for (const Row &r : rows) {
+        if (std::find(closedScenes.begin(), closedScenes.end(), r.scene) == closedScenes.end())
+            continue;
+        const std::string key = r.model + " " + r.setting;
+        auto it = std::find_if(points.begin(), points.end(), [&](const auto &p) { return p.first == key; });
+        if (it == points.end()) {
+            points.push_back({key, {}});
+            it = points.end() - 1;
+        }
+        it->second.ms += r.ms;
+        it->second.error = std::max(it->second.error, r.positionError);
+    }
+    const std::vector<std::pair<std::string, std::uint32_t>> models{
+        {"book", 0x1f5fbf}, {"impulse", 0xd9822b}, {"exact", 0x2a9d4b}};
+    for (const auto &[model, colour] : models) {
+        plot::Series s;
+        s.label = model == "impulse" ? "impulse, substeps 1 to 64" : model;
+        s.rgb = colour;
+        for (const auto &[key, p] : points) {
+            if (key.rfind(model + " ", 0) == 0) {
+                s.x.push_back(p.ms);
+                s.y.push_back(p.error);
+            }
+        }
+        chart.series.push_back(std::move(s));
+    }
+    return chart;
+}
+
+struct ScaleCase {
+    std::string name;
+    int n;
+    double moving;
+};
+
+std::vector<Row> scaleBench(int frames, int repeats, int maxN)
+{
+    std::vector<ScaleCase> cases;
+    for (int n : {1000, 10000, 100000}) {
+        if (n <= maxN)
+            cases.push_back({"crowd-" + std::to_string(n), n, 1.0});
+    }
+    if (100000 <= maxN)
+        cases.push_back({"crowd-100000-1%", 100000, 0.01});
+
+    std::vector<Row> rows;
+    for (const ScaleCase &c : cases) {
+        const World base = makeCrowd(c.n, 1, c.moving);
+        for (const Variant &v : {Variant{ModelKind::Book}, Variant{ModelKind::Impulse, 1}, Variant{ModelKind::Exact}}) {
+            const World start = withVariant(base, v);
+            Row row{c.name, std::string(modelName(v.model)), v.setting()};
+            row.ms = msPerFrame(start, frames, c.n >= 100000 ? 1 : repeats);
+            const Measured m = measure(start, frames);
+            const double e0 = start.kineticEnergy();
+            row.energyError = m.finite ? relative(m.end.kineticEnergy(), e0, e0) : INFINITY;
+            row.overlap = m.maxOverlapPx;
+            row.escapes = escapedMarbles(m.end);
+            rows.push_back(row);
+            std::fprintf(stderr, "  %s %s: %.3f ms/frame\n", c.name.c_str(), row.model.c_str(), row.ms);
+        }
+    }
+    return rows;
+}
+
+void printScaleSummary(const std::vector<Row> &rows)
+{
+    auto find = [&](const std::string &scene, const std::string &model) -> const Row * {
+        for (const Row &r : rows) {
+            if (r.scene == scene && r.model == model)
+                return &r;
+        }
+        return nullptr;
+    };
+    std::printf("\n%-8s %22s %26s\n", "model", "100k / 1k cost", "100k all / 100k 1% moving");
+    for (const char *model : {"book", "impulse", "exact"}) {
+        const Row *small = find("crowd-1000", model);
+        const Row *large = find("crowd-100000", model);
+        const Row *sparse = find("crowd-100000-1%", model);
+        std::printf("%-8s %22s %26s\n", model, small && large ? fmt(large->ms / small->ms, "%.1f").c_str() : "n/a",
+                    large && sparse ? fmt(large->ms / sparse->ms, "%.1f").c_str() : "n/a");
+    }
+}
+
+} // namespace
+
+int benchCommand(const std::vector<std::string> &args)
+{
+    bool scale = false;
+    std::string csvPath, plotPath;
+    int repeats = 5;
+    int frames = 220;
+    int crowd = 1000;
+    int maxN = 100000;
+    for (std::size_t k = 0; k < args.size(); ++k) {
+        const std::string &a = args[k];
+        auto value = [&]() -> std::string {
+            if (k + 1 >= args.size())
+                throw InvalidInput{a + ": missing value"};
+            return args[++k];
+        };
+        if (a == "--scale")
+            scale = true;
+        else if (a == "--csv")
+            csvPath = value();
+        else if (a == "--plot")
+            plotPath = value();
+        else if (a == "--repeat")
+            repeats = static_cast<int>(parseInteger("--repeat", value(), 1));
+        else if (a == "--frames")
+            frames = static_cast<int>(parseInteger("--frames", value(), 1));
+        else if (a == "--crowd")
+            crowd = static_cast<int>(parseInteger("--crowd", value(), 0));
+        else if (a == "--max-n")
+            maxN = static_cast<int>(parseInteger("--max-n", value(), 1000));
+        else
+            throw InvalidInput{"bench: unknown option '" + a + "'"};
+    }
+    if (scale && !plotPath.empty())
+        throw InvalidInput{"--plot: draws the work-precision diagram, not --scale"};
+
+    std::vector<Row> rows;
+    if (scale) {
+        std::printf("marbles-cli bench --scale: crowd scene, %d frames, one core\n", frames);
+        rows = scaleBench(frames, repeats, maxN);
+        printTable(rows, true);
+        printScaleSummary(rows);
+    } else {
+        std::printf("marbles-cli bench: run time against error (median of %d runs; errors against the closed form, "
+                    "else against exact)\n",
+                    repeats);
+        rows = precisionBench(repeats, crowd);
+        printTable(rows, false);
+    }
+    if (!csvPath.empty())
+        writeFileAtomically(csvPath, rowsToCsv(rows));
+    if (!plotPath.empty()) {
+        if (const std::string error = plot::writePng(precisionChart(rows), plotPath); !error.empty())
+            throw InvalidInput{error};
+    }
+    return ExitOk;
+}
+
+} // namespace marbles::cli
