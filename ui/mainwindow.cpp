@@ -124,7 +124,17 @@ MainWindow::MainWindow(QWidget *parent)
     m_view->setFocus();
 }
 
-MainWindow::~MainWindow() = default;
+MainWindow::~MainWindow()
+{
+    // QObject destroys children only after ~QWidget has begun, when this is no longer a
+    // MainWindow; a signal the document or the run loop sends while dying (QUndoStack emits
+    // cleanChanged from its destructor) must not reach a slot here.
+    const QList<QObject *> senders{m_document, m_run, m_view, m_autoSaver};
+    for (QObject *sender : senders) {
+        if (sender)
+            sender->disconnect(this);
+    }
+}
 
 void MainWindow::setPrompts(std::unique_ptr<Prompts> prompts)
 {
