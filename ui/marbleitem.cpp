@@ -59,23 +59,32 @@ QRectF MarbleItem::boundingRect() const
     return {-r, -r, 2 * r, 2 * r};
 }
 
-void MarbleItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *, QWidget *)
+QColor MarbleItem::defaultColor()
 {
-    const QColor base = m_color.isValid() ? m_color : kMarbleBlue;
-    const double r = m_radius;
+    return kMarbleBlue;
+}
+
+void MarbleItem::paintBall(QPainter *painter, QPointF centre, double r, const QColor &base, double outlinePx)
+{
     // Light from the upper left: a highlight off-centre, the base colour, a dark rim.
-    QRadialGradient gradient(QPointF(0, 0), r, QPointF(-0.38 * r, -0.42 * r));
+    QRadialGradient gradient(centre, r, centre + QPointF(-0.38 * r, -0.42 * r));
     gradient.setColorAt(0.0, base.lighter(230));
     gradient.setColorAt(0.18, base.lighter(150));
     gradient.setColorAt(0.65, base);
     gradient.setColorAt(1.0, base.darker(230));
     painter->setRenderHint(QPainter::Antialiasing);
     QPen outline(base.darker(300));
-    outline.setWidthF(1.0);
+    outline.setWidthF(outlinePx);
     outline.setCosmetic(true);
     painter->setPen(outline);
     painter->setBrush(gradient);
-    painter->drawEllipse(QPointF(0, 0), r, r);
+    painter->drawEllipse(centre, r, r);
+}
+
+void MarbleItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *, QWidget *)
+{
+    const double r = m_radius;
+    paintBall(painter, QPointF(0, 0), r, m_color.isValid() ? m_color : kMarbleBlue, 1.0);
     if (m_highlighted || m_held) {
         QPen ring(m_held ? QColor(0x2e, 0x7d, 0x32) : QColor(0xff, 0x8f, 0x00));
         ring.setWidthF(2.0);

@@ -25,6 +25,12 @@ public:
     /// Draws the "held by the mouse" look.
     void setHeld(bool held);
 
+    /// The chapter's marble blue, the colour of a marble without one.
+    static QColor defaultColor();
+    /// Paints a shaded ball of radius `r` centred on `centre` (painter coordinates) in `base`, with
+    /// a `outlinePx`-wide dark rim; MarbleFieldItem renders its sprites with it, so both look alike.
+    static void paintBall(QPainter *painter, QPointF centre, double r, const QColor &base, double outlinePx);
+
     int type() const override { return Type; }
     QRectF boundingRect() const override;
     void paint(QPainter *painter, const QStyleOptionGraphicsItem *option, QWidget *widget) override;

@@ -1,0 +1,279 @@
+// MarbleFieldItem: one item draws every marble of a world (shaded sprites, tiny squares when
+// zoomed far out, ghost outlines), the Figure 11.12 vectors batched, selection rings, and finds
+// the marble under a point by searching the world.
+
+#include "core/world.h"
+#include "ui/marblefielditem.h"
+#include "ui/marbleitem.h"
+
+#include <QGraphicsScene>
+#include <QImage>
+#include <QPainter>
+#include <QTest>
+
+#include <cmath>
+
+using namespace marbles;
+
+namespace {
+
+const QColor kBackground(0xfb, 0xfa, 0xf6);
+
+/// Renders `item` (in a scene of its own) into an image: stage px times `scale` = image px.
+QImage render(MarbleFieldItem *item, QSize size, double scale)
+{
+    QGraphicsScene scene;
+    scene.addItem(item);
+    QImage image(size, QImage::Format_ARGB32_Premultiplied);
+    image.fill(kBackground);
+    QPainter painter(&image);
+    scene.render(&painter, QRectF(QPointF(0, 0), QSizeF(size)), QRectF(0, 0, size.width() / scale, size.height() / scale),
+                 Qt::IgnoreAspectRatio);
+    painter.end();
+    scene.removeItem(item);
+    return image;
+}
+
+/// Hue distance in degrees, on the colour circle.
+int hueDistance(const QColor &a, const QColor &b)
+{
+    const int d = std::abs(a.hsvHue() - b.hsvHue()) % 360;
+    return std::min(d, 360 - d);
+}
+
+QPoint imagePoint(Vec2 p, double scale)
+{
+    return QPoint(static_cast<int>(std::floor(p.x * scale)), static_cast<int>(std::floor(p.y * scale)));
+}
+
+/// Pixels of `image` that differ from the background, within the annulus [r0, r1] about `c` (image px).
+double changedFraction(const QImage &image, QPointF c, double r0, double r1)
+{
+    int inside = 0;
+    int changed = 0;
+    for (int y = static_cast<int>(c.y() - r1) - 1; y <= static_cast<int>(c.y() + r1) + 1; ++y) {
+        for (int x = static_cast<int>(c.x() - r1) - 1; x <= static_cast<int>(c.x() + r1) + 1; ++x) {
+            const double d = std::hypot(x + 0.5 - c.x(), y + 0.5 - c.y());
+            if (d < r0 || d > r1 || !image.rect().contains(x, y))
+                continue;
+            ++inside;
+            changed += image.pixelColor(x, y) != kBackground ? 1 : 0;
+        }
+    }
+    return inside > 0 ? static_cast<double>(changed) / inside : 0.0;
+}
+
+World twoMarbles()
+{
+    World w;
+    w.stage = {400, 200, true};
+    w.addMarble({100, 100}, 30);
+    w.addMarble({300, 100}, 20);
+    w.info[1].color = "#e53935";
+    return w;
+}
+
+} // namespace
+
+class TestMarbleFieldItem : public QObject {
+    Q_OBJECT
+
+private Q_SLOTS:
+    void drawsMarblesOverTheBackground_data();
+    void drawsMarblesOverTheBackground();
+    void ghostDrawsOutlinesNotFills();
+    void vectorsFollowLastHit();
+    void selectionAndHeldRings();
+    void boundsCoverMarblesOffTheStage();
+    void spritesAreSharedBetweenMarbles();
+    void marbleAtSearchesTheWorld_data();
+    void marbleAtSearchesTheWorld();
+    void antialiasingStopsAboveTheThreshold();
+    void setWorldResyncs();
+};
+
+void TestMarbleFieldItem::drawsMarblesOverTheBackground_data()
+{
+    QTest::addColumn<double>("scale"); // image px per stage px
+    QTest::addRow("sprites, 1:1") << 1.0;
+    QTest::addRow("sprites, zoomed in") << 2.0;
+    QTest::addRow("sprites, zoomed out") << 0.3;
+    QTest::addRow("tiny squares") << 0.05;
+}
+
+void TestMarbleFieldItem::drawsMarblesOverTheBackground()
+{
+    QFETCH(double, scale);
+    const World w = twoMarbles();
+    auto *item = new MarbleFieldItem(&w);
+    const QSize size(static_cast<int>(std::ceil(400 * scale)), static_cast<int>(std::ceil(200 * scale)));
+    const QImage image = render(item, size, scale);
+    for (int i = 0; i < w.marbleCount(); ++i) {
+        const QColor expected = item->marbleColor(i);
+        const QColor seen = image.pixelColor(imagePoint(w.position[i], scale));
+        // The centre of a shaded ball is between the base colour and its highlight: same hue.
+        QVERIFY2(seen != kBackground, qPrintable(QStringLiteral("marble %1 not drawn").arg(i)));
+        QCOMPARE_LE(hueDistance(seen, expected), 12);
+        QCOMPARE_GE(seen.hsvSaturation(), 100);
+    }
+    QCOMPARE(item->marbleColor(0), MarbleItem::defaultColor());
+    QCOMPARE(item->marbleColor(1), QColor(0xe5, 0x39, 0x35));
+    // Between and beside the marbles: the background.
+    for (Vec2 p : {Vec2{200, 100}, Vec2{100, 30}, Vec2{300, 150}, Vec2{20, 20}})
+        QCOMPARE(image.pixelColor(imagePoint(p, scale)), kBackground);
+    delete item;
+}
+
+void TestMarbleFieldItem::ghostDrawsOutlinesNotFills()
+{
+    const World w = twoMarbles();
+    auto *item = new MarbleFieldItem(&w, MarbleFieldItem::Style::Ghost);
+    QCOMPARE(item->style(), MarbleFieldItem::Style::Ghost);
+    const QImage ghost = render(item, QSize(400, 200), 1.0);
+    for (int i = 0; i < w.marbleCount(); ++i) {
+        const QPointF c(w.position[i].x, w.position[i].y);
+        const double r = w.radius[i];
+        // Nothing inside the disc; a dashed ring on its rim (dashes cover well over a third of it).
+        QCOMPARE(changedFraction(ghost, c, 0.0, r - 2.5), 0.0);
+        QCOMPARE_GE(changedFraction(ghost, c, r - 1.0, r + 1.0), 0.35);
+        QCOMPARE_LE(changedFraction(ghost, c, r - 1.0, r + 1.0), 0.9);
+    }
+    item->setStyle(MarbleFieldItem::Style::Solid);
+    const QImage solid = render(item, QSize(400, 200), 1.0);
+    QCOMPARE(changedFraction(solid, QPointF(100, 100), 0.0, 27.5), 1.0);
+    delete item;
+}
+
+void TestMarbleFieldItem::vectorsFollowLastHit()
+{
+    World w = twoMarbles();
+    HitRecord hit;
+    hit.frame = 5;
+    hit.velocityIn = {1, 0};
+    hit.normal = {0, 1};
+    hit.velocityOut = {-1, 0};
+    w.lastHit[0] = hit;
+    auto *item = new MarbleFieldItem(&w);
+    const auto colourAt = [&](Vec2 p) { return render(item, QSize(400, 200), 1.0).pixelColor(imagePoint(p, 1.0)); };
+    // Marble 0 (radius 30 at (100, 100)): the vectors reach 30 px past its rim, 60 px from the centre.
+    const Vec2 alongIn{145, 100};
+    const Vec2 alongOut{55, 100};
+    const Vec2 alongNormal{100, 145};
+    QVERIFY(!item->vectorsVisible());
+    QCOMPARE(colourAt(alongIn), kBackground);
+    item->setVectorsVisible(true);
+    QCOMPARE_LE(hueDistance(colourAt(alongIn), QColor(0x00, 0x55, 0xff)), 5);
+    QCOMPARE_LE(hueDistance(colourAt(alongOut), QColor(0x00, 0xb0, 0x20)), 5);
+    QCOMPARE_LE(hueDistance(colourAt(alongNormal), QColor(0xe0, 0x00, 0x00)), 5);
+    // Marble 1 was never hit: nothing around it.
+    QCOMPARE(colourAt({345, 100}), kBackground);
+    delete item;
+}
+
+void TestMarbleFieldItem::selectionAndHeldRings()
+{
+    const World w = twoMarbles();
+    auto *item = new MarbleFieldItem(&w);
+    // MarbleItem's rings: 3 px outside the ball, 2 px wide; dashed orange (selected), solid green (held).
+    const auto ringFraction = [&] { return changedFraction(render(item, QSize(400, 200), 1.0), QPointF(300, 100), 22.0, 24.0); };
+    QCOMPARE(ringFraction(), 0.0);
+    item->setSelectedMarbles({1, 7});
+    QCOMPARE(item->selectedMarbles(), QList<int>({1, 7}));
+    const double dashed = ringFraction();
+    QCOMPARE_GE(dashed, 0.3);
+    item->setSelectedMarbles({});
+    item->setHeldMarble(1);
+    QCOMPARE(item->heldMarble(), 1);
+    const QImage held = render(item, QSize(400, 200), 1.0);
+    QCOMPARE_GE(changedFraction(held, QPointF(300, 100), 22.0, 24.0), 0.9);
+    QCOMPARE_LE(hueDistance(held.pixelColor(323, 100), QColor(0x2e, 0x7d, 0x32)), 10);
+    delete item;
+}
+
+void TestMarbleFieldItem::boundsCoverMarblesOffTheStage()
+{
+    World w = twoMarbles();
+    w.stage.walls = false;
+    w.position[1] = {900, -300};
+    MarbleFieldItem item(&w);
+    QVERIFY(item.boundingRect().contains(QRectF(0, 0, 400, 200)));
+    QVERIFY(item.boundingRect().contains(QRectF(880, -320, 40, 40)));
+    w.position[1] = {300, 100};
+    item.syncFromWorld();
+    QVERIFY(!item.boundingRect().contains(QPointF(900, -300)));
+}
+
+void TestMarbleFieldItem::spritesAreSharedBetweenMarbles()
+{
+    World w;
+    w.stage = {400, 400, true};
+    for (int k = 0; k < 100; ++k)
+        w.addMarble({20.0 + 40.0 * (k % 10), 20.0 + 40.0 * (k / 10)}, 10);
+    w.info[0].color = "#e53935";
+    auto *item = new MarbleFieldItem(&w);
+    render(item, QSize(400, 400), 1.0);
+    QCOMPARE(item->cachedSpriteCount(), 2); // one blue, one red: 100 marbles, 2 sprites
+    render(item, QSize(200, 200), 0.5);
+    QCOMPARE(item->cachedSpriteCount(), 4); // a new zoom needs new sprites
+    delete item;
+}
+
+void TestMarbleFieldItem::marbleAtSearchesTheWorld_data()
+{
+    QTest::addColumn<QPointF>("point");
+    QTest::addColumn<int>("marble");
+    QTest::addRow("centre of 0") << QPointF(100, 100) << 0;
+    QTest::addRow("rim of 0") << QPointF(70, 100) << 0;
+    QTest::addRow("just outside 0") << QPointF(69.5, 100) << -1;
+    QTest::addRow("inside 1") << QPointF(310, 110) << 1;
+    QTest::addRow("overlap: highest index wins") << QPointF(115, 100) << 2;
+    QTest::addRow("empty stage") << QPointF(200, 30) << -1;
+}
+
+void TestMarbleFieldItem::marbleAtSearchesTheWorld()
+{
+    QFETCH(QPointF, point);
+    QFETCH(int, marble);
+    World w = twoMarbles();
+    w.addMarble({125, 100}, 12); // overlaps marble 0 (an edited scene may hold overlaps)
+    const MarbleFieldItem item(&w);
+    QCOMPARE(item.marbleAt(point), marble);
+}
+
+void TestMarbleFieldItem::antialiasingStopsAboveTheThreshold()
+{
+    World w = twoMarbles();
+    MarbleFieldItem item(&w);
+    QCOMPARE(item.antialiasThreshold(), MarbleFieldItem::kDefaultAntialiasThreshold);
+    QVERIFY(item.isAntialiased());
+    item.setAntialiasThreshold(1);
+    QVERIFY(!item.isAntialiased());
+    item.setAntialiasThreshold(2);
+    QVERIFY(item.isAntialiased());
+    const MarbleFieldItem empty;
+    QVERIFY(empty.isAntialiased());
+    QCOMPARE(empty.marbleAt(QPointF(0, 0)), -1);
+    QVERIFY(empty.boundingRect().isEmpty());
+}
+
+void TestMarbleFieldItem::setWorldResyncs()
+{
+    const World a = twoMarbles();
+    World b;
+    b.stage = {1000, 50, true};
+    b.addMarble({900, 25}, 10);
+    b.info[0].color = "#00ff00";
+    MarbleFieldItem item(&a);
+    QCOMPARE(item.world(), &a);
+    item.setWorld(&b);
+    QCOMPARE(item.world(), &b);
+    QVERIFY(item.boundingRect().contains(QRectF(0, 0, 1000, 50)));
+    QCOMPARE(item.marbleColor(0), QColor(0x00, 0xff, 0x00));
+    QCOMPARE(item.marbleAt(QPointF(900, 25)), 0);
+    QCOMPARE(item.marbleAt(QPointF(100, 100)), -1);
+    item.setWorld(nullptr);
+    QVERIFY(item.boundingRect().isEmpty());
+}
+
+QTEST_MAIN(TestMarbleFieldItem)
+#include "tst_marblefielditem.moc"

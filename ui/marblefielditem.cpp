@@ -1,0 +1,386 @@
+#include "ui/marblefielditem.h"
+
+#include "ui/marbleitem.h"
+#include "ui/worldedit.h"
+
+#include <QImage>
+#include <QPainter>
+#include <QPainterPath>
+#include <QStyleOptionGraphicsItem>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace marbles {
+
+namespace {
+
+/// Room around every marble in the bounding rectangle, stage px: the selection ring, and the
+/// vectors (VectorItem's book length of 30 px past the rim, plus the arrow head).
+constexpr double kVectorLengthPx = 30.0;
+constexpr double kBoundsPaddingPx = kVectorLengthPx + 34.0;
+/// Arrow heads, stage px (as VectorItem draws them).
+constexpr double kArrowHeadPx = 8.0;
+/// The selection ring sits this far outside the ball: 3 stage px as MarbleItem, but never less
+/// than 3 device px, so that it stays visible when a crowd is zoomed out to 1-px marbles.
+constexpr double kRingGapPx = 3.0;
+
+const QColor kSelectedRing(0xff, 0x8f, 0x00);
+const QColor kHeldRing(0x2e, 0x7d, 0x32);
+const QColor kVectorRed(0xe0, 0x00, 0x00);
+const QColor kVectorBlue(0x00, 0x55, 0xff);
+const QColor kVectorGreen(0x00, 0xb0, 0x20);
+
+QRgb parseColor(const std::string &text)
+{
+    if (!text.empty()) {
+        const QColor c(QString::fromStdString(text));
+        if (c.isValid())
+            return c.rgb();
+    }
+    return MarbleItem::defaultColor().rgb();
+}
+
+/// The arrow head of VectorItem, a triangle with its tip at `tip` pointing along the unit vector `u`.
+void addHead(QPainterPath &path, const QTransform &toDevice, QPointF tip, QPointF u)
+{
+    const QPointF n(-u.y(), u.x());
+    QPolygonF head;
+    head << toDevice.map(tip) << toDevice.map(tip - u * kArrowHeadPx + n * kArrowHeadPx * 0.5)
+         << toDevice.map(tip - u * kArrowHeadPx - n * kArrowHeadPx * 0.5);
+    path.addPolygon(head);
+    path.closeSubpath();
+}
+
+} // namespace
+
+MarbleFieldItem::MarbleFieldItem(const World *world, Style style)
+    : m_world(world)
+    , m_style(style)
+{
+    // exposedRect then holds the part of the item that is on screen, so off-screen marbles are skipped.
+    setFlag(ItemUsesExtendedStyleOption);
+    setCacheMode(NoCache);
+    syncFromWorld();
+}
+
+MarbleFieldItem::~MarbleFieldItem() = default;
+
+void MarbleFieldItem::setWorld(const World *world)
+{
+    m_world = world;
+    m_colorText.clear();
+    m_color.clear();
+    syncFromWorld();
+}
+
+void MarbleFieldItem::syncFromWorld()
+{
+    QRectF bounds;
+    m_maxRadius = 0.0;
+    if (m_world) {
+        const World &w = *m_world;
+        double left = 0.0;
+        double top = 0.0;
+        double right = w.stage.width;
+        double bottom = w.stage.height;
+        const int n = w.marbleCount();
+        for (int i = 0; i < n; ++i) {
+            const Vec2 p = w.position[static_cast<std::size_t>(i)];
+            const double r = w.radius[static_cast<std::size_t>(i)];
+            // A marble that left finite numbers is not drawn and must not stretch the bounds.
+            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(r))
+                continue;
+            left = std::min(left, p.x - r);
+            top = std::min(top, p.y - r);
+            right = std::max(right, p.x + r);
+            bottom = std::max(bottom, p.y + r);
+            m_maxRadius = std::max(m_maxRadius, r);
+        }
+        const double pad = m_maxRadius + kBoundsPaddingPx;
+        bounds = QRectF(QPointF(left, top), QPointF(right, bottom)).adjusted(-pad, -pad, pad, pad);
+        syncColors();
+    }
+    if (bounds != m_bounds) {
+        prepareGeometryChange();
+        m_bounds = bounds;
+    }
+    update();
+}
+
+void MarbleFieldItem::syncColors()
+{
+    const World &w = *m_world;
+    const auto n = static_cast<std::size_t>(w.marbleCount());
+    const std::size_t known = m_color.size();
+    m_colorText.resize(n);
+    m_color.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i < known && m_colorText[i] == w.info[i].color)
+            continue;
+        m_colorText[i] = w.info[i].color;
+        m_color[i] = parseColor(m_colorText[i]);
+    }
+}
+
+void MarbleFieldItem::setStyle(Style style)
+{
+    if (style == m_style)
+        return;
+    m_style = style;
+    update();
+}
+
+void MarbleFieldItem::setVectorsVisible(bool visible)
+{
+    if (visible == m_vectorsVisible)
+        return;
+    m_vectorsVisible = visible;
+    update();
+}
+
+void MarbleFieldItem::setSelectedMarbles(const QList<int> &indices)
+{
+    if (indices == m_selected)
+        return;
+    m_selected = indices;
+    update();
+}
+
+void MarbleFieldItem::setHeldMarble(int i)
+{
+    if (i == m_held)
+        return;
+    m_held = i;
+    update();
+}
+
+void MarbleFieldItem::setAntialiasThreshold(int marbles)
+{
+    if (marbles == m_antialiasThreshold)
+        return;
+    m_antialiasThreshold = marbles;
+    update();
+}
+
+bool MarbleFieldItem::isAntialiased() const
+{
+    return !m_world || m_world->marbleCount() <= m_antialiasThreshold;
+}
+
+int MarbleFieldItem::marbleAt(QPointF p) const
+{
+    return m_world ? marbles::marbleAt(*m_world, {p.x(), p.y()}) : -1;
+}
+
+QColor MarbleFieldItem::marbleColor(int i) const
+{
+    if (i >= 0 && i < static_cast<int>(m_color.size()))
+        return QColor::fromRgb(m_color[static_cast<std::size_t>(i)]);
+    if (m_world && i >= 0 && i < m_world->marbleCount())
+        return QColor::fromRgb(parseColor(m_world->info[static_cast<std::size_t>(i)].color));
+    return MarbleItem::defaultColor();
+}
+
+QRectF MarbleFieldItem::boundingRect() const
+{
+    return m_bounds;
+}
+
+const QPixmap &MarbleFieldItem::sprite(const SpriteKey &key)
+{
+    const auto found = m_sprites.constFind(key);
+    if (found != m_sprites.cend())
+        return *found;
+    if (m_sprites.size() >= kMaxCachedSprites)
+        m_sprites.clear();
+
+    const double dpr = key.dprPercent / 100.0;
+    const double r = key.radiusSteps * kSpriteRadiusStepDevicePx;
+    // Two device px of room on each side for the rim (a 1-px pen straddles the radius) and
+    // antialiasing; an even side puts the centre on a pixel corner, as rounded positions expect.
+    int side = static_cast<int>(std::ceil((2.0 * r + 4.0) * dpr));
+    side += side % 2;
+    QImage image(side, side, QImage::Format_ARGB32_Premultiplied);
+    image.setDevicePixelRatio(dpr);
+    image.fill(Qt::transparent);
+    QPainter painter(&image);
+    const double centre = side / (2.0 * dpr);
+    const QColor base = QColor::fromRgb(key.color);
+    if (key.ghost) {
+        QColor line = base;
+        line.setAlpha(200);
+        QPen pen(line);
+        pen.setWidthF(1.5);
+        pen.setDashPattern({3.0, 3.0});
+        painter.setRenderHint(QPainter::Antialiasing);
+        painter.setPen(pen);
+        painter.setBrush(Qt::NoBrush);
+        painter.drawEllipse(QPointF(centre, centre), r, r);
+    } else {
+        MarbleItem::paintBall(&painter, QPointF(centre, centre), r, base, 1.0);
+    }
+    painter.end();
+    return *m_sprites.insert(key, QPixmap::fromImage(std::move(image)));
+}
+
+void MarbleFieldItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *option, QWidget *)
+{
+    if (!m_world)
+        return;
+    const World &w = *m_world;
+    const int n = std::min(w.marbleCount(), static_cast<int>(m_color.size()));
+    const QTransform toDevice = painter->worldTransform();
+    // The view never rotates or shears, so one number converts stage px to device px.
+    const double scale = std::sqrt(std::abs(toDevice.determinant()));
+    if (n == 0 || !(scale > 0.0))
+        return;
+    const QRectF visible = option && !option->exposedRect.isEmpty() ? option->exposedRect : m_bounds;
+    const double dpr = painter->device() ? painter->device()->devicePixelRatio() : 1.0;
+    const bool antialias = isAntialiased();
+    const bool ghost = m_style == Style::Ghost;
+
+    painter->save();
+    // Everything below is placed in device px: sprites are blitted unscaled, lines are hairlines.
+    painter->setWorldTransform(QTransform());
+    painter->setRenderHint(QPainter::Antialiasing, antialias);
+    painter->setRenderHint(QPainter::SmoothPixmapTransform, false);
+
+    // Marbles too small for a sprite, batched per colour (a scene rarely has more than a few).
+    std::vector<std::pair<QRgb, QList<QRectF>>> tiny;
+    SpriteKey key;
+    key.dprPercent = static_cast<int>(std::lround(dpr * 100.0));
+    key.ghost = ghost;
+    for (int i = 0; i < n; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const Vec2 p = w.position[k];
+        const double r = w.radius[k];
+        if (!(p.x + r >= visible.left() && p.x - r <= visible.right() && p.y + r >= visible.top()
+              && p.y - r <= visible.bottom()))
+            continue; // off screen, or not finite
+        const QPointF c = toDevice.map(QPointF(p.x, p.y));
+        const double rDevice = r * scale;
+        if (rDevice < kTinyRadiusDevicePx) {
+            const double side = std::max(1.0, 2.0 * rDevice);
+            auto bucket = std::find_if(tiny.begin(), tiny.end(), [&](const auto &b) { return b.first == m_color[k]; });
+            if (bucket == tiny.end()) {
+                tiny.emplace_back(m_color[k], QList<QRectF>());
+                bucket = std::prev(tiny.end());
+            }
+            bucket->second.append(QRectF(c.x() - side / 2, c.y() - side / 2, side, side));
+            continue;
+        }
+        key.radiusSteps = static_cast<int>(std::lround(rDevice / kSpriteRadiusStepDevicePx));
+        key.color = m_color[k];
+        const QPixmap &pixmap = sprite(key);
+        const double half = pixmap.width() / (2.0 * dpr);
+        painter->drawPixmap(QPointF(std::round(c.x() - half), std::round(c.y() - half)), pixmap);
+    }
+    for (auto &[rgb, rects] : tiny) {
+        QColor color = QColor::fromRgb(rgb);
+        if (ghost) {
+            color.setAlpha(200);
+            QPen pen(color);
+            pen.setCosmetic(true);
+            painter->setPen(pen);
+            painter->setBrush(Qt::NoBrush);
+        } else {
+            painter->setPen(Qt::NoPen);
+            painter->setBrush(color);
+        }
+        painter->drawRects(rects.constData(), static_cast<int>(rects.size()));
+    }
+
+    if (m_vectorsVisible)
+        paintVectors(painter, toDevice, visible, antialias);
+    paintRings(painter, toDevice, scale);
+    painter->restore();
+}
+
+void MarbleFieldItem::paintVectors(QPainter *painter, const QTransform &toDevice, const QRectF &visible, bool antialias)
+{
+    const World &w = *m_world;
+    const int n = std::min(w.marbleCount(), static_cast<int>(w.lastHit.size()));
+    QList<QLineF> red;
+    QList<QLineF> blue;
+    QList<QLineF> green;
+    QPainterPath blueHeads;
+    QPainterPath greenHeads;
+    // Heads may overlap; with the winding rule overlapping triangles stay filled.
+    blueHeads.setFillRule(Qt::WindingFill);
+    greenHeads.setFillRule(Qt::WindingFill);
+    for (int i = 0; i < n; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const HitRecord &hit = w.lastHit[k];
+        if (hit.frame < 0)
+            continue;
+        // As VectorItem: the book's unit vectors drawn 30 px long past the marble's rim.
+        const double l = w.radius[k] + kVectorLengthPx;
+        const QPointF c(w.position[k].x, w.position[k].y);
+        if (!visible.adjusted(-l - kArrowHeadPx, -l - kArrowHeadPx, l + kArrowHeadPx, l + kArrowHeadPx).contains(c))
+            continue;
+        const QPointF normal(hit.normal.x, hit.normal.y);
+        const QPointF in(hit.velocityIn.x, hit.velocityIn.y);
+        const QPointF out(hit.velocityOut.x, hit.velocityOut.y);
+        const QPointF centre = toDevice.map(c);
+        red.append(QLineF(toDevice.map(c - normal * l), toDevice.map(c + normal * l)));
+        blue.append(QLineF(centre, toDevice.map(c + in * l)));
+        addHead(blueHeads, toDevice, c + in * l, in);
+        green.append(QLineF(centre, toDevice.map(c + out * l)));
+        addHead(greenHeads, toDevice, c + out * l, out);
+    }
+    if (red.isEmpty())
+        return;
+    painter->setRenderHint(QPainter::Antialiasing, antialias);
+    painter->setBrush(Qt::NoBrush);
+
+    QPen pen(kVectorRed);
+    pen.setCosmetic(true);
+    pen.setWidthF(1.0);
+    painter->setPen(pen);
+    painter->drawLines(red.constData(), static_cast<int>(red.size()));
+
+    pen.setColor(kVectorBlue);
+    pen.setWidthF(4.0);
+    pen.setCapStyle(Qt::FlatCap);
+    painter->setPen(pen);
+    painter->drawLines(blue.constData(), static_cast<int>(blue.size()));
+    painter->fillPath(blueHeads, kVectorBlue);
+
+    pen.setColor(kVectorGreen);
+    pen.setWidthF(2.0);
+    painter->setPen(pen);
+    painter->drawLines(green.constData(), static_cast<int>(green.size()));
+    painter->fillPath(greenHeads, kVectorGreen);
+}
+
+void MarbleFieldItem::paintRings(QPainter *painter, const QTransform &toDevice, double scale)
+{
+    const World &w = *m_world;
+    const auto ring = [&](int i, const QColor &color, Qt::PenStyle style) {
+        if (i < 0 || i >= w.marbleCount())
+            return;
+        const auto k = static_cast<std::size_t>(i);
+        const double rDevice = w.radius[k] * scale;
+        const double ringDevice = std::max((w.radius[k] + kRingGapPx) * scale, rDevice + kRingGapPx);
+        QPen pen(color);
+        pen.setWidthF(2.0);
+        pen.setCosmetic(true);
+        pen.setStyle(style);
+        painter->setPen(pen);
+        painter->setBrush(Qt::NoBrush);
+        painter->drawEllipse(toDevice.map(QPointF(w.position[k].x, w.position[k].y)), ringDevice, ringDevice);
+    };
+    if (m_selected.isEmpty() && m_held < 0)
+        return;
+    // Few rings: always smooth, whatever the marble count.
+    painter->setRenderHint(QPainter::Antialiasing, true);
+    for (int i : m_selected) {
+        if (i != m_held)
+            ring(i, kSelectedRing, Qt::DashLine);
+    }
+    ring(m_held, kHeldRing, Qt::SolidLine);
+}
+
+} // namespace marbles
