@@ -23,6 +23,11 @@ QT_QPA_PLATFORM=offscreen ctest --test-dir build --output-on-failure -j "$jobs"
 section "marbles-cli smoke run of the default preset"
 ./build/app/marbles-cli run preset:four-marbles --frames 200 --every 50 | tail -n 4
 
+section "marbles-cli bench (writes build/bench.csv and build/bench.png) and stress --quick"
+./build/app/marbles-cli bench --csv build/bench.csv --plot build/bench.png | tail -n 3
+test -s build/bench.csv && test -s build/bench.png
+./build/app/marbles-cli stress --quick | tail -n 3
+
 if [ "${MARBLES_SKIP_SANITIZERS:-0}" != "1" ]; then
     section "tests under AddressSanitizer + UndefinedBehaviorSanitizer"
     cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DMARBLES_SANITIZE=ON
