@@ -228,8 +228,10 @@ void PlotDock::reset(const World &world)
     m_frames.clear();
     m_kinetic.clear();
     m_momentum.clear();
-    for (Track &t : m_tracks)
+    for (Track &t : m_tracks) {
         t.speed.clear();
+        t.compareSpeed.clear();
+    }
 
     m_marbleCount = world.marbleCount();
     m_colors.assign(world.info.size(), QString());
@@ -239,12 +241,14 @@ void PlotDock::reset(const World &world)
         m_names[i] = QString::fromStdString(world.info[i].name);
     }
     m_frameMs = world.params.frameMs;
+    const std::string_view model = modelName(world.params.model);
+    m_model = QString::fromUtf8(model.data(), static_cast<qsizetype>(model.size()));
     rebuildTracks();
     m_hoverLabel->clear();
     m_dirty = true;
 }
 
-void PlotDock::appendFrame(const World &world)
+void PlotDock::appendFrame(const World &world, const World *compare)
 {
     if (world.marbleCount() != m_marbleCount) {
         // Marbles were added or removed without a reset(): follow the new count; the colours and
@@ -265,6 +269,12 @@ void PlotDock::appendFrame(const World &world)
     for (Track &t : m_tracks) {
         const auto i = static_cast<std::size_t>(t.marble);
         t.speed.push(i < world.velocity.size() ? length(world.velocity[i]) : kNaN);
+    }
+    if (!m_compareModel.isEmpty()) {
+        for (Track &t : m_tracks) {
+            const auto i = static_cast<std::size_t>(t.marble);
+            t.compareSpeed.push(compare && i < compare->velocity.size() ? length(compare->velocity[i]) : kNaN);
+        }
     }
     m_dirty = true;
 }
@@ -299,8 +309,10 @@ void PlotDock::setCapacity(qsizetype samples)
     m_frames.setCapacity(m_capacity);
     m_kinetic.setCapacity(m_capacity);
     m_momentum.setCapacity(m_capacity);
-    for (Track &t : m_tracks)
+    for (Track &t : m_tracks) {
         t.speed.setCapacity(m_capacity);
+        t.compareSpeed.setCapacity(m_capacity);
+    }
     m_dirty = true;
 }
 
@@ -321,6 +333,33 @@ double PlotDock::sampleSpeed(qsizetype i, int marble) const
 {
     const Track *t = trackOf(marble);
     return t ? t->speed.at(static_cast<std::size_t>(i)) : kNaN;
+}
+
+double PlotDock::sampleCompareSpeed(qsizetype i, int marble) const
+{
+    const Track *t = trackOf(marble);
+    return t && t->compareSeries ? t->compareSpeed.at(static_cast<std::size_t>(i)) : kNaN;
+}
+
+QLineSeries *PlotDock::compareSeries(int marble) const
+{
+    const Track *t = trackOf(marble);
+    return t ? t->compareSeries : nullptr;
+}
+
+void PlotDock::setCompareModel(const QString &model)
+{
+    if (model == m_compareModel)
+        return;
+    for (Track &t : m_tracks)
+        removeCompareTrack(t);
+    m_compareModel = model;
+    if (!m_compareModel.isEmpty()) {
+        for (Track &t : m_tracks)
+            addCompareTrack(t);
+    }
+    styleSeries();
+    m_dirty = true;
 }
 
 double PlotDock::sampleKineticEnergy(qsizetype i) const
@@ -386,6 +425,13 @@ void PlotDock::refreshChart()
         appendThinned(
             points, n, x, [&t](qsizetype i) { return t.speed.at(static_cast<std::size_t>(i)); }, speedMin, speedMax);
         t.series->replace(points);
+        if (t.compareSeries) {
+            QList<QPointF> comparePoints;
+            appendThinned(
+                comparePoints, n, x, [&t](qsizetype i) { return t.compareSpeed.at(static_cast<std::size_t>(i)); },
+                speedMin, speedMax);
+            t.compareSeries->replace(comparePoints);
+        }
     }
 
     double totalMin = std::numeric_limits<double>::infinity();
@@ -451,7 +497,10 @@ QString PlotDock::describePoint(const QLineSeries *series, QPointF point) const
     for (const Track &t : m_tracks) {
         if (t.series == series)
             return tr("%1: %2, speed %3 px/frame")
-                .arg(when, marbleLabel(t.marble), QString::number(t.speed.at(lo), 'g', 6));
+                .arg(when, t.series->name(), QString::number(t.speed.at(lo), 'g', 6));
+        if (t.compareSeries && t.compareSeries == series)
+            return tr("%1: %2, speed %3 px/frame")
+                .arg(when, t.compareSeries->name(), QString::number(t.compareSpeed.at(lo), 'g', 6));
     }
     return QString();
 }
@@ -470,13 +519,23 @@ QString PlotDock::exportCsv(const QString &path) const
     QByteArray text = "frame,time_s";
     for (const Track &t : m_tracks)
         text += ",speed_" + QByteArray::number(t.marble);
-    text += ",kinetic,momentum\n";
+    text += ",kinetic,momentum";
+    const QByteArray compareSuffix = '_' + m_compareModel.toUtf8();
+    for (const Track &t : m_tracks) {
+        if (t.compareSeries)
+            text += ",speed_" + QByteArray::number(t.marble) + compareSuffix;
+    }
+    text += '\n';
     for (std::size_t i = 0; i < m_frames.size(); ++i) {
         const std::int64_t f = m_frames.at(i);
         QString row = QString::number(f) + QLatin1Char(',') + csvNumber(secondsAt(f));
         for (const Track &t : m_tracks)
             row += QLatin1Char(',') + csvNumber(t.speed.at(i));
         row += QLatin1Char(',') + csvNumber(m_kinetic.at(i)) + QLatin1Char(',') + csvNumber(m_momentum.at(i));
+        for (const Track &t : m_tracks) {
+            if (t.compareSeries)
+                row += QLatin1Char(',') + csvNumber(t.compareSpeed.at(i));
+        }
         text += row.toLatin1() + '\n';
     }
     if (file.write(text) != text.size() || !file.commit())
@@ -506,6 +565,7 @@ void PlotDock::rebuildTracks()
         if (old != m_tracks.end()) {
             tracks.push_back(std::move(*old));
             old->series = nullptr;
+            old->compareSeries = nullptr;
             old->marble = -1;
             continue;
         }
@@ -515,13 +575,9 @@ void PlotDock::rebuildTracks()
         t.speed.setCapacity(m_capacity);
         for (std::size_t i = 0; i < m_frames.size(); ++i)
             t.speed.push(kNaN);
-        t.series = new QLineSeries;
-        m_chart->addSeries(t.series);
-        t.series->attachAxis(m_axisX);
-        t.series->attachAxis(m_axisSpeed);
-        QLineSeries *series = t.series;
-        connect(series, &QLineSeries::hovered, this,
-                [this, series](const QPointF &point, bool state) { onHovered(series, point, state); });
+        t.series = addSpeedSeries();
+        if (!m_compareModel.isEmpty())
+            addCompareTrack(t);
         tracks.push_back(std::move(t));
     }
     for (Track &t : m_tracks) {
@@ -529,18 +585,67 @@ void PlotDock::rebuildTracks()
             m_chart->removeSeries(t.series);
             delete t.series;
         }
+        removeCompareTrack(t);
     }
     m_tracks = std::move(tracks);
-    for (Track &t : m_tracks) {
-        t.series->setName(marbleLabel(t.marble));
-        t.series->setPen(QPen(marbleColor(t.marble), 2.0));
-    }
+    styleSeries();
 
     const int plotted = static_cast<int>(m_tracks.size());
     const int candidates = m_selected.isEmpty() ? m_marbleCount : static_cast<int>(m_selected.size());
     m_capNote->setText(plotted < candidates ? tr("%1 of %2 marbles plotted").arg(plotted).arg(candidates) : QString());
     m_capNote->setToolTip(m_selected.isEmpty() ? tr("Select marbles on the stage to choose which ones are plotted.")
                                                : tr("At most %1 marbles are plotted at once.").arg(kMaxPlottedMarbles));
+}
+
+QLineSeries *PlotDock::addSpeedSeries()
+{
+    auto *series = new QLineSeries;
+    m_chart->addSeries(series);
+    series->attachAxis(m_axisX);
+    series->attachAxis(m_axisSpeed);
+    connect(series, &QLineSeries::hovered, this,
+            [this, series](const QPointF &point, bool state) { onHovered(series, point, state); });
+    return series;
+}
+
+void PlotDock::addCompareTrack(Track &t)
+{
+    if (t.compareSeries)
+        return;
+    // The comparison starts now: no comparison speed for the samples already held.
+    t.compareSpeed.setCapacity(m_capacity);
+    for (std::size_t i = 0; i < m_frames.size(); ++i)
+        t.compareSpeed.push(kNaN);
+    t.compareSeries = addSpeedSeries();
+}
+
+void PlotDock::removeCompareTrack(Track &t)
+{
+    t.compareSpeed.clear();
+    if (!t.compareSeries)
+        return;
+    m_chart->removeSeries(t.compareSeries);
+    delete t.compareSeries;
+    t.compareSeries = nullptr;
+}
+
+void PlotDock::styleSeries()
+{
+    // While comparing, both lines of a marble carry their model's name: "large (marble 0), book"
+    // solid, "large (marble 0), exact" dashed, in the same colour.
+    for (Track &t : m_tracks) {
+        const QColor colour = marbleColor(t.marble);
+        if (t.compareSeries) {
+            t.series->setName(tr("%1, %2").arg(marbleLabel(t.marble), m_model));
+            t.compareSeries->setName(tr("%1, %2").arg(marbleLabel(t.marble), m_compareModel));
+            QPen dashed(colour, 2.0, Qt::DashLine);
+            dashed.setCapStyle(Qt::FlatCap);
+            t.compareSeries->setPen(dashed);
+        } else {
+            t.series->setName(marbleLabel(t.marble));
+        }
+        t.series->setPen(QPen(colour, 2.0));
+    }
 }
 
 QList<int> PlotDock::wantedMarbles() const

@@ -27,6 +27,10 @@ namespace marbles {
 /// kinetic energy and momentum on request. Samples go into a bounded ring buffer, one per
 /// simulated frame; a timer hands them to the chart a few times a second, so plotting never
 /// slows the simulation down.
+///
+/// While a second model runs beside the document's (CompareRun), each plotted marble gets a
+/// second, dashed line in the same colour: its speed in the comparison model, labelled with
+/// that model's name.
 class PlotDock : public QDockWidget {
     Q_OBJECT
 
@@ -44,9 +48,10 @@ public:
     /// Forgets every sample and takes marble colours, names and frameMs from `world`
     /// (a new or loaded scene, or a jump back in time). Adds no sample.
     void reset(const World &world);
-    /// Records one sample of `world` as it is now (call once per simulated frame).
+    /// Records one sample of `world` as it is now (call once per simulated frame), and of `compare`,
+    /// the comparison model's world at the same frame, when comparing (null: no comparison sample).
     /// Costs O(plotted marbles) for the speeds plus one pass for the two totals; never touches the chart.
-    void appendFrame(const World &world);
+    void appendFrame(const World &world, const World *compare = nullptr);
     /// Marbles to plot, by scene index; empty plots all of them, up to kMaxPlottedMarbles.
     /// Marbles that stay plotted keep their history; newly plotted ones start from the next sample.
     void setSelectedMarbles(const QList<int> &indices);
@@ -71,6 +76,17 @@ public:
     /// Seconds of wall clock at `frame`: frame * frameMs / 1000, with the latest frameMs seen.
     double secondsAt(std::int64_t frame) const;
 
+    /// Plots the speeds of a comparison model named `model` ("exact") as dashed lines beside the
+    /// solid ones; "" removes them. A new name forgets the comparison samples held so far.
+    void setCompareModel(const QString &model);
+    /// Name of the comparison model plotted, or "" when none.
+    QString compareModel() const { return m_compareModel; }
+    /// Speed |v| of `marble` in the comparison model at sample `i`, px/frame; NaN when there was no
+    /// comparison sample then.
+    double sampleCompareSpeed(qsizetype i, int marble) const;
+    /// The dashed comparison line of `marble`, or nullptr when it is not plotted or nothing is compared.
+    QLineSeries *compareSeries(int marble) const;
+
     /// Shows total kinetic energy (on the right-hand axis).
     void setKineticEnergyShown(bool shown);
     /// Shows the magnitude of the total momentum (on the right-hand axis).
@@ -92,20 +108,28 @@ public:
     QString hoverText() const;
 
     /// Writes every held sample as CSV: frame,time_s,speed_<i>...,kinetic,momentum (17 significant
-    /// digits; an empty field where a marble was not plotted). Returns "" or a message naming the file.
+    /// digits; an empty field where a marble was not plotted), then speed_<i>_<model>... while a
+    /// comparison model is plotted. Returns "" or a message naming the file.
     QString exportCsv(const QString &path) const;
     /// Saves the chart as a PNG of the chart view's size. Returns "" or a message naming the file.
     QString exportPng(const QString &path);
 
 private:
-    /// One plotted marble: its speed history, aligned sample for sample with m_frames.
+    /// One plotted marble: its speed history, aligned sample for sample with m_frames, and while
+    /// comparing its speed in the comparison model (aligned the same way).
     struct Track {
         int marble = 0;
         RingBuffer<double> speed;
         QLineSeries *series = nullptr;
+        RingBuffer<double> compareSpeed;
+        QLineSeries *compareSeries = nullptr;
     };
 
     void rebuildTracks();
+    QLineSeries *addSpeedSeries();
+    void addCompareTrack(Track &t);
+    void removeCompareTrack(Track &t);
+    void styleSeries();
     QList<int> wantedMarbles() const;
     QColor marbleColor(int marble) const;
     QString marbleLabel(int marble) const;
@@ -126,6 +150,8 @@ private:
     int m_marbleCount = 0;
     std::vector<QString> m_colors; ///< "#rrggbb" per marble, "" for the default palette
     std::vector<QString> m_names;
+    QString m_model;        ///< the document's model name, from the latest world seen
+    QString m_compareModel; ///< the comparison model's name, "" when none
     double m_frameMs = 20.0;
     bool m_timeInSeconds = false;
     bool m_dirty = false;
