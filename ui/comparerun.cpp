@@ -1,0 +1,203 @@
+#include "ui/comparerun.h"
+
+#include "core/sceneio.h"
+#include "ui/marblefielditem.h"
+#include "ui/scenedocument.h"
+
+#include <QGraphicsScene>
+
+#include <cmath>
+
+namespace marbles {
+
+CompareRun::CompareRun(SceneDocument *document, QObject *parent)
+    : QObject(parent)
+    , m_document(document)
+{
+    // Connected once; every handler returns at once while the comparison is off. These
+    // connections are made before the main window connects its plot, so the comparison has
+    // simulated its frame by the time the plot samples both worlds.
+    connect(m_document, &SceneDocument::frameAdvanced, this, &CompareRun::onFrameAdvanced);
+    connect(m_document, &SceneDocument::stepped, this, &CompareRun::onStepped);
+    connect(m_document, &SceneDocument::sceneChanged, this, &CompareRun::restart);
+    connect(m_document, &SceneDocument::timelineReset, this, &CompareRun::restart);
+}
+
+CompareRun::~CompareRun()
+{
+    removeGhost();
+}
+
+void CompareRun::setModel(ModelKind model)
+{
+    const bool changed = !m_model || *m_model != model;
+    m_model = model;
+    if (!m_world)
+        m_world = std::make_unique<World>();
+    restart();
+    if (changed)
+        Q_EMIT modelChanged();
+}
+
+void CompareRun::stop()
+{
+    if (!m_model)
+        return;
+    m_model.reset();
+    m_world.reset();
+    m_problem.clear();
+    m_currentGap = 0.0;
+    m_currentGapMarble = -1;
+    m_largestGap = 0.0;
+    m_largestGapMarble = -1;
+    removeGhost();
+    Q_EMIT modelChanged();
+}
+
+void CompareRun::restart()
+{
+    if (!m_model)
+        return;
+    const World &source = m_document->world();
+    *m_world = source;
+    m_world->params.model = *m_model;
+    m_startFrame = source.frame;
+    m_currentGap = 0.0;
+    m_currentGapMarble = -1;
+    m_largestGap = 0.0;
+    m_largestGapMarble = -1;
+    m_largestGapFrame = source.frame;
+    // The scene's parameters were checked for the document's model only: friction >= 1, say, is
+    // the book model's instability on show, but the exact and impulse models cannot run with it.
+    m_problem = QString::fromStdString(validateParams(m_world->params));
+    updateGhost();
+    Q_EMIT restarted();
+}
+
+void CompareRun::onFrameAdvanced()
+{
+    if (!isTracking())
+        return;
+    const World &source = m_document->world();
+    // A marble held by the mouse is moved by the hand, not by either model: follow the document.
+    // A frame count that does not match means frames ran that this object did not see.
+    if (m_document->heldMarble() >= 0 || m_world->frame + 1 != source.frame
+        || m_world->marbleCount() != source.marbleCount()) {
+        restart();
+        return;
+    }
+    const StepResult result = m_world->step();
+    if (!result.finite) {
+        m_problem = tr("the %1 model stopped at frame %2: marble %3 left finite numbers")
+                        .arg(QString::fromUtf8(modelName(*m_model).data(),
+                                               static_cast<qsizetype>(modelName(*m_model).size())))
+                        .arg(m_world->frame)
+                        .arg(result.badMarble);
+        updateGhost();
+        Q_EMIT restarted();
+        return;
+    }
+    measureGap();
+    Q_EMIT advanced();
+}
+
+void CompareRun::onStepped()
+{
+    if (!isTracking())
+        return;
+    const World &source = m_document->world();
+    if (m_document->heldMarble() >= 0 && m_world->position != source.position) {
+        restart();
+        return;
+    }
+    // A click on a marble (SceneDocument::pushMarble) only adds to the pending acceleration, to
+    // act on the next frame. Between frames both worlds hold the same frame, and pending
+    // accelerations are zero after every frame in every model except for pushes: copying the
+    // document's gives the comparison marble the very same push, a = (p - c) * pushScale / m.
+    if (m_world->frame == source.frame && m_world->marbleCount() == source.marbleCount())
+        m_world->acceleration = source.acceleration;
+    if (m_ghost)
+        m_ghost->syncFromWorld();
+}
+
+void CompareRun::measureGap()
+{
+    const World &source = m_document->world();
+    const int n = std::min(source.marbleCount(), m_world->marbleCount());
+    m_currentGap = 0.0;
+    m_currentGapMarble = -1;
+    for (int i = 0; i < n; ++i) {
+        const double gap = distance(source.position[i], m_world->position[i]);
+        // A strict ">" keeps the first marble among equal gaps, and skips a NaN.
+        if (gap > m_currentGap) {
+            m_currentGap = gap;
+            m_currentGapMarble = i;
+        }
+    }
+    if (m_currentGap > m_largestGap) {
+        m_largestGap = m_currentGap;
+        m_largestGapMarble = m_currentGapMarble;
+        m_largestGapFrame = m_world->frame;
+    }
+}
+
+QString CompareRun::summary() const
+{
+    if (!m_model)
+        return QString();
+    const std::string_view name = modelName(*m_model);
+    const QString model = QString::fromUtf8(name.data(), static_cast<qsizetype>(name.size()));
+    if (!m_problem.isEmpty())
+        return tr("Compare: %1 - not running: %2").arg(model, m_problem);
+    if (m_largestGapMarble < 0)
+        return tr("Compare: %1 - largest gap 0 px").arg(model);
+    return tr("Compare: %1 - largest gap %2 px (marble %3, frame %4)")
+        .arg(model)
+        .arg(m_largestGap, 0, 'f', 1)
+        .arg(m_largestGapMarble)
+        .arg(m_largestGapFrame);
+}
+
+void CompareRun::setStage(QGraphicsScene *scene)
+{
+    if (scene == m_stage)
+        return;
+    removeGhost();
+    if (m_stage)
+        disconnect(m_stage, nullptr, this, nullptr);
+    m_stage = scene;
+    if (m_stage) {
+        // The scene deletes its items when it dies: forget the ghost then, never delete it twice.
+        connect(m_stage, &QObject::destroyed, this, [this] { m_ghost = nullptr; });
+    }
+    updateGhost();
+}
+
+void CompareRun::updateGhost()
+{
+    if (!m_stage || !isTracking()) {
+        removeGhost();
+        return;
+    }
+    if (!m_ghost) {
+        m_ghost = new MarbleFieldItem(m_world.get(), MarbleFieldItem::Style::Ghost);
+        m_ghost->setZValue(kGhostZValue);
+        // Clicks and drags go to the document's marbles underneath, never to their ghosts.
+        m_ghost->setAcceptedMouseButtons(Qt::NoButton);
+        m_ghost->setAcceptHoverEvents(false);
+        m_stage->addItem(m_ghost);
+    }
+    m_ghost->setWorld(m_world.get());
+}
+
+void CompareRun::removeGhost()
+{
+    if (!m_ghost)
+        return;
+    if (m_stage)
+        m_stage->removeItem(m_ghost);
+    delete m_ghost;
+    m_ghost = nullptr;
+}
+
+} // namespace marbles

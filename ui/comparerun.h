@@ -1,0 +1,130 @@
+#pragma once
+
+#include "core/world.h"
+
+#include <QObject>
+#include <QPointer>
+#include <QString>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+
+class QGraphicsScene;
+
+namespace marbles {
+
+class MarbleFieldItem;
+class SceneDocument;
+
+/// "Compare in the app": a second model run beside the document's own, on the same scene, so
+/// that a class can watch two models drift apart (the book's approximation against the exact
+/// physics, say). Off by default; while off it holds no world and does no work.
+///
+/// The comparison world is a copy of the document's world with only params.model changed. The
+/// rule that keeps the two side by side, as a teacher sees it:
+/// - **Same start.** Choosing a comparison model copies the scene exactly as it is now, so both
+///   models start from the same positions and velocities at the same frame.
+/// - **Same frames.** Every frame the document simulates, the comparison simulates one frame of
+///   its own model. Scripted pushes are part of the scene and act in both; a click on a marble
+///   gives the comparison marble the same push.
+/// - **Restart on anything else.** Stepping back, rewinding, opening a file or a preset, and any
+///   edit (moving, adding or removing a marble or pin, changing a parameter, undo, redo) restart
+///   the comparison from the document's state at that moment: the gap goes back to 0, and
+///   "largest gap" counts from that frame (startFrame()). While a marble is held with the mouse
+///   the comparison follows the document every frame, as the hand moves that marble outside
+///   either model's physics.
+/// - **When the comparison model cannot run.** If the scene's parameters are invalid for the
+///   comparison model (friction >= 1 is valid for the book model only), the comparison waits,
+///   with the reason in problem(), and starts again at the next restart once they are valid. If
+///   the comparison model leaves finite numbers, it stops at that frame with the reason in
+///   problem(); the document's run goes on.
+///
+/// The gap is measured between marbles of the same index at the same frame:
+/// gap = max over marbles i of |p_i(document) - p_i(comparison)|, in stage px.
+class CompareRun : public QObject {
+    Q_OBJECT
+
+public:
+    /// Z value of the ghost outlines on the stage: above marbles (0) and pins (1), below the
+    /// collision vectors (2), so the solid marbles stay visible through the dashed outlines.
+    static constexpr double kGhostZValue = 1.5;
+
+    /// Compares against `document`, which must outlive this object.
+    explicit CompareRun(SceneDocument *document, QObject *parent = nullptr);
+    ~CompareRun() override;
+
+    /// Starts comparing with `model` from the document's current state (or restarts when it is the
+    /// model already compared). Any model may be chosen, the document's own included (its gap is 0).
+    void setModel(ModelKind model);
+    /// Stops comparing and frees the comparison world.
+    void stop();
+    /// True when a comparison model is chosen (even while it waits or has stopped with a problem).
+    bool isActive() const { return m_model.has_value(); }
+    /// The comparison model; only meaningful while isActive().
+    ModelKind model() const { return m_model.value_or(ModelKind::Book); }
+    /// True while the comparison world runs in step with the document (active and no problem).
+    bool isTracking() const { return m_world != nullptr && m_problem.isEmpty(); }
+    /// Why the comparison is not running now ("" when it runs or is off).
+    QString problem() const { return m_problem; }
+
+    /// The comparison world while isTracking(), else null. Valid until the next restart or stop().
+    const World *world() const { return isTracking() ? m_world.get() : nullptr; }
+    /// Frame the comparison last (re)started from.
+    std::int64_t startFrame() const { return m_startFrame; }
+
+    /// Position gap at the latest frame, px: max over marbles of |p_document - p_comparison|.
+    double currentGapPx() const { return m_currentGap; }
+    /// Marble with the gap at the latest frame, or -1 when every gap is 0.
+    int currentGapMarble() const { return m_currentGapMarble; }
+    /// Largest gap since startFrame(), px.
+    double largestGapPx() const { return m_largestGap; }
+    /// Marble that had the largest gap, or -1 while the largest gap is 0.
+    int largestGapMarble() const { return m_largestGapMarble; }
+    /// Frame at which the largest gap happened (startFrame() while it is 0).
+    std::int64_t largestGapFrame() const { return m_largestGapFrame; }
+
+    /// One line for the status bar: "Compare: exact - largest gap 12.3 px (marble 2, frame 57)";
+    /// "" while off.
+    QString summary() const;
+
+    /// Draws the comparison marbles as dashed ghost outlines in `scene` (the stage's scene; null
+    /// removes them). The ghosts exist only while isTracking(). The scene may be destroyed first.
+    void setStage(QGraphicsScene *scene);
+    /// The ghost item in the stage, or null while there are no ghosts (for tests).
+    const MarbleFieldItem *ghostItem() const { return m_ghost; }
+
+Q_SIGNALS:
+    /// The comparison was switched on, switched off, or changed model.
+    void modelChanged();
+    /// The comparison world was copied afresh from the document (the gap is 0 again), or it
+    /// stopped or started waiting (problem() changed).
+    void restarted();
+    /// The comparison simulated one frame beside the document's (emitted once per frame).
+    void advanced();
+
+private:
+    void restart();
+    void onFrameAdvanced();
+    void onStepped();
+    void measureGap();
+    void updateGhost();
+    void removeGhost();
+
+    SceneDocument *m_document;
+    std::optional<ModelKind> m_model;
+    std::unique_ptr<World> m_world;
+    QString m_problem;
+
+    std::int64_t m_startFrame = 0;
+    double m_currentGap = 0.0;
+    int m_currentGapMarble = -1;
+    double m_largestGap = 0.0;
+    int m_largestGapMarble = -1;
+    std::int64_t m_largestGapFrame = 0;
+
+    QPointer<QGraphicsScene> m_stage;
+    MarbleFieldItem *m_ghost = nullptr;
+};
+
+} // namespace marbles
