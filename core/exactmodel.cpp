@@ -51,23 +51,31 @@
 //    and separates is left alone. The quadratic's smaller root is computed in the citardauq form
 //    c / (-b + sqrt(b^2 - a c)), free of cancellation.
 //
-// 6. Inelastic collapse (e < 1). A cluster of marbles with e < 1 can collide infinitely often in
-//    a finite time (each bounce smaller and sooner). Three guards keep every frame finite:
-//    - a wall bounce that would rise less than restHeightPx against gravity becomes resting
-//      contact (the marble slides along the wall, its normal velocity and gravity held at zero)
-//      until a collision gives it a normal velocity again: the limit of the infinitely many
-//      vanishing bounces of a marble settling on a floor;
-//    - after elasticAfterCollisions collisions of a marble in one frame, its further collisions in
-//      that frame are elastic (e = 1), which stops the geometric shrinking of the gaps;
-//    - a marble-marble or marble-pin contact with an approach speed below the same resting speed
+// 6. Endless collision sequences, and the guard against them. Elastic hard disks (e = 1) without
+//    gravity collide finitely often in a finite time, however fast they move: a frame at
+//    1e6 px/frame is simply many real collisions, and each one keeps the kinetic energy to
+//    rounding. So with e = 1 no collision is ever altered or counted against a marble; the only
+//    degenerate case is a grazing pair whose approach is pure rounding noise, and the predictor
+//    ignores it (grazingApproach, below). Two situations do produce infinitely many events in a
+//    finite time, and only these trigger the guard:
+//    - Inelastic collapse (e < 1 only). A cluster of marbles with e < 1 can collide infinitely
+//      often in a finite time (each bounce smaller and sooner, the gaps shrinking geometrically).
+//      After elasticAfterCollisions collisions of a marble in one frame its further collisions in
+//      that frame are elastic, which stops the shrinking; after freezeAfterCollisions (or
+//      freezeAfterWallBounces wall bounces) it is frozen: held at rest as an immovable body until
+//      the frame ends (it leaves the frame with zero velocity). Momentum is not conserved by a
+//      frozen marble; only such degenerate clusters ever reach this stage.
+//    - Resting contact under gravity (any e). In a world of perfectly hard disks, "sitting" on a
+//      floor, a pin or another marble is an infinite sequence of ever smaller bounces. A wall
+//      bounce that would rise less than restHeightPx becomes resting contact (the marble slides
+//      along the wall, its normal velocity and gravity held at zero) until a collision gives it a
+//      normal velocity again. A marble-marble or marble-pin contact approaching slower than
 //      sqrt(2 |g| restHeightPx) is a resting contact; after freezeAfterRestingContacts of them in
-//      a frame the marble is frozen (below): marbles sitting on marbles come to rest at once;
-//    - after freezeAfterCollisions collisions (or freezeAfterWallBounces wall bounces) of a
-//      marble in one frame, it is frozen: held at rest as an immovable body until the frame ends
-//      (it leaves the frame with zero velocity). This bounds the work per frame absolutely. A
-//      resting pile under gravity (marbles sitting on marbles) ends up here, because in a world
-//      of perfectly hard disks "sitting" is an infinite sequence of ever smaller bounces. Momentum
-//      is not conserved by a frozen marble; only such degenerate clusters ever reach this stage.
+//      a frame the marble is frozen. Curved relative paths (gravity on a pin, or on a frozen or
+//      wall-held partner) are tested by conservative advancement; a marble whose tests failed to
+//      conclude freezeAfterRechecks times in a frame is frozen too. Without gravity none of
+//      these can happen (restHeightPx gives a resting speed of 0, and all paths are straight).
+//    Together they bound the work of every frame: a resting pile costs a few events per marble.
 
 namespace marbles {
 
@@ -79,6 +87,14 @@ constexpr double infinity = std::numeric_limits<double>::infinity();
 constexpr double contactGapTolerance = 1e-10;
 // Conservative-advancement steps per prediction before handing back a "re-check later" event.
 constexpr int advancementSteps = 64;
+// A pair on straight relative paths approaches only if d.dv < -grazingApproach |d| |dv|, that is
+// if the normal approach speed exceeds this fraction of the relative speed. Below it, the
+// approach is rounding noise: after an elastic bounce the normal component is reversed, but
+// rounding in the velocity components (a few ulp of |dv|) can leave a grazing pair "approaching"
+// by ~1e-16 |dv| again, and it would bounce back and forth at the same instant for ever.
+// Ignoring such an approach costs nothing measurable: a straight path that enters the contact
+// circle at a grazing angle eps penetrates by at most R eps^2 / 2 (1e-24 R here).
+constexpr double grazingApproach = 1e-12;
 
 // Coefficients (-1)^n / (n + 2)! of the series of h(x) = (x - 1 + e^{-x}) / x^2.
 constexpr int seriesTerms = 17;
@@ -225,8 +241,8 @@ Contact firstContact(Vec2 d0, Vec2 dv, Vec2 dg, double R, double lambda, double 
     if (dg.x == 0.0 && dg.y == 0.0) {
         // Straight lines in s: |d0 + dv s|^2 = R^2, i.e. a s^2 + 2 b s + c = 0.
         const double b = dot(d0, dv);
-        if (!(b < 0.0))
-            return none; // separating, or sliding past: no contact ahead
+        if (!(b < -grazingApproach * length(d0) * length(dv)))
+            return none; // separating, or sliding past (within rounding): no contact ahead
         const double c = dot(d0, d0) - R2;
         if (c <= 0.0)
             return {0.0, false}; // touching or overlapping, and approaching: collide at once
@@ -367,6 +383,7 @@ void ExactModel::beginFrame(World &world)
         k = std::nextafter(1.0, 0.0);
     m_lambda = -std::log1p(-k);
     m_restitution = std::clamp(world.params.restitution, 0.0, 1.0);
+    m_inelastic = m_restitution < 1.0;
     m_gravity = world.params.gravity;
     m_width = world.stage.width;
     m_height = world.stage.height;
@@ -382,6 +399,7 @@ void ExactModel::beginFrame(World &world)
     m_stamp.assign(n, 0);
     m_pairHits.assign(n, 0);
     m_restHits.assign(n, 0);
+    m_recheckHits.assign(n, 0);
     m_wallHits.assign(n, 0);
     m_frozen.assign(n, 0);
     m_locked.assign(n, 0);
@@ -408,13 +426,17 @@ void ExactModel::beginFrame(World &world)
     // Contacts happen at centre distances up to 2 rMax (marble-marble) or rMax (pins).
     const double w = m_walls ? m_width : std::max(m_width, 1.0);
     const double h = m_walls ? m_height : std::max(m_height, 1.0);
-    m_geometry = GridGeometry::fit(2.0 * rMax, w, h, n + static_cast<int>(world.pins.size()));
-    m_head.assign(m_geometry.bucketCount(), -1);
+    const int items = n + static_cast<int>(world.pins.size());
+    m_geometry = GridGeometry::fit(2.0 * rMax, w, h, items);
+    // A few bodies are cheaper to test all against all than to track through a grid: at extreme
+    // speeds the cell crossings would outnumber the collisions a hundred to one.
+    m_singleCell = items <= singleCellItems;
+    m_head.assign(m_singleCell ? 1 : m_geometry.bucketCount(), -1);
     // Link in descending index order, so each bucket list starts in ascending order.
     for (int i = n - 1; i >= 0; --i) {
-        m_cellX[i] = m_geometry.coord(m_base[i].x);
-        m_cellY[i] = m_geometry.coord(m_base[i].y);
-        linkIntoBucket(i, m_geometry.bucket(m_cellX[i], m_cellY[i]));
+        m_cellX[i] = m_singleCell ? 0 : m_geometry.coord(m_base[i].x);
+        m_cellY[i] = m_singleCell ? 0 : m_geometry.coord(m_base[i].y);
+        linkIntoBucket(i, m_singleCell ? 0 : m_geometry.bucket(m_cellX[i], m_cellY[i]));
     }
     m_pinGrid.build(m_geometry, world.pins.data(), static_cast<int>(world.pins.size()));
 }
@@ -529,7 +551,12 @@ void ExactModel::predict(int i, double now)
     const double tauEnd = 1.0 - now;
     double horizon = tauEnd; // elapsed time up to which contacts are searched
 
-    if (!m_frozen[i]) {
+    int buckets[9] = {0};
+    const int bucketCount = m_singleCell ? 1 : 9;
+    if (!m_singleCell)
+        m_geometry.neighbourhood(m_cellX[i], m_cellY[i], buckets);
+
+    if (!m_frozen[i] && !m_singleCell) {
         // Cell crossings: the centre reaching a lattice line of its cell. The lines are only
         // book-keeping, so the lower and upper lines are approached "from inside".
         const std::int64_t kx = m_cellX[i];
@@ -552,6 +579,8 @@ void ExactModel::predict(int i, double now)
             }
         }
 
+    }
+    if (!m_frozen[i]) {
         if (m_walls) {
             // Walls 0..3: left, right, top, bottom; contact when the centre is r from the edge.
             const double tw[4] = {
@@ -560,23 +589,32 @@ void ExactModel::predict(int i, double now)
                 firstDownCrossing(p.y - r, v.y, g.y, m_lambda, horizon),
                 firstDownCrossing(m_height - r - p.y, -v.y, -g.y, m_lambda, horizon),
             };
+            // The marble's own next event ends the search: it is predicted afresh after it.
+            double firstWall = horizon;
             for (int wall = 0; wall < 4; ++wall) {
-                if (tw[wall] <= horizon)
+                if (tw[wall] <= horizon) {
                     offer(now + tw[wall], EventKind::Wall, wall, 0);
+                    firstWall = std::min(firstWall, tw[wall]);
+                }
             }
+            horizon = firstWall;
         }
 
         if (!m_world->pins.empty()) {
             const double sHorizon = flow(m_lambda, horizon).phi1;
-            int buckets[9];
-            m_geometry.neighbourhood(kx, ky, buckets);
-            for (int b : buckets) {
-                for (int k = m_pinGrid.begin(b); k < m_pinGrid.end(b); ++k) {
-                    const int pin = m_pinGrid.items()[k];
-                    const Vec2 q = m_world->pins[pin];
-                    const Contact c = firstContact({p.x - q.x, p.y - q.y}, v, g, r, m_lambda, horizon, sHorizon);
-                    if (c.tau <= horizon)
-                        offer(now + c.tau, c.recheck ? EventKind::RecheckPin : EventKind::Pin, pin, 0);
+            auto testPin = [&](int pin) {
+                const Vec2 q = m_world->pins[pin];
+                const Contact c = firstContact({p.x - q.x, p.y - q.y}, v, g, r, m_lambda, horizon, sHorizon);
+                if (c.tau <= horizon)
+                    offer(now + c.tau, c.recheck ? EventKind::RecheckPin : EventKind::Pin, pin, 0);
+            };
+            if (m_singleCell) {
+                for (int pin = 0; pin < static_cast<int>(m_world->pins.size()); ++pin)
+                    testPin(pin);
+            } else {
+                for (int b : buckets) {
+                    for (int k = m_pinGrid.begin(b); k < m_pinGrid.end(b); ++k)
+                        testPin(m_pinGrid.items()[k]);
                 }
             }
         }
@@ -586,10 +624,8 @@ void ExactModel::predict(int i, double now)
     // (lower index first), so both marbles of a pair predict bit-identical times.
     const double limit = m_frozen[i] ? tauEnd : horizon;
     const double sLimit = flow(m_lambda, limit).phi1;
-    int buckets[9];
-    m_geometry.neighbourhood(m_cellX[i], m_cellY[i], buckets);
-    for (int b : buckets) {
-        for (int j = m_head[b]; j >= 0; j = m_next[j]) {
+    for (int nb = 0; nb < bucketCount; ++nb) {
+        for (int j = m_head[buckets[nb]]; j >= 0; j = m_next[j]) {
             if (j == i || (m_frozen[i] && m_frozen[j]))
                 continue;
             Vec2 pj;
@@ -627,12 +663,18 @@ void ExactModel::unlockMoved(int i)
 
 bool ExactModel::countContact(int i, double t)
 {
-    if (++m_pairHits[i] <= freezeAfterCollisions || m_frozen[i])
+    if (++m_recheckHits[i] <= freezeAfterRechecks || m_frozen[i])
         return false;
     rebase(i, t);
     ++m_stamp[i];
     freeze(i);
     return true;
+}
+
+bool ExactModel::overLimit(int i) const
+{
+    // Collision counts only matter for e < 1 (inelastic collapse); resting contacts always.
+    return m_restHits[i] > freezeAfterRestingContacts || (m_inelastic && m_pairHits[i] > freezeAfterCollisions);
 }
 
 void ExactModel::freeze(int i)
@@ -664,7 +706,8 @@ void ExactModel::collidePair(World &world, int i, int j, double t)
     if (approach > 0.0 && wi + wj > 0.0) {
         // Impulse J along n with (v_i' - v_j').n = -e (v_i - v_j).n and m_i v_i + m_j v_j kept:
         // J = (1 + e) approach / (1/m_i + 1/m_j); v_i -= J/m_i n, v_j += J/m_j n.
-        const bool elastic = m_pairHits[i] > elasticAfterCollisions || m_pairHits[j] > elasticAfterCollisions;
+        const bool elastic = m_inelastic
+            && (m_pairHits[i] > elasticAfterCollisions || m_pairHits[j] > elasticAfterCollisions);
         const double e = elastic ? 1.0 : m_restitution;
         const double impulse = (1.0 + e) * approach / (wi + wj);
         const Vec2 inI = m_vel[i];
@@ -682,9 +725,9 @@ void ExactModel::collidePair(World &world, int i, int j, double t)
     ++m_stamp[j];
     unlockMoved(i);
     unlockMoved(j);
-    if (m_pairHits[i] > freezeAfterCollisions || m_restHits[i] > freezeAfterRestingContacts)
+    if (overLimit(i))
         freeze(i);
-    if (m_pairHits[j] > freezeAfterCollisions || m_restHits[j] > freezeAfterRestingContacts)
+    if (overLimit(j))
         freeze(j);
 }
 
@@ -699,7 +742,7 @@ void ExactModel::collidePin(World &world, int i, int pin, double t)
         ++m_restHits[i];
     if (approach > 0.0) {
         // The pin is immovable (infinite mass): v' = v - (1 + e) (v.n) n.
-        const bool elastic = m_pairHits[i] > elasticAfterCollisions;
+        const bool elastic = m_inelastic && m_pairHits[i] > elasticAfterCollisions;
         const double e = elastic ? 1.0 : m_restitution;
         const Vec2 in = m_vel[i];
         m_vel[i].x -= (1.0 + e) * approach * n.x;
@@ -709,7 +752,7 @@ void ExactModel::collidePin(World &world, int i, int pin, double t)
     }
     ++m_stamp[i];
     unlockMoved(i);
-    if (m_pairHits[i] > freezeAfterCollisions || m_restHits[i] > freezeAfterRestingContacts)
+    if (overLimit(i))
         freeze(i);
 }
 
@@ -752,7 +795,7 @@ void ExactModel::collideWall(World &world, int i, int wall, double t)
         world.lastHit[i] = {world.frame + 1, unit(in), n, unit(m_vel[i])};
     }
     ++m_stamp[i];
-    if (m_wallHits[i] > freezeAfterWallBounces)
+    if (m_inelastic && m_wallHits[i] > freezeAfterWallBounces)
         freeze(i);
 }
 

@@ -21,20 +21,25 @@ namespace marbles {
 /// the World at the start of every frame, so they are caches only.
 class ExactModel final : public Stepper {
 public:
-    /// After this many marble-marble or marble-pin collisions of a marble within one frame, its
-    /// further collisions in that frame are elastic (the inelastic-collapse guard, first stage).
+    /// With e < 1 only: after this many marble-marble or marble-pin collisions of a marble within
+    /// one frame, its further collisions in that frame are elastic (inelastic-collapse guard).
     static constexpr int elasticAfterCollisions = 32;
-    /// After this many marble-marble or marble-pin collisions (or re-checks) of a marble within
+    /// With e < 1 only: after this many marble-marble or marble-pin collisions of a marble within
     /// one frame, it is frozen (held at rest as an immovable body) until the frame ends.
     static constexpr int freezeAfterCollisions = 256;
+    /// After this many re-checks (curved paths under gravity whose contact test did not conclude)
+    /// of a marble within one frame, it is frozen likewise, whatever e.
+    static constexpr int freezeAfterRechecks = 1024;
     /// After this many resting contacts (marble-marble or marble-pin contacts approaching slower
     /// than sqrt(2 |g| restHeightPx)) of a marble within one frame, it is frozen likewise.
     static constexpr int freezeAfterRestingContacts = 16;
-    /// After this many wall bounces of a marble within one frame, it is frozen likewise.
+    /// With e < 1 only: after this many wall bounces of a marble within one frame, it is frozen.
     static constexpr int freezeAfterWallBounces = 1 << 16;
     /// A wall bounce that would rise less than this height against gravity (px) becomes resting
     /// contact: the marble slides along the wall until something lifts it off.
     static constexpr double restHeightPx = 1e-3;
+    /// Up to this many bodies (marbles and pins) all pairs are tested, without a grid.
+    static constexpr int singleCellItems = 64;
 
     ExactModel();
     ~ExactModel() override;
@@ -73,6 +78,7 @@ private:
     void collideWall(World &world, int i, int wall, double t);
     void crossCell(int i, int side);
     void freeze(int i);
+    bool overLimit(int i) const;
     bool countContact(int i, double t);
     void unlockMoved(int i);
     void linkIntoBucket(int i, int bucket);
@@ -81,12 +87,14 @@ private:
     // Frame constants.
     double m_lambda = 0.0;       // drag rate, 1/frame
     double m_restitution = 1.0;
+    bool m_inelastic = false;    // e < 1: the collapse guard's collision counts apply
     double m_restSpeed = 0.0;    // sqrt(2 |g| restHeightPx), px/frame
     Vec2 m_gravity;
     double m_width = 0.0;
     double m_height = 0.0;
     bool m_walls = true;
     GridGeometry m_geometry;
+    bool m_singleCell = false;   // no grid: one bucket, no cell crossings
     const World *m_world = nullptr;
 
     // Marbles: trajectory p(t) = base + vel phi1(t - t0) + grav phi2(t - t0) (see the .cpp).
@@ -99,6 +107,7 @@ private:
     std::vector<std::uint32_t> m_stamp;
     std::vector<int> m_pairHits;
     std::vector<int> m_restHits;
+    std::vector<int> m_recheckHits;
     std::vector<int> m_wallHits;
     std::vector<std::uint8_t> m_frozen;
     std::vector<std::uint8_t> m_locked; // bit 0: x held against a wall, bit 1: y

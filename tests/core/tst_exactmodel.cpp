@@ -123,6 +123,10 @@ private slots:
     void freshAndReusedModelsAgree();
     void inelasticClusterNeverStalls_data();
     void inelasticClusterNeverStalls();
+    void elasticAtExtremeSpeeds_data();
+    void elasticAtExtremeSpeeds();
+    void densePileBoundedWork_data();
+    void densePileBoundedWork();
 };
 
 void TestExactModel::dragOnly_data()
@@ -570,6 +574,128 @@ void TestExactModel::inelasticClusterNeverStalls()
         for (int i = 0; i < n; ++i)
             QVERIFY(isFinite(w.position[i]) && isFinite(w.velocity[i]));
     }
+}
+
+void TestExactModel::elasticAtExtremeSpeeds_data()
+{
+    QTest::addColumn<double>("speed");
+    QTest::addColumn<double>("gravity");
+    QTest::addColumn<int>("frames");
+    QTest::addRow("v=1e3") << 1e3 << 0.0 << 200;
+    QTest::addRow("v=1e5") << 1e5 << 0.0 << 40;
+    QTest::addRow("v=1e6") << 1e6 << 0.0 << 20;
+    QTest::addRow("v=1e6 gravity") << 1e6 << 0.5 << 20;
+    // More bodies than ExactModel::singleCellItems: the grid and its cell crossings.
+    QTest::addRow("v=1e5 grid") << 1e5 << 0.0 << 4;
+}
+
+void TestExactModel::elasticAtExtremeSpeeds()
+{
+    QFETCH(double, speed);
+    QFETCH(double, gravity);
+    QFETCH(int, frames);
+    // Marbles of different sizes and masses, thrown in all directions at up to `speed` px/frame
+    // among pins in a closed box, e = 1, no drag: every marble hits walls, pins and other marbles
+    // hundreds of times a frame. Mechanical energy (kinetic + potential -m g.p) must be kept, and
+    // no marble may leave the box or sink into a pin or another marble.
+    World w = bareWorld(0.0, true, 1.0);
+    w.params.gravity = {0.0, gravity};
+    const bool grid = QByteArray(QTest::currentDataTag()).endsWith("grid");
+    SplitMix64 rng(5);
+    const int marbles = grid ? 60 : 7;
+    const int pins = grid ? 30 : 10;
+    for (int k = 0; k < pins; ++k)
+        w.addPin({60.0 + 70.0 * (k % 10), 150.0 + 150.0 * (k / 10) + 20.0 * std::sin(k)});
+    for (int k = 0; k < marbles; ++k) {
+        const double r = rng.uniform(4.0, 15.0);
+        const double angle = rng.uniform(0.0, 2 * std::numbers::pi);
+        const double v = speed * rng.uniform(0.3, 1.0);
+        // Rows between the rows of pins (y = 75, 225, 375, 525): no overlap at the start.
+        const int perRow = grid ? 17 : 7;
+        const double spacing = grid ? 45.0 : 110.0;
+        w.addMarble({40.0 + spacing * (k % perRow), 75.0 + 150.0 * (k / perRow)}, r,
+                    {v * std::cos(angle), v * std::sin(angle)});
+    }
+    QCOMPARE_GE(smallestGap(w), 0.0);
+    auto energy = [](const World &world) {
+        double e = world.kineticEnergy();
+        for (int i = 0; i < world.marbleCount(); ++i)
+            e -= world.mass[i] * dot(world.params.gravity, world.position[i]);
+        return e;
+    };
+    const double e0 = energy(w);
+    ExactModel model;
+    std::int64_t collisions = 0;
+    for (int f = 0; f < frames; ++f) {
+        run(w, model, 1);
+        collisions += model.lastCollisionCount();
+        QCOMPARE(model.lastFrozenCount(), 0);
+        QCOMPARE_LE(relativeError(energy(w), e0), 1e-9);
+        // Walls included: a negative gap against a wall would be a marble (partly) outside.
+        QCOMPARE_GE(smallestGap(w), -1e-9);
+        for (int i = 0; i < w.marbleCount(); ++i)
+            QVERIFY(isFinite(w.position[i]) && isFinite(w.velocity[i]));
+    }
+    // Each marble crosses the box about speed / 800 times a frame.
+    QCOMPARE_GE(double(collisions), 0.5 * frames * marbles * speed / 800.0);
+}
+
+void TestExactModel::densePileBoundedWork_data()
+{
+    QTest::addColumn<double>("restitution");
+    QTest::addColumn<double>("friction");
+    QTest::addRow("e=0.5") << 0.5 << 0.0;
+    QTest::addRow("e=0.5 drag") << 0.5 << 0.05;
+    QTest::addRow("e=0") << 0.0 << 0.0;
+    QTest::addRow("e=0.95") << 0.95 << 0.0;
+}
+
+void TestExactModel::densePileBoundedWork()
+{
+    QFETCH(double, restitution);
+    QFETCH(double, friction);
+    // A dense hexagonal pile, 12 rows of touching marbles resting on the floor under gravity,
+    // shaken by a few fast marbles dropped on it. With e < 1 a resting cluster is where
+    // inelastic collapse lives (infinitely many ever smaller bounces in a finite time); the
+    // guards must keep every frame finite. The work is counted in events, not in seconds.
+    World w = bareWorld(friction, true, restitution);
+    w.stage = {400, 400, true};
+    w.params.gravity = {0.0, 0.5};
+    w.params.zeroThreshold = 0.01;
+    const double r = 8.0;
+    for (int row = 0; row < 12; ++row) {
+        const double y = 400 - r - row * r * std::sqrt(3.0);
+        for (double x = r + (row % 2) * r; x + r <= 400; x += 2 * r)
+            w.addMarble({x, y}, r, {0.0, 0.0});
+    }
+    for (int k = 0; k < 8; ++k)
+        w.addMarble({30.0 + 45 * k, 30.0}, 6, {0.5 * k - 2, 6.0});
+    QCOMPARE_GE(smallestGap(w), -1e-12);
+    const int n = w.marbleCount();
+    QVERIFY(n > 250);
+
+    ExactModel model;
+    std::int64_t events = 0;
+    std::int64_t collisions = 0;
+    const int frames = 100;
+    for (int f = 0; f < frames; ++f) {
+        run(w, model, 1);
+        events += model.lastEventCount();
+        collisions += model.lastCollisionCount();
+        QCOMPARE_GE(smallestGap(w), -1e-9);
+        for (int i = 0; i < n; ++i)
+            QVERIFY(isFinite(w.position[i]) && isFinite(w.velocity[i]));
+    }
+    qInfo("%d marbles, %d frames: %lld events, %lld collisions", n, frames, static_cast<long long>(events),
+          static_cast<long long>(collisions));
+    QVERIFY(collisions > 0);
+    // The guard's promise: work per marble and frame is bounded (freezeAfterCollisions, the
+    // resting-contact and re-check limits), whatever the restitution.
+    QCOMPARE_LE(events, std::int64_t(n) * frames * (4 * ExactModel::freezeAfterCollisions + 64));
+    // And in practice far below that cap: a resting pile costs about 16 events per marble and
+    // frame (its resting contacts); 64 leaves room, and still catches a guard that lets a pile
+    // grind through hundreds of collisions per marble.
+    QCOMPARE_LE(events, std::int64_t(n) * frames * 64);
 }
 
 QTEST_APPLESS_MAIN(TestExactModel)
