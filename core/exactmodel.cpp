@@ -17,6 +17,13 @@
 //          phi2(tau) = (tau - phi1(tau)) / lambda        (integral of phi1,        -> tau^2 / 2).
 //    phi1 uses expm1 and phi2 a Taylor series for small lambda tau, so that both stay accurate
 //    to the last bits for every lambda >= 0 (k = 0 gives exactly tau and tau^2 / 2).
+//    The functions 1, phi1(t) and phi2(t) span all solutions (they span 1, e^{-lambda t} and t),
+//    so each marble's trajectory is stored once per frame-clock, not per marble clock:
+//        p(t) = a + b phi1(t) + g phi2(t),   v(t) = b e^{-lambda t} + g phi1(t),
+//    t the time since the start of the frame, (a, b) constant between the marble's events. After
+//    an event at t_c with new (p, v): b = (v - g phi1(t_c)) e^{lambda t_c}, a = p - b phi1 - g phi2.
+//    phi1(t) and phi2(t) are computed once per event time, so looking up any neighbour's position
+//    and velocity "now" costs a few multiplications and no exponential.
 //
 // 2. The key simplification. All marbles share lambda. Without gravity, p(tau) = p0 + v0 s with
 //    s = phi1(tau): in the variable s every marble moves in a straight line at its "reduced
@@ -39,12 +46,21 @@
 //    transversal root the step is Newton's step, so this converges fast, and it never skips a
 //    contact, grazing ones included.
 //
-// 4. The calendar. Each marble has exactly one pending event: the earliest of its predicted
-//    contacts, its next cell crossing, or the frame end. A tournament tree over the marbles gives
-//    the earliest event in O(1) and updates in O(log N). When a marble's velocity changes, its
-//    stamp increases; a pair event whose partner's stamp has changed since the prediction is stale
-//    and only triggers a new prediction. Ties are broken by (time, kind, lower index, higher
-//    index), so results never depend on anything but the World.
+// 4. The calendar. Each marble keeps two things: its best contact (the earliest of the wall,
+//    pin and marble contacts it has looked at since its velocity last changed) and its next cell
+//    crossing. Its event is the earlier of the two; an indexed binary heap holds only the marbles
+//    whose event falls inside the frame (in a calm crowd most marbles have none, and cost nothing
+//    after the first look). When a marble's velocity changes, its stamp increases; a pair event
+//    whose partner's stamp has changed since the prediction is stale and only triggers a new
+//    prediction, so the heap never holds more than N entries. Every contact event (stale or not)
+//    triggers a full new prediction of its marble when it comes due, which allows two savings:
+//    - a search for the contacts of i stops at the earlier of i's and the partner's best
+//      contact (anything later will be found again by whichever of them is predicted first);
+//    - a cell crossing keeps the best contact and only looks at the three cells that came into
+//      reach: bodies in cells that were already neighbours were looked at before.
+//    At the start of a frame every pair of neighbours is tested once, for both marbles.
+//    Ties are broken by (time, kind, lower index, higher index, marble), so results never depend
+//    on anything but the World.
 //
 // 5. Robustness. Contacts are only resolved between approaching bodies. A pair that overlaps (by
 //    rounding, or because the scene put it so) and approaches collides at once; one that overlaps
@@ -232,8 +248,8 @@ struct Contact {
     bool recheck = false;  // true: no contact before tau, predict again then
 };
 
-// Relative motion d(tau) = d0 + dv phi1 + dg phi2; contact when |d| = R while approaching.
-// sMax = phi1(tauMax), computed once by the caller.
+// Relative motion d(tau) = d0 + dv phi1 + dg phi2; contact when |d| = R while approaching, at
+// tau <= tauMax. sMax >= phi1(tauMax) is a bound computed once by the caller (for a quick rejection).
 Contact firstContact(Vec2 d0, Vec2 dv, Vec2 dg, double R, double lambda, double tauMax, double sMax)
 {
     Contact none;
@@ -241,19 +257,27 @@ Contact firstContact(Vec2 d0, Vec2 dv, Vec2 dg, double R, double lambda, double 
     if (dg.x == 0.0 && dg.y == 0.0) {
         // Straight lines in s: |d0 + dv s|^2 = R^2, i.e. a s^2 + 2 b s + c = 0.
         const double b = dot(d0, dv);
-        if (!(b < -grazingApproach * length(d0) * length(dv)))
-            return none; // separating, or sliding past (within rounding): no contact ahead
-        const double c = dot(d0, d0) - R2;
+        if (!(b < 0.0))
+            return none; // separating, or sliding past: no contact ahead
+        const double d2 = dot(d0, d0);
+        const double a = dot(dv, dv);
+        if (b * b <= grazingApproach * grazingApproach * d2 * a)
+            return none; // an approach within rounding of zero (b < -grazingApproach |d0| |dv| fails)
+        const double c = d2 - R2;
         if (c <= 0.0)
             return {0.0, false}; // touching or overlapping, and approaching: collide at once
-        const double a = dot(dv, dv);
+        // The root below is s = c / (-b + sqrt(disc)) >= c / (-2 b): beyond reach if that is.
+        if (c > -2.0 * b * sMax)
+            return none;
         const double disc = b * b - a * c;
         if (!(disc > 0.0))
             return none; // misses (or grazes without approach)
         const double s = c / (-b + std::sqrt(disc)); // citardauq form of (-b - sqrt(disc)) / a
         if (!(s <= sMax))
             return none;
-        const double tau = std::min(phi1Inverse(lambda, s), tauMax);
+        const double tau = phi1Inverse(lambda, s);
+        if (!(tau <= tauMax))
+            return none;
         return {tau, false};
     }
 
@@ -324,29 +348,43 @@ Vec2 unit(Vec2 u)
 
 } // namespace
 
+
 ExactModel::ExactModel() = default;
 ExactModel::~ExactModel() = default;
 
-void ExactModel::positionAt(int i, double t, Vec2 &p, Vec2 &v) const
+namespace {
+
+constexpr int sides = 4;
+
+} // namespace
+
+void ExactModel::setNow(double t)
 {
-    const Flow f = flow(m_lambda, t - m_t0[i]);
-    const Vec2 b = m_base[i];
-    const Vec2 u = m_vel[i];
-    const Vec2 g = m_grav[i];
-    p = {b.x + u.x * f.phi1 + g.x * f.phi2, b.y + u.y * f.phi1 + g.y * f.phi2};
-    v = {u.x * f.decay + g.x * f.phi1, u.y * f.decay + g.y * f.phi1};
+    m_now = t;
+    const Flow f = flow(m_lambda, t);
+    m_decayNow = f.decay;
+    m_phi1Now = f.phi1;
+    m_phi2Now = f.phi2;
+    // phi1 of the time left in the frame: phi1(1) - phi1(t) = e^{-lambda t} phi1(1 - t). Only a
+    // bound for quick rejections, so a hair of slack covers the rounding.
+    m_sLeft = (m_phi1End - m_phi1Now) / m_decayNow * (1.0 + 1e-12);
 }
 
-void ExactModel::rebase(int i, double t)
+void ExactModel::stateAt(int i, Vec2 &p, Vec2 &v) const
 {
-    if (m_t0[i] == t)
-        return;
-    Vec2 p;
-    Vec2 v;
-    positionAt(i, t, p, v);
-    m_base[i] = p;
-    m_vel[i] = v;
-    m_t0[i] = t;
+    const Track &k = m_track[i];
+    const Vec2 g = m_grav[i];
+    p = {k.a.x + k.b.x * m_phi1Now + g.x * m_phi2Now, k.a.y + k.b.y * m_phi1Now + g.y * m_phi2Now};
+    v = {k.b.x * m_decayNow + g.x * m_phi1Now, k.b.y * m_decayNow + g.y * m_phi1Now};
+}
+
+void ExactModel::setState(int i, Vec2 p, Vec2 v)
+{
+    // Invert v = b e^{-lambda t} + g phi1 and p = a + b phi1 + g phi2 at t = now.
+    const Vec2 g = m_grav[i];
+    Track &k = m_track[i];
+    k.b = {(v.x - g.x * m_phi1Now) / m_decayNow, (v.y - g.y * m_phi1Now) / m_decayNow};
+    k.a = {p.x - k.b.x * m_phi1Now - g.x * m_phi2Now, p.y - k.b.y * m_phi1Now - g.y * m_phi2Now};
 }
 
 void ExactModel::linkIntoBucket(int i, int bucket)
@@ -374,6 +412,7 @@ void ExactModel::unlinkFromBucket(int i)
 void ExactModel::beginFrame(World &world)
 {
     const int n = world.marbleCount();
+    assert(n < (1 << 30)); // indices fit the packed tie-break of the calendar
     m_world = &world;
     double k = world.params.friction;
     assert(k >= 0.0 && k < 1.0);
@@ -382,6 +421,7 @@ void ExactModel::beginFrame(World &world)
     if (!(k < 1.0))
         k = std::nextafter(1.0, 0.0);
     m_lambda = -std::log1p(-k);
+    m_phi1End = flow(m_lambda, 1.0).phi1;
     m_restitution = std::clamp(world.params.restitution, 0.0, 1.0);
     m_inelastic = m_restitution < 1.0;
     m_gravity = world.params.gravity;
@@ -389,33 +429,30 @@ void ExactModel::beginFrame(World &world)
     m_height = world.stage.height;
     m_walls = world.stage.walls;
     m_restSpeed = std::sqrt(2.0 * length(m_gravity) * restHeightPx);
+    setNow(0.0);
 
-    m_base.resize(n);
-    m_vel.resize(n);
+    m_track.resize(n);
     m_grav.resize(n);
-    m_t0.assign(n, 0.0);
     m_radius.resize(n);
     m_invMass.resize(n);
     m_stamp.assign(n, 0);
-    m_pairHits.assign(n, 0);
-    m_restHits.assign(n, 0);
-    m_recheckHits.assign(n, 0);
-    m_wallHits.assign(n, 0);
-    m_frozen.assign(n, 0);
-    m_locked.assign(n, 0);
+    m_guard.assign(n, Guard{});
     m_cellX.resize(n);
     m_cellY.resize(n);
     m_bucketOf.resize(n);
-    m_next.assign(n, -1);
-    m_prev.assign(n, -1);
-    m_event.resize(n);
+    m_next.resize(n);
+    m_prev.resize(n);
+    m_contact.resize(n);
+    m_crossTime.resize(n);
+    m_crossSide.resize(n);
+    m_heapPos.assign(n, -1);
+    m_heap.clear();
 
     double rMax = 0.0;
     for (int i = 0; i < n; ++i) {
-        // Pushes act at the frame boundary: an instant velocity change.
-        m_base[i] = world.position[i];
-        m_vel[i] = {world.velocity[i].x + world.acceleration[i].x,
-                    world.velocity[i].y + world.acceleration[i].y};
+        // Pushes act at the frame boundary: an instant velocity change. At t = 0, a = p and b = v.
+        m_track[i].a = world.position[i];
+        m_track[i].b = {world.velocity[i].x + world.acceleration[i].x, world.velocity[i].y + world.acceleration[i].y};
         world.acceleration[i] = {};
         m_grav[i] = m_gravity;
         m_radius[i] = world.radius[i];
@@ -434,8 +471,8 @@ void ExactModel::beginFrame(World &world)
     m_head.assign(m_singleCell ? 1 : m_geometry.bucketCount(), -1);
     // Link in descending index order, so each bucket list starts in ascending order.
     for (int i = n - 1; i >= 0; --i) {
-        m_cellX[i] = m_singleCell ? 0 : m_geometry.coord(m_base[i].x);
-        m_cellY[i] = m_singleCell ? 0 : m_geometry.coord(m_base[i].y);
+        m_cellX[i] = m_singleCell ? 0 : m_geometry.coord(m_track[i].a.x);
+        m_cellY[i] = m_singleCell ? 0 : m_geometry.coord(m_track[i].a.y);
         linkIntoBucket(i, m_singleCell ? 0 : m_geometry.bucket(m_cellX[i], m_cellY[i]));
     }
     m_pinGrid.build(m_geometry, world.pins.data(), static_cast<int>(world.pins.size()));
@@ -445,11 +482,12 @@ void ExactModel::endFrame(World &world)
 {
     const int n = world.marbleCount();
     const double z = world.params.zeroThreshold;
+    setNow(1.0);
     for (int i = 0; i < n; ++i) {
         Vec2 p;
         Vec2 v;
-        positionAt(i, 1.0, p, v);
-        if (m_frozen[i])
+        stateAt(i, p, v);
+        if (m_guard[i].frozen)
             v = {};
         // The zero threshold acts at the frame boundary, component by component.
         if (std::abs(v.x) <= z)
@@ -462,340 +500,492 @@ void ExactModel::endFrame(World &world)
     m_world = nullptr;
 }
 
-bool ExactModel::earlier(int a, int b) const
+std::uint64_t ExactModel::tieOf(int i, const Event &e)
 {
-    if (b < 0)
-        return a >= 0;
-    if (a < 0)
+    // (kind, lower index, higher index): for a pair the two marbles, otherwise the marble and the
+    // object (wall, pin or crossing side). Indices are below 2^30 (asserted in beginFrame).
+    std::int64_t lo = i;
+    std::int64_t hi = e.other;
+    if (e.kind == EventKind::Pair || e.kind == EventKind::RecheckPair) {
+        lo = std::min(i, e.other);
+        hi = std::max(i, e.other);
+    }
+    return (static_cast<std::uint64_t>(e.kind) << 60) | (static_cast<std::uint64_t>(lo) << 30)
+        | static_cast<std::uint64_t>(hi);
+}
+
+bool ExactModel::before(int i, const Event &a, const Event &b)
+{
+    if (a.time != b.time)
+        return a.time < b.time;
+    if (a.kind == EventKind::None || b.kind == EventKind::None)
         return false;
-    const Event &ea = m_event[a];
-    const Event &eb = m_event[b];
-    if (ea.time != eb.time)
-        return ea.time < eb.time;
-    if (ea.kind != eb.kind)
-        return ea.kind < eb.kind;
-    // Indices: for a pair the lower and higher marble, otherwise the marble and the object.
-    auto lowHigh = [](int slot, const Event &e, int &lo, int &hi) {
-        if (e.kind == EventKind::Pair) {
-            lo = std::min(slot, e.other);
-            hi = std::max(slot, e.other);
+    return tieOf(i, a) < tieOf(i, b);
+}
+
+ExactModel::Event ExactModel::currentEvent(int i) const
+{
+    const Event &c = m_contact[i];
+    if (m_crossTime[i] <= 1.0) {
+        const Event x{m_crossTime[i], EventKind::Cross, m_crossSide[i], 0};
+        if (before(i, x, c))
+            return x;
+    }
+    return c;
+}
+
+ExactModel::Key ExactModel::keyOf(int i) const
+{
+    const Event e = currentEvent(i);
+    return {e.time, e.kind == EventKind::None ? ~std::uint64_t(0) : tieOf(i, e), i};
+}
+
+bool ExactModel::keyBefore(const Key &a, const Key &b)
+{
+    if (a.time != b.time)
+        return a.time < b.time;
+    if (a.tie != b.tie)
+        return a.tie < b.tie;
+    return a.marble < b.marble;
+}
+
+void ExactModel::heapPlace(int pos, const Key &key)
+{
+    m_heap[pos] = key;
+    m_heapPos[key.marble] = pos;
+}
+
+void ExactModel::heapSiftUp(int pos)
+{
+    const Key key = m_heap[pos];
+    while (pos > 0) {
+        const int parent = (pos - 1) / 2;
+        if (!keyBefore(key, m_heap[parent]))
+            break;
+        heapPlace(pos, m_heap[parent]);
+        pos = parent;
+    }
+    heapPlace(pos, key);
+}
+
+void ExactModel::heapSiftDown(int pos)
+{
+    const Key key = m_heap[pos];
+    const int size = static_cast<int>(m_heap.size());
+    while (true) {
+        int child = 2 * pos + 1;
+        if (child >= size)
+            break;
+        if (child + 1 < size && keyBefore(m_heap[child + 1], m_heap[child]))
+            ++child;
+        if (!keyBefore(m_heap[child], key))
+            break;
+        heapPlace(pos, m_heap[child]);
+        pos = child;
+    }
+    heapPlace(pos, key);
+}
+
+void ExactModel::heapUpdate(int i)
+{
+    const Key key = keyOf(i);
+    const int pos = m_heapPos[i];
+    if (key.time <= 1.0) {
+        if (pos < 0) {
+            m_heap.push_back(key);
+            heapSiftUp(static_cast<int>(m_heap.size()) - 1);
         } else {
-            lo = slot;
-            hi = e.other;
+            const bool up = keyBefore(key, m_heap[pos]);
+            m_heap[pos] = key;
+            if (up)
+                heapSiftUp(pos);
+            else
+                heapSiftDown(pos);
         }
-    };
-    int la, ha, lb, hb;
-    lowHigh(a, ea, la, ha);
-    lowHigh(b, eb, lb, hb);
-    if (la != lb)
-        return la < lb;
-    if (ha != hb)
-        return ha < hb;
-    return a < b;
-}
-
-void ExactModel::buildTree()
-{
-    const int n = static_cast<int>(m_event.size());
-    m_leaves = 1;
-    while (m_leaves < n)
-        m_leaves *= 2;
-    m_tree.assign(2 * static_cast<std::size_t>(m_leaves), -1);
-    for (int i = 0; i < n; ++i)
-        m_tree[m_leaves + i] = i;
-    for (int node = m_leaves - 1; node >= 1; --node) {
-        const int l = m_tree[2 * node];
-        const int r = m_tree[2 * node + 1];
-        m_tree[node] = earlier(r, l) ? r : l;
+    } else if (pos >= 0) {
+        // Leaves the calendar: the last entry takes its place.
+        const Key last = m_heap.back();
+        m_heap.pop_back();
+        m_heapPos[i] = -1;
+        if (pos < static_cast<int>(m_heap.size())) {
+            m_heap[pos] = last;
+            m_heapPos[last.marble] = pos;
+            if (pos > 0 && keyBefore(last, m_heap[(pos - 1) / 2]))
+                heapSiftUp(pos);
+            else
+                heapSiftDown(pos);
+        }
     }
 }
 
-void ExactModel::updateTree(int i)
+void ExactModel::nextCrossing(int i, Vec2 p, Vec2 v)
 {
-    for (int node = (m_leaves + i) / 2; node >= 1; node /= 2) {
-        const int l = m_tree[2 * node];
-        const int r = m_tree[2 * node + 1];
-        const int winner = earlier(r, l) ? r : l;
-        if (m_tree[node] == winner && winner != i)
-            break; // nothing above can change
-        m_tree[node] = winner;
+    m_crossTime[i] = infinity;
+    if (m_singleCell || m_guard[i].frozen)
+        return;
+    // The centre reaching a lattice line of its cell. The lines are only book-keeping, so the
+    // lower and upper lines are approached "from inside".
+    const Vec2 g = m_grav[i];
+    const std::int64_t kx = m_cellX[i];
+    const std::int64_t ky = m_cellY[i];
+    const double tauEnd = 1.0 - m_now;
+    double tc[sides] = {infinity, infinity, infinity, infinity};
+    if (kx > -GridGeometry::coordLimit)
+        tc[0] = firstDownCrossing(p.x - m_geometry.line(kx), v.x, g.x, m_lambda, tauEnd);
+    if (kx < GridGeometry::coordLimit)
+        tc[1] = firstDownCrossing(m_geometry.line(kx + 1) - p.x, -v.x, -g.x, m_lambda, tauEnd);
+    if (ky > -GridGeometry::coordLimit)
+        tc[2] = firstDownCrossing(p.y - m_geometry.line(ky), v.y, g.y, m_lambda, tauEnd);
+    if (ky < GridGeometry::coordLimit)
+        tc[3] = firstDownCrossing(m_geometry.line(ky + 1) - p.y, -v.y, -g.y, m_lambda, tauEnd);
+    double best = infinity;
+    int side = 0;
+    for (int s = 0; s < sides; ++s) {
+        if (tc[s] < best) {
+            best = tc[s];
+            side = s;
+        }
+    }
+    if (best <= tauEnd) {
+        m_crossTime[i] = m_now + best;
+        m_crossSide[i] = static_cast<std::uint8_t>(side);
     }
 }
 
-void ExactModel::predict(int i, double now)
+void ExactModel::predictOwn(int i, Vec2 p, Vec2 v, Event &best)
 {
-    Event best;
-    best.time = infinity;
-    best.kind = EventKind::None;
-    auto offer = [&](double time, EventKind kind, int other, std::uint32_t stamp) {
-        Event e{time, kind, other, stamp};
-        bool better;
-        if (e.time != best.time)
-            better = e.time < best.time;
-        else if (e.kind != best.kind)
-            better = e.kind < best.kind;
-        else if (kind == EventKind::Pair)
-            better = std::min(i, other) < std::min(i, best.other)
-                || (std::min(i, other) == std::min(i, best.other) && std::max(i, other) < std::max(i, best.other));
-        else
-            better = other < best.other;
-        if (better)
-            best = e;
-    };
-
-    Vec2 p;
-    Vec2 v;
-    positionAt(i, now, p, v);
+    nextCrossing(i, p, v);
+    if (!m_walls || m_guard[i].frozen)
+        return;
+    // Walls 0..3: left, right, top, bottom; contact when the centre is r from the edge.
     const Vec2 g = m_grav[i];
     const double r = m_radius[i];
-    const double tauEnd = 1.0 - now;
-    double horizon = tauEnd; // elapsed time up to which contacts are searched
-
-    int buckets[9] = {0};
-    const int bucketCount = m_singleCell ? 1 : 9;
-    if (!m_singleCell)
-        m_geometry.neighbourhood(m_cellX[i], m_cellY[i], buckets);
-
-    if (!m_frozen[i] && !m_singleCell) {
-        // Cell crossings: the centre reaching a lattice line of its cell. The lines are only
-        // book-keeping, so the lower and upper lines are approached "from inside".
-        const std::int64_t kx = m_cellX[i];
-        const std::int64_t ky = m_cellY[i];
-        const double lx = m_geometry.line(kx), ux = m_geometry.line(kx + 1);
-        const double ly = m_geometry.line(ky), uy = m_geometry.line(ky + 1);
-        double tc[4] = {infinity, infinity, infinity, infinity};
-        if (kx > -GridGeometry::coordLimit)
-            tc[0] = firstDownCrossing(p.x - lx, v.x, g.x, m_lambda, tauEnd);
-        if (kx < GridGeometry::coordLimit)
-            tc[1] = firstDownCrossing(ux - p.x, -v.x, -g.x, m_lambda, tauEnd);
-        if (ky > -GridGeometry::coordLimit)
-            tc[2] = firstDownCrossing(p.y - ly, v.y, g.y, m_lambda, tauEnd);
-        if (ky < GridGeometry::coordLimit)
-            tc[3] = firstDownCrossing(uy - p.y, -v.y, -g.y, m_lambda, tauEnd);
-        for (int side = 0; side < 4; ++side) {
-            if (tc[side] <= tauEnd) {
-                offer(now + tc[side], EventKind::Cross, side, 0);
-                horizon = std::min(horizon, tc[side]);
-            }
-        }
-
-    }
-    if (!m_frozen[i]) {
-        if (m_walls) {
-            // Walls 0..3: left, right, top, bottom; contact when the centre is r from the edge.
-            const double tw[4] = {
-                firstDownCrossing(p.x - r, v.x, g.x, m_lambda, horizon),
-                firstDownCrossing(m_width - r - p.x, -v.x, -g.x, m_lambda, horizon),
-                firstDownCrossing(p.y - r, v.y, g.y, m_lambda, horizon),
-                firstDownCrossing(m_height - r - p.y, -v.y, -g.y, m_lambda, horizon),
-            };
-            // The marble's own next event ends the search: it is predicted afresh after it.
-            double firstWall = horizon;
-            for (int wall = 0; wall < 4; ++wall) {
-                if (tw[wall] <= horizon) {
-                    offer(now + tw[wall], EventKind::Wall, wall, 0);
-                    firstWall = std::min(firstWall, tw[wall]);
-                }
-            }
-            horizon = firstWall;
-        }
-
-        if (!m_world->pins.empty()) {
-            const double sHorizon = flow(m_lambda, horizon).phi1;
-            auto testPin = [&](int pin) {
-                const Vec2 q = m_world->pins[pin];
-                const Contact c = firstContact({p.x - q.x, p.y - q.y}, v, g, r, m_lambda, horizon, sHorizon);
-                if (c.tau <= horizon)
-                    offer(now + c.tau, c.recheck ? EventKind::RecheckPin : EventKind::Pin, pin, 0);
-            };
-            if (m_singleCell) {
-                for (int pin = 0; pin < static_cast<int>(m_world->pins.size()); ++pin)
-                    testPin(pin);
-            } else {
-                for (int b : buckets) {
-                    for (int k = m_pinGrid.begin(b); k < m_pinGrid.end(b); ++k)
-                        testPin(m_pinGrid.items()[k]);
-                }
-            }
+    const double horizon = std::min(best.time, 1.0) - m_now;
+    const double tw[sides] = {
+        firstDownCrossing(p.x - r, v.x, g.x, m_lambda, horizon),
+        firstDownCrossing(m_width - r - p.x, -v.x, -g.x, m_lambda, horizon),
+        firstDownCrossing(p.y - r, v.y, g.y, m_lambda, horizon),
+        firstDownCrossing(m_height - r - p.y, -v.y, -g.y, m_lambda, horizon),
+    };
+    for (int wall = 0; wall < sides; ++wall) {
+        if (tw[wall] <= horizon) {
+            const Event e{m_now + tw[wall], EventKind::Wall, wall, 0};
+            if (before(i, e, best))
+                best = e;
         }
     }
-
-    // Other marbles in the 3 x 3 neighbourhood. Computed with the pair in canonical order
-    // (lower index first), so both marbles of a pair predict bit-identical times.
-    const double limit = m_frozen[i] ? tauEnd : horizon;
-    const double sLimit = flow(m_lambda, limit).phi1;
-    for (int nb = 0; nb < bucketCount; ++nb) {
-        for (int j = m_head[buckets[nb]]; j >= 0; j = m_next[j]) {
-            if (j == i || (m_frozen[i] && m_frozen[j]))
-                continue;
-            Vec2 pj;
-            Vec2 vj;
-            positionAt(j, now, pj, vj);
-            const bool iLow = i < j;
-            const Vec2 pa = iLow ? p : pj, pb = iLow ? pj : p;
-            const Vec2 va = iLow ? v : vj, vb = iLow ? vj : v;
-            const Vec2 ga = iLow ? g : m_grav[j], gb = iLow ? m_grav[j] : g;
-            const Contact c = firstContact({pa.x - pb.x, pa.y - pb.y}, {va.x - vb.x, va.y - vb.y},
-                                           {ga.x - gb.x, ga.y - gb.y}, r + m_radius[j], m_lambda, limit, sLimit);
-            if (c.tau <= limit) {
-                if (c.recheck)
-                    offer(now + c.tau, EventKind::RecheckPair, j, 0);
-                else
-                    offer(now + c.tau, EventKind::Pair, j, m_stamp[j]);
-            }
-        }
-    }
-    m_event[i] = best;
 }
 
-void ExactModel::unlockMoved(int i)
+bool ExactModel::pairContact(int i, int j, Vec2 pi, Vec2 vi, double horizon, double &tau, bool &recheck) const
+{
+    // Computed with the pair in canonical order (lower index first), so that both marbles of a
+    // pair predict bit-identical times.
+    Vec2 pj;
+    Vec2 vj;
+    stateAt(j, pj, vj);
+    const bool iLow = i < j;
+    const Vec2 pa = iLow ? pi : pj, pb = iLow ? pj : pi;
+    const Vec2 va = iLow ? vi : vj, vb = iLow ? vj : vi;
+    const Vec2 ga = iLow ? m_grav[i] : m_grav[j], gb = iLow ? m_grav[j] : m_grav[i];
+    const Contact c = firstContact({pa.x - pb.x, pa.y - pb.y}, {va.x - vb.x, va.y - vb.y}, {ga.x - gb.x, ga.y - gb.y},
+                                   m_radius[i] + m_radius[j], m_lambda, horizon, m_sLeft);
+    tau = c.tau;
+    recheck = c.recheck;
+    return c.tau <= horizon;
+}
+
+void ExactModel::scanPins(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const
+{
+    if (!m_guard[i].frozen && !m_world->pins.empty()) {
+        const Vec2 g = m_grav[i];
+        const double r = m_radius[i];
+        auto testPin = [&](int pin) {
+            const double horizon = std::min(best.time, 1.0) - m_now;
+            const Vec2 q = m_world->pins[pin];
+            const Contact c = firstContact({p.x - q.x, p.y - q.y}, v, g, r, m_lambda, horizon, m_sLeft);
+            if (c.tau <= horizon) {
+                const Event e{m_now + c.tau, c.recheck ? EventKind::RecheckPin : EventKind::Pin, pin, 0};
+                if (before(i, e, best))
+                    best = e;
+            }
+        };
+        if (m_singleCell) {
+            for (int pin = 0; pin < static_cast<int>(m_world->pins.size()); ++pin)
+                testPin(pin);
+        } else {
+            for (int nb = 0; nb < count; ++nb) {
+                for (int k = m_pinGrid.begin(buckets[nb]); k < m_pinGrid.end(buckets[nb]); ++k)
+                    testPin(m_pinGrid.items()[k]);
+            }
+        }
+    }
+}
+
+void ExactModel::scanBuckets(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const
+{
+    const bool frozen = m_guard[i].frozen;
+    for (int nb = 0; nb < count; ++nb) {
+        for (int j = m_head[buckets[nb]]; j >= 0; j = m_next[j]) {
+            if (j == i || (frozen && m_guard[j].frozen))
+                continue;
+            // Contacts after j's own best contact need not be recorded: j is predicted afresh then.
+            const double horizon = std::min({best.time, m_contact[j].time, 1.0}) - m_now;
+            double tau;
+            bool recheck;
+            if (pairContact(i, j, p, v, horizon, tau, recheck)) {
+                const Event e{m_now + tau, recheck ? EventKind::RecheckPair : EventKind::Pair, j,
+                              recheck ? 0u : m_stamp[j]};
+                if (before(i, e, best))
+                    best = e;
+            }
+        }
+    }
+}
+
+void ExactModel::predict(int i)
+{
+    Vec2 p;
+    Vec2 v;
+    stateAt(i, p, v);
+    Event best{infinity, EventKind::None, -1, 0};
+    predictOwn(i, p, v, best);
+    int buckets[9] = {0};
+    int count = 1;
+    if (!m_singleCell) {
+        m_geometry.neighbourhood(m_cellX[i], m_cellY[i], buckets);
+        count = 9;
+    }
+    scanPins(i, p, v, buckets, count, best);
+    scanBuckets(i, p, v, buckets, count, best);
+    m_contact[i] = best;
+}
+
+void ExactModel::predictAll()
+{
+    const int n = static_cast<int>(m_track.size());
+    const Event none{infinity, EventKind::None, -1, 0};
+    for (int i = 0; i < n; ++i) {
+        // At t = 0 the state is (a, b) itself.
+        Event best = none;
+        predictOwn(i, m_track[i].a, m_track[i].b, best);
+        m_contact[i] = best;
+    }
+    // Pins, then every pair of neighbours once (j > i), offered to both marbles.
+    for (int i = 0; i < n; ++i) {
+        const Vec2 p = m_track[i].a;
+        const Vec2 v = m_track[i].b;
+        int buckets[9] = {0};
+        int count = 1;
+        if (!m_singleCell) {
+            m_geometry.neighbourhood(m_cellX[i], m_cellY[i], buckets);
+            count = 9;
+        }
+        Event best = m_contact[i];
+        scanPins(i, p, v, buckets, count, best);
+        for (int nb = 0; nb < count; ++nb) {
+            for (int j = m_head[buckets[nb]]; j >= 0; j = m_next[j]) {
+                if (j <= i)
+                    continue;
+                const double horizon = std::min({best.time, m_contact[j].time, 1.0});
+                double tau;
+                bool recheck;
+                if (pairContact(i, j, p, v, horizon, tau, recheck)) {
+                    const EventKind kind = recheck ? EventKind::RecheckPair : EventKind::Pair;
+                    const Event ei{tau, kind, j, 0};
+                    const Event ej{tau, kind, i, 0};
+                    if (before(i, ei, best))
+                        best = ei;
+                    if (before(j, ej, m_contact[j]))
+                        m_contact[j] = ej;
+                }
+            }
+        }
+        m_contact[i] = best;
+    }
+    // The calendar: the marbles with an event inside the frame, heap-ordered (Floyd).
+    m_heap.clear();
+    for (int i = 0; i < n; ++i) {
+        const Key key = keyOf(i);
+        if (key.time <= 1.0) {
+            m_heapPos[i] = static_cast<int>(m_heap.size());
+            m_heap.push_back(key);
+        }
+    }
+    for (int pos = static_cast<int>(m_heap.size()) / 2 - 1; pos >= 0; --pos)
+        heapSiftDown(pos);
+}
+
+void ExactModel::unlockMoved(int i, Vec2 v)
 {
     // A marble held against a wall keeps the hold only while nothing gives it a normal velocity.
-    if ((m_locked[i] & 1) && m_vel[i].x != 0.0) {
-        m_locked[i] &= ~1u;
+    Guard &guard = m_guard[i];
+    if ((guard.locked & 1) && v.x != 0.0) {
+        guard.locked &= ~1u;
         m_grav[i].x = m_gravity.x;
     }
-    if ((m_locked[i] & 2) && m_vel[i].y != 0.0) {
-        m_locked[i] &= ~2u;
+    if ((guard.locked & 2) && v.y != 0.0) {
+        guard.locked &= ~2u;
         m_grav[i].y = m_gravity.y;
     }
-}
-
-bool ExactModel::countContact(int i, double t)
-{
-    if (++m_recheckHits[i] <= freezeAfterRechecks || m_frozen[i])
-        return false;
-    rebase(i, t);
-    ++m_stamp[i];
-    freeze(i);
-    return true;
 }
 
 bool ExactModel::overLimit(int i) const
 {
     // Collision counts only matter for e < 1 (inelastic collapse); resting contacts always.
-    return m_restHits[i] > freezeAfterRestingContacts || (m_inelastic && m_pairHits[i] > freezeAfterCollisions);
+    const Guard &guard = m_guard[i];
+    return guard.restHits > freezeAfterRestingContacts || (m_inelastic && guard.pairHits > freezeAfterCollisions);
+}
+
+bool ExactModel::countContact(int i)
+{
+    if (++m_guard[i].recheckHits <= freezeAfterRechecks || m_guard[i].frozen)
+        return false;
+    ++m_stamp[i];
+    freeze(i);
+    return true;
 }
 
 void ExactModel::freeze(int i)
 {
-    if (m_frozen[i])
+    if (m_guard[i].frozen)
         return;
-    m_frozen[i] = 1;
-    m_vel[i] = {};
+    Vec2 p;
+    Vec2 v;
+    stateAt(i, p, v);
+    m_guard[i].frozen = 1;
     m_grav[i] = {};
     m_invMass[i] = 0.0;
+    m_crossTime[i] = infinity;
+    setState(i, p, {});
     ++m_frozenCount;
 }
 
-void ExactModel::collidePair(World &world, int i, int j, double t)
+void ExactModel::collidePair(World &world, int i, int j)
 {
-    rebase(i, t);
-    rebase(j, t);
-    const Vec2 n = unit({m_base[j].x - m_base[i].x, m_base[j].y - m_base[i].y});
+    Vec2 pi;
+    Vec2 vi;
+    Vec2 pj;
+    Vec2 vj;
+    stateAt(i, pi, vi);
+    stateAt(j, pj, vj);
+    const Vec2 n = unit({pj.x - pi.x, pj.y - pi.y});
     // Approach speed along the normal (from i towards j).
-    const double approach = (m_vel[i].x - m_vel[j].x) * n.x + (m_vel[i].y - m_vel[j].y) * n.y;
+    const double approach = (vi.x - vj.x) * n.x + (vi.y - vj.y) * n.y;
     const double wi = m_invMass[i];
     const double wj = m_invMass[j];
-    ++m_pairHits[i];
-    ++m_pairHits[j];
+    Guard &gi = m_guard[i];
+    Guard &gj = m_guard[j];
+    ++gi.pairHits;
+    ++gj.pairHits;
     if (approach <= m_restSpeed) {
-        ++m_restHits[i];
-        ++m_restHits[j];
+        ++gi.restHits;
+        ++gj.restHits;
     }
     if (approach > 0.0 && wi + wj > 0.0) {
         // Impulse J along n with (v_i' - v_j').n = -e (v_i - v_j).n and m_i v_i + m_j v_j kept:
         // J = (1 + e) approach / (1/m_i + 1/m_j); v_i -= J/m_i n, v_j += J/m_j n.
-        const bool elastic = m_inelastic
-            && (m_pairHits[i] > elasticAfterCollisions || m_pairHits[j] > elasticAfterCollisions);
+        const bool elastic = m_inelastic && (gi.pairHits > elasticAfterCollisions || gj.pairHits > elasticAfterCollisions);
         const double e = elastic ? 1.0 : m_restitution;
         const double impulse = (1.0 + e) * approach / (wi + wj);
-        const Vec2 inI = m_vel[i];
-        const Vec2 inJ = m_vel[j];
-        m_vel[i].x -= impulse * wi * n.x;
-        m_vel[i].y -= impulse * wi * n.y;
-        m_vel[j].x += impulse * wj * n.x;
-        m_vel[j].y += impulse * wj * n.y;
+        const Vec2 inI = vi;
+        const Vec2 inJ = vj;
+        vi.x -= impulse * wi * n.x;
+        vi.y -= impulse * wi * n.y;
+        vj.x += impulse * wj * n.x;
+        vj.y += impulse * wj * n.y;
         const std::int64_t frame = world.frame + 1;
-        world.lastHit[i] = {frame, unit(inI), n, unit(m_vel[i])};
-        world.lastHit[j] = {frame, unit(inJ), {-n.x, -n.y}, unit(m_vel[j])};
+        world.lastHit[i] = {frame, unit(inI), n, unit(vi)};
+        world.lastHit[j] = {frame, unit(inJ), {-n.x, -n.y}, unit(vj)};
         ++m_collisionCount;
     }
     ++m_stamp[i];
     ++m_stamp[j];
-    unlockMoved(i);
-    unlockMoved(j);
+    if (!gi.frozen) {
+        unlockMoved(i, vi);
+        setState(i, pi, vi);
+    }
+    if (!gj.frozen) {
+        unlockMoved(j, vj);
+        setState(j, pj, vj);
+    }
     if (overLimit(i))
         freeze(i);
     if (overLimit(j))
         freeze(j);
 }
 
-void ExactModel::collidePin(World &world, int i, int pin, double t)
+void ExactModel::collidePin(World &world, int i, int pin)
 {
-    rebase(i, t);
+    Vec2 p;
+    Vec2 v;
+    stateAt(i, p, v);
     const Vec2 q = world.pins[pin];
-    const Vec2 n = unit({q.x - m_base[i].x, q.y - m_base[i].y});
-    const double approach = dot(m_vel[i], n);
-    ++m_pairHits[i];
+    const Vec2 n = unit({q.x - p.x, q.y - p.y});
+    const double approach = dot(v, n);
+    Guard &guard = m_guard[i];
+    ++guard.pairHits;
     if (approach <= m_restSpeed)
-        ++m_restHits[i];
+        ++guard.restHits;
     if (approach > 0.0) {
         // The pin is immovable (infinite mass): v' = v - (1 + e) (v.n) n.
-        const bool elastic = m_inelastic && m_pairHits[i] > elasticAfterCollisions;
+        const bool elastic = m_inelastic && guard.pairHits > elasticAfterCollisions;
         const double e = elastic ? 1.0 : m_restitution;
-        const Vec2 in = m_vel[i];
-        m_vel[i].x -= (1.0 + e) * approach * n.x;
-        m_vel[i].y -= (1.0 + e) * approach * n.y;
-        world.lastHit[i] = {world.frame + 1, unit(in), n, unit(m_vel[i])};
+        const Vec2 in = v;
+        v.x -= (1.0 + e) * approach * n.x;
+        v.y -= (1.0 + e) * approach * n.y;
+        world.lastHit[i] = {world.frame + 1, unit(in), n, unit(v)};
         ++m_collisionCount;
     }
     ++m_stamp[i];
-    unlockMoved(i);
+    unlockMoved(i, v);
+    setState(i, p, v);
     if (overLimit(i))
         freeze(i);
 }
 
-void ExactModel::collideWall(World &world, int i, int wall, double t)
+void ExactModel::collideWall(World &world, int i, int wall)
 {
-    rebase(i, t);
-    const int axis = wall / 2;        // 0: x, 1: y
+    Vec2 p;
+    Vec2 vel;
+    stateAt(i, p, vel);
+    const int axis = wall / 2;          // 0: x, 1: y
     const bool upper = (wall % 2) == 1; // right or bottom
-    double &x = axis == 0 ? m_base[i].x : m_base[i].y;
-    double &v = axis == 0 ? m_vel[i].x : m_vel[i].y;
-    double &g = axis == 0 ? m_grav[i].x : m_grav[i].y;
+    double &x = axis == 0 ? p.x : p.y;
+    double &v = axis == 0 ? vel.x : vel.y;
     const double r = m_radius[i];
     const double side = axis == 0 ? m_width : m_height;
+    const double gAxis = axis == 0 ? m_gravity.x : m_gravity.y;
     // Outward speed (towards this wall) and the push of gravity towards it.
     const double outward = upper ? v : -v;
-    const double gOut = upper ? m_gravity.x * (axis == 0) + m_gravity.y * (axis == 1)
-                              : -(m_gravity.x * (axis == 0) + m_gravity.y * (axis == 1));
+    const double gOut = upper ? gAxis : -gAxis;
     // Touching exactly: the solver stops at contact up to rounding.
     x = upper ? side - r : r;
-    ++m_wallHits[i];
+    Guard &guard = m_guard[i];
+    ++guard.wallHits;
     const double e = m_restitution;
     // A bounce of speed w against gravity gOut rises w^2 / (2 gOut): below restHeightPx it is
     // resting contact instead.
     const double restSpeed = gOut > 0.0 ? std::sqrt(2.0 * gOut * restHeightPx) : 0.0;
-    const Vec2 in = m_vel[i];
+    const Vec2 in = vel;
     bool hit = false;
     if (outward > 0.0) {
         v = -e * v;
         hit = true;
         ++m_collisionCount;
     }
-    if (gOut > 0.0 && outward >= 0.0 && e * outward <= restSpeed && !m_frozen[i]) {
+    if (gOut > 0.0 && outward >= 0.0 && e * outward <= restSpeed && !guard.frozen) {
         v = 0.0;
-        g = 0.0;
-        m_locked[i] |= static_cast<std::uint8_t>(1u << axis);
+        (axis == 0 ? m_grav[i].x : m_grav[i].y) = 0.0;
+        guard.locked |= static_cast<std::uint8_t>(1u << axis);
     }
     if (hit) {
         Vec2 n{};
         (axis == 0 ? n.x : n.y) = upper ? 1.0 : -1.0;
-        world.lastHit[i] = {world.frame + 1, unit(in), n, unit(m_vel[i])};
+        world.lastHit[i] = {world.frame + 1, unit(in), n, unit(vel)};
     }
     ++m_stamp[i];
-    if (m_inelastic && m_wallHits[i] > freezeAfterWallBounces)
+    setState(i, p, vel);
+    if (m_inelastic && guard.wallHits > freezeAfterWallBounces)
         freeze(i);
 }
 
@@ -807,11 +997,32 @@ void ExactModel::crossCell(int i, int side)
     case 2: --m_cellY[i]; break;
     default: ++m_cellY[i]; break;
     }
-    const int b = m_geometry.bucket(m_cellX[i], m_cellY[i]);
+    const std::int64_t kx = m_cellX[i];
+    const std::int64_t ky = m_cellY[i];
+    const int b = m_geometry.bucket(kx, ky);
     if (b != m_bucketOf[i]) {
         unlinkFromBucket(i);
         linkIntoBucket(i, b);
     }
+    Vec2 p;
+    Vec2 v;
+    stateAt(i, p, v);
+    nextCrossing(i, p, v);
+    // The row or column of three cells that came into reach; the others were looked at before,
+    // and the best contact found then still stands (the velocity has not changed).
+    int buckets[3];
+    for (int k = -1; k <= 1; ++k) {
+        switch (side) {
+        case 0: buckets[k + 1] = m_geometry.bucket(kx - 1, ky + k); break;
+        case 1: buckets[k + 1] = m_geometry.bucket(kx + 1, ky + k); break;
+        case 2: buckets[k + 1] = m_geometry.bucket(kx + k, ky - 1); break;
+        default: buckets[k + 1] = m_geometry.bucket(kx + k, ky + 1); break;
+        }
+    }
+    Event best = m_contact[i];
+    scanPins(i, p, v, buckets, 3, best);
+    scanBuckets(i, p, v, buckets, 3, best);
+    m_contact[i] = best;
 }
 
 void ExactModel::step(World &world)
@@ -827,58 +1038,62 @@ void ExactModel::step(World &world)
     // A world that already left finite numbers is only carried along (World::step reports it).
     bool finite = std::isfinite(m_lambda) && isFinite(m_gravity);
     for (int i = 0; i < n && finite; ++i)
-        finite = isFinite(m_base[i]) && isFinite(m_vel[i]) && std::isfinite(m_radius[i]) && std::isfinite(m_invMass[i]);
+        finite = isFinite(m_track[i].a) && isFinite(m_track[i].b) && std::isfinite(m_radius[i])
+            && std::isfinite(m_invMass[i]);
     if (!finite) {
         endFrame(world);
         return;
     }
 
-    for (int i = 0; i < n; ++i)
-        predict(i, 0.0);
-    buildTree();
-
-    double now = 0.0;
-    while (true) {
-        const int i = m_tree[1];
-        const Event ev = m_event[i];
-        if (!(ev.time <= 1.0))
-            break;
-        now = std::max(now, ev.time);
+    predictAll();
+    const Event none{infinity, EventKind::None, -1, 0};
+    while (!m_heap.empty()) {
+        const int i = m_heap[0].marble;
+        const Event ev = currentEvent(i);
+        setNow(std::max(m_now, ev.time));
         ++m_eventCount;
+        if (ev.kind == EventKind::Cross) {
+            crossCell(i, ev.other);
+            heapUpdate(i);
+            continue;
+        }
+        // Every other event ends with a fresh prediction of i. Its old contact is void from here
+        // on (so that no partner's search stops at it).
+        m_contact[i] = none;
         switch (ev.kind) {
         case EventKind::Pair:
             if (m_stamp[ev.other] == ev.stamp) {
-                collidePair(world, i, ev.other, now);
-                predict(ev.other, now);
-                updateTree(ev.other);
+                collidePair(world, i, ev.other);
+                m_contact[ev.other] = none;
+                predict(ev.other);
+                heapUpdate(ev.other);
             }
             break;
         case EventKind::Pin:
-            collidePin(world, i, ev.other, now);
+            collidePin(world, i, ev.other);
             break;
         case EventKind::Wall:
-            collideWall(world, i, ev.other, now);
-            break;
-        case EventKind::Cross:
-            crossCell(i, ev.other);
+            collideWall(world, i, ev.other);
             break;
         case EventKind::RecheckPin:
-            countContact(i, now);
+            countContact(i);
             break;
         case EventKind::RecheckPair:
             // Re-checks count against both marbles, so that even a frozen marble's re-checks
             // end: its partner freezes in turn, and frozen pairs are not predicted.
-            countContact(i, now);
-            if (countContact(ev.other, now)) {
-                predict(ev.other, now);
-                updateTree(ev.other);
+            countContact(i);
+            if (countContact(ev.other)) {
+                m_contact[ev.other] = none;
+                predict(ev.other);
+                heapUpdate(ev.other);
             }
             break;
+        case EventKind::Cross:
         case EventKind::None:
             break;
         }
-        predict(i, now);
-        updateTree(i);
+        predict(i);
+        heapUpdate(i);
     }
     endFrame(world);
 }

@@ -13,12 +13,13 @@ namespace marbles {
 /// marble-pin, marble-wall) happen at their exact time of contact and are resolved by an
 /// impulse along the contact normal with restitution e. See exactmodel.cpp for the derivations.
 ///
-/// Data structures (designed for 1e5 marbles): a folded uniform grid with doubly linked bucket
-/// lists (marbles change cell through "cell crossing" events), one pending event per marble in
-/// a tournament tree (so the calendar holds at most N entries and never fills with stale
-/// events), and per-marble collision stamps that reveal stale partner events lazily.
-/// All buffers are kept between frames (no allocation in steady state) and are rebuilt from
-/// the World at the start of every frame, so they are caches only.
+/// Data structures (designed for 1e5 marbles and more, cost linear in N): a folded uniform grid
+/// with doubly linked bucket lists (marbles change cell through "cell crossing" events, and then
+/// look only at the three cells that came into reach), per marble one best contact and one next
+/// crossing, an indexed binary heap holding only the marbles with an event inside the frame,
+/// and per-marble collision stamps that reveal stale partner events lazily. All buffers are kept
+/// between frames (no allocation in steady state) and are rebuilt from the World at the start of
+/// every frame, so they are caches only.
 class ExactModel final : public Stepper {
 public:
     /// With e < 1 only: after this many marble-marble or marble-pin collisions of a marble within
@@ -64,23 +65,56 @@ private:
         int other = -1;      // partner marble, pin index, wall (0..3) or crossing side (0..3)
         std::uint32_t stamp = 0; // the partner's stamp when predicted (pairs only)
     };
+    // A marble's trajectory in frame time t: p(t) = a + b phi1(t) + g phi2(t) (see the .cpp).
+    struct Track {
+        Vec2 a;
+        Vec2 b;
+    };
+    // The collapse guard's per-frame counts of one marble.
+    struct Guard {
+        int pairHits = 0;
+        int restHits = 0;
+        int wallHits = 0;
+        int recheckHits = 0;
+        std::uint8_t frozen = 0;
+        std::uint8_t locked = 0; // bit 0: x held against a wall, bit 1: y
+    };
+    // A heap entry: the marble's current event, with its tie-break packed for cheap comparison.
+    struct Key {
+        double time;
+        std::uint64_t tie;
+        int marble;
+    };
 
     void beginFrame(World &world);
     void endFrame(World &world);
-    void predict(int i, double now);
-    bool earlier(int a, int b) const;
-    void buildTree();
-    void updateTree(int i);
-    void positionAt(int i, double t, Vec2 &p, Vec2 &v) const;
-    void rebase(int i, double t);
-    void collidePair(World &world, int i, int j, double t);
-    void collidePin(World &world, int i, int pin, double t);
-    void collideWall(World &world, int i, int wall, double t);
+    void setNow(double t);
+    void stateAt(int i, Vec2 &p, Vec2 &v) const;
+    void setState(int i, Vec2 p, Vec2 v);
+    void predictAll();
+    void predictOwn(int i, Vec2 p, Vec2 v, Event &best);
+    void predict(int i);
+    void scanPins(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const;
+    void scanBuckets(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const;
+    bool pairContact(int i, int j, Vec2 pi, Vec2 vi, double horizon, double &tau, bool &recheck) const;
+    static std::uint64_t tieOf(int i, const Event &e);
+    static bool before(int i, const Event &a, const Event &b);
+    Event currentEvent(int i) const;
+    Key keyOf(int i) const;
+    static bool keyBefore(const Key &a, const Key &b);
+    void heapUpdate(int i);
+    void heapSiftUp(int pos);
+    void heapSiftDown(int pos);
+    void heapPlace(int pos, const Key &key);
+    void nextCrossing(int i, Vec2 p, Vec2 v);
+    void collidePair(World &world, int i, int j);
+    void collidePin(World &world, int i, int pin);
+    void collideWall(World &world, int i, int wall);
     void crossCell(int i, int side);
     void freeze(int i);
     bool overLimit(int i) const;
-    bool countContact(int i, double t);
-    void unlockMoved(int i);
+    bool countContact(int i);
+    void unlockMoved(int i, Vec2 v);
     void linkIntoBucket(int i, int bucket);
     void unlinkFromBucket(int i);
 
@@ -97,20 +131,21 @@ private:
     bool m_singleCell = false;   // no grid: one bucket, no cell crossings
     const World *m_world = nullptr;
 
-    // Marbles: trajectory p(t) = base + vel phi1(t - t0) + grav phi2(t - t0) (see the .cpp).
-    std::vector<Vec2> m_base;
-    std::vector<Vec2> m_vel;
-    std::vector<Vec2> m_grav;
-    std::vector<double> m_t0;
+    // The clock: the current event time and phi1, phi2, e^{-lambda t} there.
+    double m_now = 0.0;
+    double m_decayNow = 1.0;
+    double m_phi1Now = 0.0;
+    double m_phi2Now = 0.0;
+    double m_phi1End = 1.0;  // phi1(1)
+    double m_sLeft = 1.0;    // >= phi1(1 - now), for quick rejections
+
+    // Marbles.
+    std::vector<Track> m_track;
+    std::vector<Vec2> m_grav;      // gravity as felt (a component is 0 while held on a wall)
     std::vector<double> m_radius;
     std::vector<double> m_invMass; // 0 while frozen
     std::vector<std::uint32_t> m_stamp;
-    std::vector<int> m_pairHits;
-    std::vector<int> m_restHits;
-    std::vector<int> m_recheckHits;
-    std::vector<int> m_wallHits;
-    std::vector<std::uint8_t> m_frozen;
-    std::vector<std::uint8_t> m_locked; // bit 0: x held against a wall, bit 1: y
+    std::vector<Guard> m_guard;
 
     // Grid: cell coordinates, bucket linked lists.
     std::vector<std::int64_t> m_cellX;
@@ -121,10 +156,13 @@ private:
     std::vector<int> m_prev;
     UniformGrid m_pinGrid;
 
-    // Calendar: one event per marble, tournament tree over the marbles.
-    std::vector<Event> m_event;
-    std::vector<int> m_tree;
-    int m_leaves = 1;
+    // Calendar: per marble its best contact and next crossing; a heap of the marbles whose
+    // earlier one falls inside the frame.
+    std::vector<Event> m_contact;
+    std::vector<double> m_crossTime;
+    std::vector<std::uint8_t> m_crossSide;
+    std::vector<Key> m_heap;
+    std::vector<int> m_heapPos; // -1: not in the heap
 
     std::int64_t m_eventCount = 0;
     std::int64_t m_collisionCount = 0;
