@@ -2,6 +2,7 @@
 
 #include "core/presets.h"
 #include "ui/autosaver.h"
+#include "ui/comparerun.h"
 #include "ui/inspectordock.h"
 #include "ui/parametersdock.h"
 #include "ui/plotdock.h"
@@ -24,6 +25,7 @@
 #include <QMenuBar>
 #include <QSettings>
 #include <QShowEvent>
+#include <QSignalBlocker>
 #include <QStatusBar>
 #include <QStyle>
 #include <QTimer>
@@ -65,6 +67,9 @@ MainWindow::MainWindow(QWidget *parent)
     setObjectName(QStringLiteral("mainWindow"));
     m_view = new StageView(m_document, this);
     m_run = new RunController(m_document, this);
+    // Made before the docks: its frame slot runs before the plot's, which samples both worlds.
+    m_compare = new CompareRun(m_document, this);
+    m_compare->setStage(m_view->scene());
 
     // The central widget: a message bar (hidden until needed) above the stage.
     auto *central = new QWidget(this);
@@ -107,6 +112,9 @@ MainWindow::MainWindow(QWidget *parent)
     connect(m_run, &RunController::runningChanged, this, &MainWindow::onRunningChanged);
     connect(m_view, &StageView::selectionChanged, this, &MainWindow::onSelectionChanged);
     connect(m_view, &StageView::message, this, &MainWindow::showStatus);
+    connect(m_compare, &CompareRun::modelChanged, this, &MainWindow::updateCompareControls);
+    connect(m_compare, &CompareRun::restarted, this, &MainWindow::updateCompareReadout);
+    connect(m_document, &SceneDocument::stepped, this, &MainWindow::updateCompareReadout);
 
     m_autoSaver = new AutoSaver(m_document, QString(), this);
     m_autoSaver->start();
@@ -121,6 +129,7 @@ MainWindow::MainWindow(QWidget *parent)
     updateFrameDisplay();
     updateEditActions();
     updateStatistics();
+    updateCompareControls();
     m_view->setFocus();
 }
 
@@ -129,7 +138,7 @@ MainWindow::~MainWindow()
     // QObject destroys children only after ~QWidget has begun, when this is no longer a
     // MainWindow; a signal the document or the run loop sends while dying (QUndoStack emits
     // cleanChanged from its destructor) must not reach a slot here.
-    const QList<QObject *> senders{m_document, m_run, m_view, m_autoSaver};
+    const QList<QObject *> senders{m_document, m_run, m_view, m_autoSaver, m_compare};
     for (QObject *sender : senders) {
         if (sender)
             sender->disconnect(this);
@@ -265,6 +274,26 @@ void MainWindow::createActions()
     m_trailsAction->setStatusTip(tr("Fading trails behind the marbles"));
     connect(m_trailsAction, &QAction::toggled, m_view, &StageView::setTrailsVisible);
 
+    // Compare With: one checkable action per model, shared by the Simulation menu and the toolbar box.
+    m_compareGroup = new QActionGroup(this);
+    m_compareGroup->setExclusive(true);
+    const auto addCompareAction = [this](const QString &text, const QString &name, int data, const QString &tip) {
+        auto *action = new QAction(text, m_compareGroup);
+        action->setObjectName(name);
+        action->setCheckable(true);
+        action->setData(data);
+        action->setStatusTip(tip);
+    };
+    addCompareAction(tr("&None"), QStringLiteral("actionCompareNone"), -1, tr("Run the scene's own model only"));
+    addCompareAction(tr("&Book"), QStringLiteral("actionCompareBook"), static_cast<int>(ModelKind::Book),
+                     tr("Run the chapter's model beside this one: its marbles appear as dashed outlines"));
+    addCompareAction(tr("&Exact"), QStringLiteral("actionCompareExact"), static_cast<int>(ModelKind::Exact),
+                     tr("Run the exact reference physics beside this model: its marbles appear as dashed outlines"));
+    addCompareAction(tr("&Impulse"), QStringLiteral("actionCompareImpulse"), static_cast<int>(ModelKind::Impulse),
+                     tr("Run the games' impulse model beside this one: its marbles appear as dashed outlines"));
+    m_compareGroup->actions().front()->setChecked(true);
+    connect(m_compareGroup, &QActionGroup::triggered, this, &MainWindow::onCompareChosen);
+
     addActions({m_playAction, m_stepAction, m_stepBackAction, m_rewindAction});
     m_view->setContextActions({m_selectToolAction, m_marbleToolAction, m_pinToolAction, nullptr, m_addMarbleHereAction,
                                m_addPinHereAction, nullptr, m_deleteAction});
@@ -309,6 +338,10 @@ void MainWindow::createMenus()
     simulation->addAction(m_stepAction);
     simulation->addAction(m_stepBackAction);
     simulation->addAction(m_rewindAction);
+    simulation->addSeparator();
+    m_compareMenu = simulation->addMenu(tr("&Compare With"));
+    m_compareMenu->setObjectName(QStringLiteral("compareMenu"));
+    m_compareMenu->addActions(m_compareGroup->actions());
 
     m_viewMenu = menuBar()->addMenu(tr("&View"));
     m_viewMenu->addAction(m_vectorsAction);
@@ -361,6 +394,23 @@ void MainWindow::createToolBars()
     font.setBold(true);
     m_frameDisplay->setFont(font);
     runBar->addWidget(m_frameDisplay);
+    runBar->addSeparator();
+    auto *compareTitle = new QLabel(tr("Compare with "), runBar);
+    compareTitle->setContentsMargins(4, 0, 0, 0);
+    runBar->addWidget(compareTitle);
+    m_compareBox = new QComboBox(runBar);
+    m_compareBox->setObjectName(QStringLiteral("compareBox"));
+    m_compareBox->setToolTip(tr("Run a second model beside this one on the same scene; its marbles are drawn "
+                                "as dashed outlines and its speeds as dashed lines in the plot"));
+    m_compareBox->setFocusPolicy(Qt::TabFocus);
+    connect(m_compareBox, &QComboBox::activated, this, [this](int index) {
+        const int data = m_compareBox->itemData(index).toInt();
+        for (QAction *action : m_compareGroup->actions()) {
+            if (action->data().toInt() == data && !action->isChecked())
+                action->trigger();
+        }
+    });
+    runBar->addWidget(m_compareBox);
 
     QToolBar *toolBar = addToolBar(tr("Tools"));
     toolBar->setObjectName(QStringLiteral("toolsToolBar"));
@@ -399,7 +449,7 @@ void MainWindow::createDocks()
     m_plotDock = new PlotDock(this);
     addDockWidget(Qt::BottomDockWidgetArea, m_plotDock);
     connect(m_document, &SceneDocument::frameAdvanced, this,
-            [this] { m_plotDock->appendFrame(m_document->world()); });
+            [this] { m_plotDock->appendFrame(m_document->world(), m_compare->world()); });
     connect(m_document, &SceneDocument::timelineReset, this, [this] { m_plotDock->reset(m_document->world()); });
 
     for (QDockWidget *dock : {static_cast<QDockWidget *>(m_parametersDock), static_cast<QDockWidget *>(m_inspectorDock),
@@ -423,6 +473,17 @@ void MainWindow::createStatusBar()
     m_fpsLabel = addLabel(QStringLiteral("fpsLabel"), tr("Times per second the stage was redrawn (0 while nothing moves)"));
     m_energyLabel = addLabel(QStringLiteral("energyLabel"), tr("Total kinetic energy, sum of m v² / 2"));
     m_momentumLabel = addLabel(QStringLiteral("momentumLabel"), tr("Total momentum, sum of m v"));
+    // The comparison readout comes first, where the eye lands after the stage; shown while comparing.
+    m_compareLabel = new QLabel(this);
+    m_compareLabel->setObjectName(QStringLiteral("compareLabel"));
+    m_compareLabel->setContentsMargins(0, 0, 12, 0);
+    m_compareLabel->setToolTip(
+        tr("Largest distance between a marble and its dashed ghost since the comparison started.\n"
+           "Both models start from the same state and run the same frames; a click pushes both.\n"
+           "Stepping back, rewinding, any edit or a new scene starts the comparison again from the "
+           "scene as it is then."));
+    m_compareLabel->setVisible(false);
+    statusBar()->insertPermanentWidget(0, m_compareLabel);
     m_statisticsClock.start();
     m_statisticsTimer = new QTimer(this);
     m_statisticsTimer->setInterval(250);
@@ -715,6 +776,7 @@ void MainWindow::onSceneChanged()
     m_parametersDock->setParams(m_document->world().params);
     updateEditActions();
     updateStatistics();
+    updateCompareControls();
 }
 
 void MainWindow::onSelectionChanged()
@@ -743,6 +805,53 @@ void MainWindow::addMarbleHere()
 void MainWindow::addPinHere()
 {
     showStatus(m_document->addPin(m_view->contextPoint()));
+}
+
+void MainWindow::onCompareChosen(QAction *action)
+{
+    const int data = action->data().toInt();
+    if (data < 0)
+        m_compare->stop();
+    else
+        m_compare->setModel(static_cast<ModelKind>(data));
+}
+
+void MainWindow::updateCompareControls()
+{
+    const ModelKind current = m_document->world().params.model;
+    if (m_compare->isActive() && m_compare->model() == current) {
+        // The scene now runs the compared model itself: nothing left to compare with.
+        const std::string_view name = modelName(current);
+        showStatus(tr("Comparison off: the scene now runs the %1 model itself.")
+                       .arg(QString::fromUtf8(name.data(), static_cast<qsizetype>(name.size()))));
+        m_compare->stop(); // emits modelChanged(), which comes back here
+        return;
+    }
+    const int chosen = m_compare->isActive() ? static_cast<int>(m_compare->model()) : -1;
+    const QSignalBlocker blocker(m_compareBox);
+    m_compareBox->clear();
+    for (QAction *action : m_compareGroup->actions()) {
+        const int data = action->data().toInt();
+        // The scene's own model is not offered: it would only ever show a gap of 0.
+        action->setVisible(data < 0 || data != static_cast<int>(current));
+        action->setChecked(data == chosen);
+        if (action->isVisible())
+            m_compareBox->addItem(action->text().remove(QLatin1Char('&')).toLower(), data);
+    }
+    m_compareBox->setCurrentIndex(m_compareBox->findData(chosen));
+    QString plotted;
+    if (m_compare->isActive()) {
+        const std::string_view name = modelName(m_compare->model());
+        plotted = QString::fromUtf8(name.data(), static_cast<qsizetype>(name.size()));
+    }
+    m_plotDock->setCompareModel(plotted);
+    updateCompareReadout();
+}
+
+void MainWindow::updateCompareReadout()
+{
+    m_compareLabel->setText(m_compare->summary());
+    m_compareLabel->setVisible(m_compare->isActive());
 }
 
 void MainWindow::showBarMessage(const QString &text)

@@ -17,6 +17,7 @@ class QUndoView;
 namespace marbles {
 
 class AutoSaver;
+class CompareRun;
 class InspectorDock;
 class ParametersDock;
 class PlotDock;
@@ -58,6 +59,8 @@ public:
     StageView *stageView() const { return m_view; }
     /// The run loop.
     RunController *runController() const { return m_run; }
+    /// The second model run beside the document's (Simulation > Compare With).
+    CompareRun *compareRun() const { return m_compare; }
     /// The Parameters dock.
     ParametersDock *parametersDock() const { return m_parametersDock; }
     /// The Plot dock.
@@ -108,6 +111,9 @@ private:
     void onToolChosen(QAction *action);
     void addMarbleHere();
     void addPinHere();
+    void onCompareChosen(QAction *action);
+    void updateCompareControls();
+    void updateCompareReadout();
 
     void showBarMessage(const QString &text);
     void hideBarMessage();
@@ -120,6 +126,7 @@ private:
     SceneDocument *m_document = nullptr;
     StageView *m_view = nullptr;
     RunController *m_run = nullptr;
+    CompareRun *m_compare = nullptr;
     AutoSaver *m_autoSaver = nullptr;
     std::unique_ptr<Prompts> m_prompts;
     QString m_presetTitle;
@@ -157,6 +164,10 @@ private:
     QMenu *m_presetMenu = nullptr;
     QMenu *m_viewMenu = nullptr;
     QComboBox *m_speedBox = nullptr;
+    QActionGroup *m_compareGroup = nullptr; ///< None, book, exact, impulse; data: -1 or the ModelKind
+    QMenu *m_compareMenu = nullptr;
+    QComboBox *m_compareBox = nullptr;
+    QLabel *m_compareLabel = nullptr;
 
     QWidget *m_messageBar = nullptr;
     QLabel *m_messageText = nullptr;

@@ -151,6 +151,8 @@ PlotDock::PlotDock(QWidget *parent)
     m_chart = new QChart;
     m_chart->setAnimationOptions(QChart::NoAnimation);
     m_chart->legend()->setAlignment(Qt::AlignBottom);
+    // Legend entries drawn as short lines in each series' pen, so a dashed line reads as dashed.
+    m_chart->legend()->setMarkerShape(QLegend::MarkerShapeFromSeries);
     m_chart->setMargins(QMargins(2, 2, 2, 2));
     m_chart->layout()->setContentsMargins(0, 0, 0, 0);
     m_chart->setBackgroundRoundness(0);
@@ -186,6 +188,7 @@ PlotDock::PlotDock(QWidget *parent)
     };
     m_kineticSeries = addTotalSeries(tr("kinetic energy"), QColor(0x33, 0x33, 0x33), Qt::DashLine);
     m_momentumSeries = addTotalSeries(tr("|momentum|"), QColor(0xc0, 0x5a, 0x00), Qt::DashDotLine);
+
 
     m_chartView = new QChartView(m_chart, page);
     m_chartView->setObjectName(QStringLiteral("plotChartView"));
@@ -354,9 +357,30 @@ void PlotDock::setCompareModel(const QString &model)
     for (Track &t : m_tracks)
         removeCompareTrack(t);
     m_compareModel = model;
+    // While comparing, the legend names the two models once, as a solid and a dashed grey line,
+    // instead of listing every marble twice; these two series never hold points.
+    for (QLineSeries *key : {m_modelKey, m_compareKey}) {
+        if (key)
+            m_chart->removeSeries(key);
+        delete key;
+    }
+    m_modelKey = nullptr;
+    m_compareKey = nullptr;
     if (!m_compareModel.isEmpty()) {
         for (Track &t : m_tracks)
             addCompareTrack(t);
+        auto addKeySeries = [this](Qt::PenStyle style) {
+            auto *series = new QLineSeries;
+            QPen pen(QColor(0x55, 0x55, 0x55), 2.0, style);
+            pen.setCapStyle(Qt::FlatCap);
+            series->setPen(pen);
+            m_chart->addSeries(series);
+            series->attachAxis(m_axisX);
+            series->attachAxis(m_axisSpeed);
+            return series;
+        };
+        m_modelKey = addKeySeries(Qt::SolidLine);
+        m_compareKey = addKeySeries(Qt::DashLine);
     }
     styleSeries();
     m_dirty = true;
@@ -631,20 +655,25 @@ void PlotDock::removeCompareTrack(Track &t)
 
 void PlotDock::styleSeries()
 {
-    // While comparing, both lines of a marble carry their model's name: "large (marble 0), book"
-    // solid, "large (marble 0), exact" dashed, in the same colour.
+    // While comparing, a marble's two lines share its colour: solid for the scene's model, dashed
+    // for the comparison model, whose name the dashed line carries ("large (marble 0), exact").
+    // The legend lists each marble once and the two models once.
     for (Track &t : m_tracks) {
         const QColor colour = marbleColor(t.marble);
+        t.series->setName(marbleLabel(t.marble));
+        t.series->setPen(QPen(colour, 2.0));
         if (t.compareSeries) {
-            t.series->setName(tr("%1, %2").arg(marbleLabel(t.marble), m_model));
             t.compareSeries->setName(tr("%1, %2").arg(marbleLabel(t.marble), m_compareModel));
             QPen dashed(colour, 2.0, Qt::DashLine);
             dashed.setCapStyle(Qt::FlatCap);
             t.compareSeries->setPen(dashed);
-        } else {
-            t.series->setName(marbleLabel(t.marble));
+            for (QLegendMarker *marker : m_chart->legend()->markers(t.compareSeries))
+                marker->setVisible(false);
         }
-        t.series->setPen(QPen(colour, 2.0));
+    }
+    if (m_modelKey && m_compareKey) {
+        m_modelKey->setName(tr("%1 (solid)").arg(m_model));
+        m_compareKey->setName(tr("%1 (dashed)").arg(m_compareModel));
     }
 }
 

@@ -150,7 +150,7 @@ private:
     int m_marbleCount = 0;
     std::vector<QString> m_colors; ///< "#rrggbb" per marble, "" for the default palette
     std::vector<QString> m_names;
-    QString m_model;        ///< the document's model name, from the latest world seen
+    QString m_model = QStringLiteral("book"); ///< the document's model name, from the latest reset()
     QString m_compareModel; ///< the comparison model's name, "" when none
     double m_frameMs = 20.0;
     bool m_timeInSeconds = false;
@@ -163,6 +163,8 @@ private:
     QValueAxis *m_axisTotals = nullptr;
     QLineSeries *m_kineticSeries = nullptr;
     QLineSeries *m_momentumSeries = nullptr;
+    QLineSeries *m_modelKey = nullptr;   ///< legend entry only, while comparing: "book (solid)"
+    QLineSeries *m_compareKey = nullptr; ///< legend entry only, while comparing: "exact (dashed)"
     QCheckBox *m_showKinetic = nullptr;
     QCheckBox *m_showMomentum = nullptr;
     QRadioButton *m_frameAxis = nullptr;

@@ -1,0 +1,672 @@
+// CompareRun: a second model run beside the document's. The oracle is an independent World
+// of the comparison model stepped frame by frame from the same state: the comparison must match
+// it bit for bit, and the gap must be the largest distance between the two worlds' marbles.
+// The last tests drive the main window's "Compare with" box with QTest keys.
+
+#include "core/presets.h"
+#include "ui/comparerun.h"
+#include "ui/mainwindow.h"
+#include "ui/marblefielditem.h"
+#include "ui/plotdock.h"
+#include "ui/prompts.h"
+#include "ui/scenedocument.h"
+#include "ui/stageview.h"
+
+#include <QAction>
+#include <QComboBox>
+#include <QDir>
+#include <QGraphicsScene>
+#include <QLabel>
+#include <QLineSeries>
+#include <QMenu>
+#include <QSettings>
+#include <QSignalSpy>
+#include <QStandardPaths>
+#include <QTest>
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+using namespace marbles;
+
+Q_DECLARE_METATYPE(marbles::ModelKind)
+
+namespace {
+
+World presetWorld(const char *id, ModelKind model)
+{
+    World world;
+    if (!makePreset(id, world))
+        qFatal("no preset %s", id);
+    world.params.model = model;
+    return world;
+}
+
+/// The gap as the brief defines it: max over marbles of |p_a - p_b|, px; -1 when none differ.
+struct Gap {
+    double px = 0.0;
+    int marble = -1;
+};
+
+Gap gapBetween(const World &a, const World &b)
+{
+    Gap gap;
+    for (int i = 0; i < a.marbleCount(); ++i) {
+        const double dx = a.position[i].x - b.position[i].x;
+        const double dy = a.position[i].y - b.position[i].y;
+        const double d = std::sqrt(dx * dx + dy * dy);
+        if (d > gap.px) {
+            gap.px = d;
+            gap.marble = i;
+        }
+    }
+    return gap;
+}
+
+/// True when `compare` is `document` with only the model changed (the state a restart copies).
+bool isCopyOf(const World &compare, const World &document, ModelKind model)
+{
+    Params params = document.params;
+    params.model = model;
+    return compare.params == params && compare.stage == document.stage && compare.frame == document.frame
+        && compare.position == document.position && compare.velocity == document.velocity
+        && compare.acceleration == document.acceleration && compare.radius == document.radius
+        && compare.mass == document.mass && compare.pins == document.pins && compare.pushes == document.pushes;
+}
+
+bool sameDynamics(const World &a, const World &b)
+{
+    return a.frame == b.frame && a.position == b.position && a.velocity == b.velocity
+        && a.acceleration == b.acceleration;
+}
+
+int ghostCount(QGraphicsScene *scene)
+{
+    int n = 0;
+    for (QGraphicsItem *item : scene->items()) {
+        if (item->type() == MarbleFieldItem::Type
+            && static_cast<MarbleFieldItem *>(item)->style() == MarbleFieldItem::Style::Ghost)
+            ++n;
+    }
+    return n;
+}
+
+/// Answers the window's questions without a dialog (closing with unsaved edits discards them).
+class DiscardPrompts : public Prompts {
+public:
+    SaveChoice askSaveChanges(QWidget *, const QString &) override { return SaveChoice::Discard; }
+    bool askRecover(QWidget *, const QString &) override { return false; }
+    QString askOpenFileName(QWidget *, const QString &) override { return {}; }
+    QString askSaveFileName(QWidget *, const QString &) override { return {}; }
+    void showError(QWidget *, const QString &, const QString &) override {}
+};
+
+} // namespace
+
+class TestCompareRun : public QObject {
+    Q_OBJECT
+
+private Q_SLOTS:
+    void initTestCase();
+
+    void offByDefault();
+    void sameModelGapIsZero_data();
+    void sameModelGapIsZero();
+    void matchesIndependentRun_data();
+    void matchesIndependentRun();
+    void bookDriftsAwayFromExact();
+    void restartsFromDocument_data();
+    void restartsFromDocument();
+    void clickPushesBothModels();
+    void heldMarbleIsFollowed();
+    void waitsWhileParamsInvalid();
+    void stopsWhenComparisonLeavesFiniteNumbers();
+    void ghostsFollowTheComparison();
+    void ghostsSurviveStageDestroyedFirst();
+    void plotGetsCompareSeries();
+
+    void boxOffersTheOtherModels_data();
+    void boxOffersTheOtherModels();
+    void choosingWithKeysShowsGhostsReadoutAndPlot();
+    void menuActionsAndBoxAgree();
+    void sceneSwitchingToComparedModelEndsComparison();
+
+private:
+    std::unique_ptr<MainWindow> makeWindow();
+};
+
+void TestCompareRun::initTestCase()
+{
+    QStandardPaths::setTestModeEnabled(true);
+    QCoreApplication::setOrganizationName(QStringLiteral("MarblesTests"));
+    QCoreApplication::setApplicationName(QStringLiteral("tst_comparerun"));
+    QSettings().clear();
+    QDir(QStandardPaths::writableLocation(QStandardPaths::AppDataLocation)).removeRecursively();
+}
+
+void TestCompareRun::offByDefault()
+{
+    SceneDocument doc;
+    doc.resetScene(presetWorld("four-marbles", ModelKind::Book));
+    CompareRun compare(&doc);
+    QGraphicsScene scene;
+    compare.setStage(&scene);
+    QSignalSpy advanced(&compare, &CompareRun::advanced);
+    doc.advance(30);
+    doc.stepBack();
+    QVERIFY(!compare.isActive());
+    QVERIFY(!compare.isTracking());
+    QVERIFY(compare.world() == nullptr);
+    QVERIFY(compare.ghostItem() == nullptr);
+    QCOMPARE(ghostCount(&scene), 0);
+    QCOMPARE(advanced.count(), 0);
+    QVERIFY(compare.summary().isEmpty());
+}
+
+void TestCompareRun::sameModelGapIsZero_data()
+{
+    QTest::addColumn<QString>("preset");
+    QTest::addColumn<ModelKind>("model");
+    QTest::addRow("four-marbles, book") << "four-marbles" << ModelKind::Book;
+    QTest::addRow("four-marbles, exact") << "four-marbles" << ModelKind::Exact;
+    QTest::addRow("pins, impulse") << "pins" << ModelKind::Impulse;
+    QTest::addRow("masses, exact") << "masses" << ModelKind::Exact;
+    QTest::addRow("newtons-cradle, book") << "newtons-cradle" << ModelKind::Book;
+    QTest::addRow("pachinko, impulse") << "pachinko" << ModelKind::Impulse;
+}
+
+void TestCompareRun::sameModelGapIsZero()
+{
+    QFETCH(QString, preset);
+    QFETCH(ModelKind, model);
+    SceneDocument doc;
+    doc.resetScene(presetWorld(qPrintable(preset), model));
+    CompareRun compare(&doc);
+    compare.setModel(model);
+    QVERIFY(compare.isTracking());
+
+    // Every frame, whether simulated one at a time or in a batch as the run loop does.
+    constexpr int kFrames = 400;
+    std::vector<double> gaps;
+    connect(&compare, &CompareRun::advanced, &compare, [&] { gaps.push_back(compare.currentGapPx()); });
+    for (int f = 0; f < kFrames / 2; ++f)
+        doc.advance(1);
+    doc.advance(kFrames / 2);
+
+    QCOMPARE(static_cast<int>(gaps.size()), kFrames);
+    for (std::size_t f = 0; f < gaps.size(); ++f)
+        QVERIFY2(gaps[f] == 0.0, qPrintable(QStringLiteral("frame %1: gap %2").arg(f + 1).arg(gaps[f])));
+    QVERIFY(sameDynamics(*compare.world(), doc.world()));
+    QVERIFY(compare.largestGapPx() == 0.0);
+    QCOMPARE(compare.largestGapMarble(), -1);
+}
+
+void TestCompareRun::matchesIndependentRun_data()
+{
+    QTest::addColumn<QString>("preset");
+    QTest::addColumn<ModelKind>("sceneModel");
+    QTest::addColumn<ModelKind>("compareModel");
+    QTest::addColumn<int>("frames");
+    QTest::addRow("four-marbles, book vs exact") << "four-marbles" << ModelKind::Book << ModelKind::Exact << 300;
+    QTest::addRow("four-marbles, book vs impulse") << "four-marbles" << ModelKind::Book << ModelKind::Impulse << 300;
+    QTest::addRow("pins, exact vs book") << "pins" << ModelKind::Exact << ModelKind::Book << 250;
+    QTest::addRow("masses, impulse vs exact") << "masses" << ModelKind::Impulse << ModelKind::Exact << 250;
+    QTest::addRow("pachinko, book vs exact") << "pachinko" << ModelKind::Book << ModelKind::Exact << 200;
+}
+
+void TestCompareRun::matchesIndependentRun()
+{
+    QFETCH(QString, preset);
+    QFETCH(ModelKind, sceneModel);
+    QFETCH(ModelKind, compareModel);
+    QFETCH(int, frames);
+    const World start = presetWorld(qPrintable(preset), sceneModel);
+    SceneDocument doc;
+    doc.resetScene(start);
+    CompareRun compare(&doc);
+    compare.setModel(compareModel);
+    QVERIFY(compare.isTracking());
+    QVERIFY(isCopyOf(*compare.world(), doc.world(), compareModel));
+
+    World oracle = start;
+    oracle.params.model = compareModel;
+    Gap largest;
+    std::int64_t largestFrame = 0;
+    for (int f = 1; f <= frames; ++f) {
+        doc.advance(1);
+        QVERIFY(oracle.step().finite);
+        QVERIFY2(sameDynamics(*compare.world(), oracle), qPrintable(QStringLiteral("frame %1").arg(f)));
+        const Gap now = gapBetween(doc.world(), oracle);
+        QCOMPARE_LE(std::abs(compare.currentGapPx() - now.px), 1e-12);
+        QCOMPARE(compare.currentGapMarble(), now.marble);
+        if (now.px > largest.px) {
+            largest = now;
+            largestFrame = f;
+        }
+    }
+    QCOMPARE_LE(std::abs(compare.largestGapPx() - largest.px), 1e-12);
+    QCOMPARE(compare.largestGapMarble(), largest.marble);
+    QCOMPARE(compare.largestGapFrame(), largestFrame);
+    QCOMPARE(compare.startFrame(), 0);
+    // Two different models on these scenes do drift apart: the oracle is not trivially zero.
+    QCOMPARE_GT(largest.px, 0.5);
+}
+
+void TestCompareRun::bookDriftsAwayFromExact()
+{
+    // The chapter's four marbles. Already in frame 1 the two disagree: the book moves the pushed
+    // marble by its whole new velocity (7 px), the exact model lets drag act during the frame
+    // (7 (1 - e^-lambda) / lambda = 7 * 0.1 / 0.1054 = 6.64 px). Then the book's collision shares
+    // the speed its own way, the exact model by momentum and energy, and the gap grows until
+    // friction stops the marbles; the second scripted push (frame 150) makes it grow again.
+    SceneDocument doc;
+    doc.resetScene(presetWorld("four-marbles", ModelKind::Book));
+    CompareRun compare(&doc);
+    compare.setModel(ModelKind::Exact);
+    std::vector<double> largest;
+    connect(&compare, &CompareRun::advanced, &compare, [&] { largest.push_back(compare.largestGapPx()); });
+    doc.advance(300);
+    QCOMPARE(static_cast<int>(largest.size()), 300);
+    for (std::size_t f = 1; f < largest.size(); ++f)
+        QCOMPARE_GE(largest[f], largest[f - 1]);
+    QCOMPARE_LE(std::abs(largest[0] - (7.0 - 7.0 * 0.1 / -std::log(1.0 - 0.1))), 1e-9);
+    QCOMPARE_GT(largest[59], 5.0 * largest[4]);
+    QCOMPARE_GT(largest[299], largest[149] + 1.0);
+    QVERIFY(compare.summary().startsWith(QStringLiteral("Compare: exact - largest gap ")));
+    QVERIFY2(compare.summary().contains(QStringLiteral("(marble %1, frame %2)")
+                                            .arg(compare.largestGapMarble())
+                                            .arg(compare.largestGapFrame())),
+             qPrintable(compare.summary()));
+}
+
+void TestCompareRun::restartsFromDocument_data()
+{
+    QTest::addColumn<QString>("action");
+    QTest::addRow("step back") << "step back";
+    QTest::addRow("rewind") << "rewind";
+    QTest::addRow("new scene") << "new scene";
+    QTest::addRow("parameter edit") << "parameter edit";
+    QTest::addRow("marble moved") << "marble moved";
+    QTest::addRow("undo") << "undo";
+    QTest::addRow("pin dragged") << "pin dragged";
+}
+
+void TestCompareRun::restartsFromDocument()
+{
+    QFETCH(QString, action);
+    SceneDocument doc;
+    doc.resetScene(presetWorld("four-marbles", ModelKind::Book));
+    CompareRun compare(&doc);
+    compare.setModel(ModelKind::Exact);
+    if (action == QLatin1String("undo"))
+        QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
+    doc.advance(120);
+    QCOMPARE_GT(compare.largestGapPx(), 0.0);
+    QSignalSpy restarted(&compare, &CompareRun::restarted);
+
+    if (action == QLatin1String("step back")) {
+        QVERIFY(doc.stepBack());
+    } else if (action == QLatin1String("rewind")) {
+        QVERIFY(doc.rewind());
+    } else if (action == QLatin1String("new scene")) {
+        doc.resetScene(presetWorld("masses", ModelKind::Book));
+    } else if (action == QLatin1String("parameter edit")) {
+        QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.2")).isEmpty());
+    } else if (action == QLatin1String("marble moved")) {
+        QVERIFY(doc.setMarblePosition(3, {650, 500}).isEmpty());
+    } else if (action == QLatin1String("undo")) {
+        doc.undoStack()->undo();
+    } else if (action == QLatin1String("pin dragged")) {
+        QVERIFY(doc.addPin({400, 100}).isEmpty());
+        doc.beginPinDrag(0);
+        doc.movePinDrag({420, 110});
+        QCOMPARE(doc.world().pins[0], (Vec2{420, 110}));
+    }
+
+    QVERIFY(restarted.count() >= 1);
+    QVERIFY(compare.isTracking());
+    QVERIFY(isCopyOf(*compare.world(), doc.world(), ModelKind::Exact));
+    QCOMPARE(compare.startFrame(), doc.world().frame);
+    QCOMPARE(compare.largestGapFrame(), doc.world().frame);
+    QVERIFY(compare.currentGapPx() == 0.0);
+    QVERIFY(compare.largestGapPx() == 0.0);
+
+    // From there both run again, the comparison exactly as its model runs from that state.
+    World oracle = doc.world();
+    oracle.params.model = ModelKind::Exact;
+    for (int f = 0; f < 60; ++f) {
+        doc.advance(1);
+        oracle.step();
+    }
+    QVERIFY(sameDynamics(*compare.world(), oracle));
+    QCOMPARE_LE(std::abs(compare.currentGapPx() - gapBetween(doc.world(), oracle).px), 1e-12);
+}
+
+void TestCompareRun::clickPushesBothModels()
+{
+    SceneDocument doc;
+    doc.resetScene(presetWorld("four-marbles", ModelKind::Book));
+    CompareRun compare(&doc);
+    compare.setModel(ModelKind::Impulse);
+    World oracle = doc.world();
+    oracle.params.model = ModelKind::Impulse;
+    for (int f = 0; f < 40; ++f) {
+        doc.advance(1);
+        oracle.step();
+    }
+    // A click on the small marble, below-left of its centre: the document computes the push from
+    // its own marble, and the comparison marble gets the very same one.
+    const Vec2 at{doc.world().position[1].x - 8.0, doc.world().position[1].y + 6.0};
+    World clicked = doc.world();
+    clicked.push(1, at);
+    doc.pushMarble(1, at);
+    QCOMPARE(doc.world().acceleration[1], clicked.acceleration[1]);
+    oracle.acceleration[1] = clicked.acceleration[1];
+    for (int f = 0; f < 80; ++f) {
+        doc.advance(1);
+        oracle.step();
+    }
+    QVERIFY(sameDynamics(*compare.world(), oracle));
+    QCOMPARE(compare.startFrame(), 0);
+}
+
+void TestCompareRun::heldMarbleIsFollowed()
+{
+    SceneDocument doc;
+    doc.resetScene(presetWorld("four-marbles", ModelKind::Book));
+    CompareRun compare(&doc);
+    compare.setModel(ModelKind::Exact);
+    doc.advance(30);
+    QCOMPARE_GT(compare.largestGapPx(), 0.0);
+    doc.beginHold(2);
+    doc.moveHeld({500, 250});
+    doc.advance(5);
+    // The hand moves the marble outside either model: the comparison follows the document.
+    QVERIFY(isCopyOf(*compare.world(), doc.world(), ModelKind::Exact));
+    QVERIFY(compare.largestGapPx() == 0.0);
+    QVERIFY(doc.endHold({500, 250}).isEmpty());
+    QVERIFY(isCopyOf(*compare.world(), doc.world(), ModelKind::Exact));
+    World oracle = doc.world();
+    oracle.params.model = ModelKind::Exact;
+    for (int f = 0; f < 20; ++f) {
+        doc.advance(1);
+        oracle.step();
+    }
+    QVERIFY(sameDynamics(*compare.world(), oracle));
+}
+
+void TestCompareRun::waitsWhileParamsInvalid()
+{
+    // Friction 1.5 is the book model's instability on show; the exact model cannot run with it.
+    World start = presetWorld("four-marbles", ModelKind::Book);
+    start.params.friction = 1.5;
+    SceneDocument doc;
+    doc.resetScene(start);
+    CompareRun compare(&doc);
+    QGraphicsScene scene;
+    compare.setStage(&scene);
+    compare.setModel(ModelKind::Exact);
+    QVERIFY(compare.isActive());
+    QVERIFY(!compare.isTracking());
+    QVERIFY(compare.world() == nullptr);
+    QVERIFY2(compare.problem().contains(QStringLiteral("friction")), qPrintable(compare.problem()));
+    QVERIFY2(compare.summary().contains(QStringLiteral("not running")), qPrintable(compare.summary()));
+    QCOMPARE(ghostCount(&scene), 0);
+    doc.advance(10);
+    QVERIFY(!compare.isTracking());
+
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.1")).isEmpty());
+    QVERIFY(compare.isTracking());
+    QVERIFY(compare.problem().isEmpty());
+    QVERIFY(isCopyOf(*compare.world(), doc.world(), ModelKind::Exact));
+    QCOMPARE(ghostCount(&scene), 1);
+}
+
+void TestCompareRun::stopsWhenComparisonLeavesFiniteNumbers()
+{
+    // Friction 2.5 makes the book model blow up (v *= 1 - k = -1.5 every frame).
+    World start = presetWorld("four-marbles", ModelKind::Book);
+    start.params.friction = 2.5;
+    SceneDocument doc;
+    doc.resetScene(start);
+    CompareRun compare(&doc);
+    QGraphicsScene scene;
+    compare.setStage(&scene);
+    compare.setModel(ModelKind::Book);
+    QCOMPARE(ghostCount(&scene), 1);
+    for (int f = 0; f < 3000 && compare.isTracking(); ++f)
+        doc.advance(1);
+    QVERIFY(compare.isActive());
+    QVERIFY(!compare.isTracking());
+    QVERIFY2(compare.problem().contains(QStringLiteral("left finite numbers")), qPrintable(compare.problem()));
+    QCOMPARE(ghostCount(&scene), 0);
+    // Stepping back restarts it from the document's (finite) state.
+    QVERIFY(doc.stepBack());
+    QVERIFY(compare.isTracking());
+    QCOMPARE(ghostCount(&scene), 1);
+}
+
+void TestCompareRun::ghostsFollowTheComparison()
+{
+    SceneDocument doc;
+    doc.resetScene(presetWorld("four-marbles", ModelKind::Book));
+    CompareRun compare(&doc);
+    QGraphicsScene scene;
+    compare.setStage(&scene);
+    QCOMPARE(ghostCount(&scene), 0);
+
+    compare.setModel(ModelKind::Exact);
+    QCOMPARE(ghostCount(&scene), 1);
+    const MarbleFieldItem *ghost = compare.ghostItem();
+    QVERIFY(ghost);
+    QCOMPARE(ghost->world(), compare.world());
+    QCOMPARE(ghost->style(), MarbleFieldItem::Style::Ghost);
+    QVERIFY(ghost->zValue() == CompareRun::kGhostZValue);
+    QCOMPARE(ghost->acceptedMouseButtons(), Qt::NoButton);
+
+    compare.setModel(ModelKind::Impulse);
+    doc.advance(20);
+    QCOMPARE(ghostCount(&scene), 1);
+    QCOMPARE(compare.ghostItem()->world(), compare.world());
+
+    compare.stop();
+    QVERIFY(compare.ghostItem() == nullptr);
+    QCOMPARE(ghostCount(&scene), 0);
+    QVERIFY(compare.world() == nullptr);
+    doc.advance(5);
+    QCOMPARE(ghostCount(&scene), 0);
+}
+
+void TestCompareRun::ghostsSurviveStageDestroyedFirst()
+{
+    SceneDocument doc;
+    doc.resetScene(presetWorld("four-marbles", ModelKind::Book));
+    CompareRun compare(&doc);
+    {
+        QGraphicsScene scene;
+        compare.setStage(&scene);
+        compare.setModel(ModelKind::Exact);
+        QCOMPARE(ghostCount(&scene), 1);
+    }
+    // The scene deleted the ghost; the comparison runs on without one (ASan checks the rest).
+    QVERIFY(compare.ghostItem() == nullptr);
+    doc.advance(10);
+    QVERIFY(compare.isTracking());
+    compare.stop();
+}
+
+void TestCompareRun::plotGetsCompareSeries()
+{
+    // The main window's wiring, without the window: the plot samples both worlds each frame.
+    SceneDocument doc;
+    doc.resetScene(presetWorld("four-marbles", ModelKind::Book));
+    CompareRun compare(&doc);
+    PlotDock plot;
+    connect(&doc, &SceneDocument::frameAdvanced, &plot, [&] { plot.appendFrame(doc.world(), compare.world()); });
+    plot.reset(doc.world());
+    doc.advance(10);
+    QVERIFY(plot.compareSeries(0) == nullptr);
+
+    compare.setModel(ModelKind::Exact);
+    plot.setCompareModel(QStringLiteral("exact"));
+    doc.advance(50);
+    QCOMPARE(plot.sampleCount(), 60);
+    for (int marble = 0; marble < 4; ++marble) {
+        QLineSeries *dashed = plot.compareSeries(marble);
+        QVERIFY(dashed);
+        QCOMPARE(dashed->pen().style(), Qt::DashLine);
+        QCOMPARE(dashed->pen().color(), plot.speedSeries(marble)->pen().color());
+        QVERIFY2(dashed->name().contains(QStringLiteral("exact")), qPrintable(dashed->name()));
+        // No comparison before it was chosen; its speeds afterwards.
+        QVERIFY(std::isnan(plot.sampleCompareSpeed(9, marble)));
+        QVERIFY(plot.sampleCompareSpeed(59, marble) == length(compare.world()->velocity[marble]));
+        QVERIFY(plot.sampleSpeed(59, marble) == length(doc.world().velocity[marble]));
+    }
+    plot.refreshChart();
+    QCOMPARE(plot.compareSeries(0)->count(), 50);
+
+    compare.stop();
+    plot.setCompareModel(QString());
+    QVERIFY(plot.compareSeries(0) == nullptr);
+    QVERIFY(plot.speedSeries(0));
+}
+
+std::unique_ptr<MainWindow> TestCompareRun::makeWindow()
+{
+    auto window = std::make_unique<MainWindow>();
+    window->setPrompts(std::make_unique<DiscardPrompts>());
+    window->resize(1400, 900);
+    window->show();
+    if (!QTest::qWaitForWindowExposed(window.get()))
+        return nullptr;
+    window->activateWindow();
+    if (!QTest::qWaitForWindowActive(window.get()))
+        return nullptr;
+    return window;
+}
+
+void TestCompareRun::boxOffersTheOtherModels_data()
+{
+    QTest::addColumn<QString>("sceneModel");
+    QTest::addColumn<QStringList>("offered");
+    QTest::addRow("book") << "book" << QStringList{"none", "exact", "impulse"};
+    QTest::addRow("exact") << "exact" << QStringList{"none", "book", "impulse"};
+    QTest::addRow("impulse") << "impulse" << QStringList{"none", "book", "exact"};
+}
+
+void TestCompareRun::boxOffersTheOtherModels()
+{
+    QFETCH(QString, sceneModel);
+    QFETCH(QStringList, offered);
+    std::unique_ptr<MainWindow> window = makeWindow();
+    QVERIFY(window);
+    QVERIFY(window->document()->setParam(QStringLiteral("model"), sceneModel).isEmpty());
+    auto *box = window->findChild<QComboBox *>(QStringLiteral("compareBox"));
+    QVERIFY(box);
+    QStringList items;
+    for (int k = 0; k < box->count(); ++k)
+        items << box->itemText(k);
+    QCOMPARE(items, offered);
+    QCOMPARE(box->currentIndex(), 0);
+
+    auto *menu = window->findChild<QMenu *>(QStringLiteral("compareMenu"));
+    QVERIFY(menu);
+    QStringList visible;
+    for (QAction *action : menu->actions()) {
+        if (action->isVisible())
+            visible << action->text().remove(QLatin1Char('&')).toLower();
+    }
+    QCOMPARE(visible, offered);
+}
+
+void TestCompareRun::choosingWithKeysShowsGhostsReadoutAndPlot()
+{
+    std::unique_ptr<MainWindow> window = makeWindow();
+    QVERIFY(window);
+    CompareRun *compare = window->compareRun();
+    QGraphicsScene *stage = window->stageView()->scene();
+    auto *box = window->findChild<QComboBox *>(QStringLiteral("compareBox"));
+    auto *readout = window->findChild<QLabel *>(QStringLiteral("compareLabel"));
+    QVERIFY(box && readout);
+    QVERIFY(!compare->isActive());
+    QVERIFY(readout->isHidden());
+    QCOMPARE(ghostCount(stage), 0);
+
+    // Book scene: the box reads none, exact, impulse; one step down chooses exact.
+    box->setFocus();
+    QTest::keyClick(box, Qt::Key_Down);
+    QVERIFY(compare->isActive());
+    QCOMPARE(compare->model(), ModelKind::Exact);
+    QCOMPARE(ghostCount(stage), 1);
+    QVERIFY(readout->isVisible());
+    QVERIFY2(readout->text().startsWith(QStringLiteral("Compare: exact - largest gap 0")), qPrintable(readout->text()));
+
+    // Frames with the step key, on the stage as a user would.
+    window->stageView()->setFocus();
+    for (int f = 0; f < 120; ++f)
+        QTest::keyClick(window->stageView(), Qt::Key_Right);
+    QCOMPARE(window->document()->world().frame, 120);
+    QCOMPARE(compare->world()->frame, 120);
+    QCOMPARE_GT(compare->largestGapPx(), 0.0);
+    QCOMPARE(readout->text(), compare->summary());
+    QVERIFY2(readout->text().contains(QStringLiteral("(marble ")), qPrintable(readout->text()));
+
+    PlotDock *plot = window->plotDock();
+    QCOMPARE(plot->compareModel(), QStringLiteral("exact"));
+    QVERIFY(plot->compareSeries(0));
+    const qsizetype last = plot->sampleCount() - 1;
+    QCOMPARE(plot->sampleFrame(last), 120);
+    QVERIFY(plot->sampleCompareSpeed(last, 0) == length(compare->world()->velocity[0]));
+
+    // Step back restarts the comparison from the document's frame 119.
+    QTest::keyClick(window->stageView(), Qt::Key_Left);
+    QCOMPARE(compare->startFrame(), 119);
+    QVERIFY(compare->largestGapPx() == 0.0);
+
+    // Back up to "none": the ghosts go, the readout hides, the plot drops the dashed lines.
+    box->setFocus();
+    QTest::keyClick(box, Qt::Key_Up);
+    QVERIFY(!compare->isActive());
+    QCOMPARE(ghostCount(stage), 0);
+    QVERIFY(readout->isHidden());
+    QVERIFY(plot->compareSeries(0) == nullptr);
+    QCOMPARE(plot->compareModel(), QString());
+}
+
+void TestCompareRun::menuActionsAndBoxAgree()
+{
+    std::unique_ptr<MainWindow> window = makeWindow();
+    QVERIFY(window);
+    auto *box = window->findChild<QComboBox *>(QStringLiteral("compareBox"));
+    auto *impulse = window->findChild<QAction *>(QStringLiteral("actionCompareImpulse"));
+    auto *none = window->findChild<QAction *>(QStringLiteral("actionCompareNone"));
+    QVERIFY(box && impulse && none);
+    impulse->trigger();
+    QCOMPARE(window->compareRun()->model(), ModelKind::Impulse);
+    QCOMPARE(box->currentText(), QStringLiteral("impulse"));
+    QVERIFY(impulse->isChecked());
+    QCOMPARE(ghostCount(window->stageView()->scene()), 1);
+    none->trigger();
+    QVERIFY(!window->compareRun()->isActive());
+    QCOMPARE(box->currentText(), QStringLiteral("none"));
+    QCOMPARE(ghostCount(window->stageView()->scene()), 0);
+}
+
+void TestCompareRun::sceneSwitchingToComparedModelEndsComparison()
+{
+    std::unique_ptr<MainWindow> window = makeWindow();
+    QVERIFY(window);
+    window->findChild<QAction *>(QStringLiteral("actionCompareExact"))->trigger();
+    QVERIFY(window->compareRun()->isActive());
+    QVERIFY(window->document()->setParam(QStringLiteral("model"), QStringLiteral("exact")).isEmpty());
+    QVERIFY(!window->compareRun()->isActive());
+    QCOMPARE(ghostCount(window->stageView()->scene()), 0);
+    auto *box = window->findChild<QComboBox *>(QStringLiteral("compareBox"));
+    QCOMPARE(box->currentText(), QStringLiteral("none"));
+    QCOMPARE(box->findText(QStringLiteral("exact")), -1);
+    QVERIFY(box->findText(QStringLiteral("book")) >= 0);
+}
+
+QTEST_MAIN(TestCompareRun)
+#include "tst_comparerun.moc"
