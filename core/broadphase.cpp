@@ -58,8 +58,12 @@ int GridGeometry::bucket(std::int64_t kx, std::int64_t ky) const
 
 void GridGeometry::neighbourhood(std::int64_t kx, std::int64_t ky, int out[9]) const
 {
+    bucketNeighbourhood(bucket(kx, ky), out);
+}
+
+void GridGeometry::bucketNeighbourhood(int b, int out[9]) const
+{
     // Folding: compute the wrapped column and row once, then step with wrap-around.
-    const int b = bucket(kx, ky);
     const int bx = b % m_nx;
     const int by = b / m_nx;
     const int xs[3] = {bx == 0 ? m_nx - 1 : bx - 1, bx, bx == m_nx - 1 ? 0 : bx + 1};

@@ -41,6 +41,8 @@ public:
 
     /// The 9 buckets of the 3 x 3 neighbourhood of cell (kx, ky), row by row.
     void neighbourhood(std::int64_t kx, std::int64_t ky, int out[9]) const;
+    /// The 9 buckets around bucket b (the neighbourhood of any cell stored in b), row by row.
+    void bucketNeighbourhood(int b, int out[9]) const;
 
 private:
     double m_cellSize = 1.0;

@@ -172,7 +172,9 @@ double phi1Inverse(double lambda, double s)
 // The first tau in [0, tauMax] at which f(tau) = f0 + fv phi1(tau) + fg phi2(tau) reaches <= 0
 // while not increasing (a body arriving at a line it must not cross, or a centre arriving at a
 // cell boundary). Infinity if none. f is convex or concave (f'' = (fg - lambda fv) e^{-lambda tau}).
-double firstDownCrossing(double f0, double fv, double fg, double lambda, double tauMax)
+double firstDownCrossingCurved(double f0, double fv, double fg, double lambda, double tauMax);
+
+inline double firstDownCrossing(double f0, double fv, double fg, double lambda, double tauMax)
 {
     if (fg == 0.0) {
         // Linear in s = phi1(tau).
@@ -183,6 +185,11 @@ double firstDownCrossing(double f0, double fv, double fg, double lambda, double 
         const double tau = phi1Inverse(lambda, f0 / -fv);
         return tau <= tauMax ? tau : infinity;
     }
+    return firstDownCrossingCurved(f0, fv, fg, lambda, tauMax);
+}
+
+double firstDownCrossingCurved(double f0, double fv, double fg, double lambda, double tauMax)
+{
     auto value = [&](double tau) {
         const Flow fl = flow(lambda, tau);
         return f0 + fv * fl.phi1 + fg * fl.phi2;
@@ -248,6 +255,32 @@ struct Contact {
     bool recheck = false;  // true: no contact before tau, predict again then
 };
 
+// Straight relative paths (no relative acceleration): d(s) = d0 + dv s in s = phi1(tau). The s of
+// the first contact while approaching, 0 if touching or overlapping and approaching already, or
+// infinity if none with s <= sMax. Scalar arguments: this is the innermost loop of the model.
+inline double straightContact(double dx, double dy, double dvx, double dvy, double R, double sMax)
+{
+    // |d0 + dv s|^2 = R^2, i.e. a s^2 + 2 b s + c = 0.
+    const double b = dx * dvx + dy * dvy;
+    if (!(b < 0.0))
+        return infinity; // separating, or sliding past: no contact ahead
+    const double d2 = dx * dx + dy * dy;
+    const double a = dvx * dvx + dvy * dvy;
+    if (b * b <= grazingApproach * grazingApproach * d2 * a)
+        return infinity; // an approach within rounding of zero (b < -grazingApproach |d0| |dv| fails)
+    const double c = d2 - R * R;
+    if (c <= 0.0)
+        return 0.0; // touching or overlapping, and approaching: collide at once
+    // The root below is s = c / (-b + sqrt(disc)) >= c / (-2 b): beyond reach if that is.
+    if (c > -2.0 * b * sMax)
+        return infinity;
+    const double disc = b * b - a * c;
+    if (!(disc > 0.0))
+        return infinity; // misses (or grazes without approach)
+    const double s = c / (-b + std::sqrt(disc)); // citardauq form of (-b - sqrt(disc)) / a
+    return s <= sMax ? s : infinity;
+}
+
 // Relative motion d(tau) = d0 + dv phi1 + dg phi2; contact when |d| = R while approaching, at
 // tau <= tauMax. sMax >= phi1(tauMax) is a bound computed once by the caller (for a quick rejection).
 Contact firstContact(Vec2 d0, Vec2 dv, Vec2 dg, double R, double lambda, double tauMax, double sMax)
@@ -255,24 +288,7 @@ Contact firstContact(Vec2 d0, Vec2 dv, Vec2 dg, double R, double lambda, double 
     Contact none;
     const double R2 = R * R;
     if (dg.x == 0.0 && dg.y == 0.0) {
-        // Straight lines in s: |d0 + dv s|^2 = R^2, i.e. a s^2 + 2 b s + c = 0.
-        const double b = dot(d0, dv);
-        if (!(b < 0.0))
-            return none; // separating, or sliding past: no contact ahead
-        const double d2 = dot(d0, d0);
-        const double a = dot(dv, dv);
-        if (b * b <= grazingApproach * grazingApproach * d2 * a)
-            return none; // an approach within rounding of zero (b < -grazingApproach |d0| |dv| fails)
-        const double c = d2 - R2;
-        if (c <= 0.0)
-            return {0.0, false}; // touching or overlapping, and approaching: collide at once
-        // The root below is s = c / (-b + sqrt(disc)) >= c / (-2 b): beyond reach if that is.
-        if (c > -2.0 * b * sMax)
-            return none;
-        const double disc = b * b - a * c;
-        if (!(disc > 0.0))
-            return none; // misses (or grazes without approach)
-        const double s = c / (-b + std::sqrt(disc)); // citardauq form of (-b - sqrt(disc)) / a
+        const double s = straightContact(d0.x, d0.y, dv.x, dv.y, R, sMax);
         if (!(s <= sMax))
             return none;
         const double tau = phi1Inverse(lambda, s);
@@ -355,6 +371,7 @@ ExactModel::~ExactModel() = default;
 namespace {
 
 constexpr int sides = 4;
+constexpr double noTime = std::numeric_limits<double>::infinity();
 
 } // namespace
 
@@ -370,43 +387,41 @@ void ExactModel::setNow(double t)
     m_sLeft = (m_phi1End - m_phi1Now) / m_decayNow * (1.0 + 1e-12);
 }
 
-void ExactModel::stateAt(int i, Vec2 &p, Vec2 &v) const
+Vec2 ExactModel::gravityOf(const Body &body) const
 {
-    const Track &k = m_track[i];
-    const Vec2 g = m_grav[i];
-    p = {k.a.x + k.b.x * m_phi1Now + g.x * m_phi2Now, k.a.y + k.b.y * m_phi1Now + g.y * m_phi2Now};
-    v = {k.b.x * m_decayNow + g.x * m_phi1Now, k.b.y * m_decayNow + g.y * m_phi1Now};
+    return {(body.gravityOff & 1) ? 0.0 : m_gravity.x, (body.gravityOff & 2) ? 0.0 : m_gravity.y};
+}
+
+void ExactModel::stateAt(const Body &body, Vec2 &p, Vec2 &v) const
+{
+    const Vec2 g = gravityOf(body);
+    p = {body.a.x + body.b.x * m_phi1Now + g.x * m_phi2Now, body.a.y + body.b.y * m_phi1Now + g.y * m_phi2Now};
+    v = {body.b.x * m_decayNow + g.x * m_phi1Now, body.b.y * m_decayNow + g.y * m_phi1Now};
 }
 
 void ExactModel::setState(int i, Vec2 p, Vec2 v)
 {
     // Invert v = b e^{-lambda t} + g phi1 and p = a + b phi1 + g phi2 at t = now.
-    const Vec2 g = m_grav[i];
-    Track &k = m_track[i];
-    k.b = {(v.x - g.x * m_phi1Now) / m_decayNow, (v.y - g.y * m_phi1Now) / m_decayNow};
-    k.a = {p.x - k.b.x * m_phi1Now - g.x * m_phi2Now, p.y - k.b.y * m_phi1Now - g.y * m_phi2Now};
+    Body &body = m_body[i];
+    const Vec2 g = gravityOf(body);
+    body.b = {(v.x - g.x * m_phi1Now) / m_decayNow, (v.y - g.y * m_phi1Now) / m_decayNow};
+    body.a = {p.x - body.b.x * m_phi1Now - g.x * m_phi2Now, p.y - body.b.y * m_phi1Now - g.y * m_phi2Now};
 }
 
-void ExactModel::linkIntoBucket(int i, int bucket)
+void ExactModel::setContact(int i, const Event &e)
 {
-    m_bucketOf[i] = bucket;
-    m_prev[i] = -1;
-    m_next[i] = m_head[bucket];
-    if (m_head[bucket] >= 0)
-        m_prev[m_head[bucket]] = i;
-    m_head[bucket] = i;
+    m_contact[i] = e;
+    m_body[i].contactTime = e.time;
 }
 
-void ExactModel::unlinkFromBucket(int i)
+int ExactModel::neighbourBuckets(int i, int out[9]) const
 {
-    const int b = m_bucketOf[i];
-    if (m_prev[i] >= 0)
-        m_next[m_prev[i]] = m_next[i];
-    else
-        m_head[b] = m_next[i];
-    if (m_next[i] >= 0)
-        m_prev[m_next[i]] = m_prev[i];
-    m_next[i] = m_prev[i] = -1;
+    if (m_singleCell) {
+        out[0] = 0;
+        return 1;
+    }
+    m_geometry.bucketNeighbourhood(m_body[i].bucket, out);
+    return 9;
 }
 
 void ExactModel::beginFrame(World &world)
@@ -431,49 +446,69 @@ void ExactModel::beginFrame(World &world)
     m_restSpeed = std::sqrt(2.0 * length(m_gravity) * restHeightPx);
     setNow(0.0);
 
-    m_track.resize(n);
-    m_grav.resize(n);
-    m_radius.resize(n);
+    double rMax = 0.0;
+    for (int w = 0; w < n; ++w)
+        rMax = std::max(rMax, world.radius[w]);
+    // Contacts happen at centre distances up to 2 rMax (marble-marble) or rMax (pins). A marble
+    // stays within the margin of its anchor (or gets a new anchor): two marbles whose anchor cells
+    // are not neighbours are then more than cell - 2 margin = 2 rMax apart.
+    const double contact = 2.0 * rMax;
+    m_margin = anchorMargin * contact;
+    const double width = m_walls ? m_width : std::max(m_width, 1.0);
+    const double height = m_walls ? m_height : std::max(m_height, 1.0);
+    const int items = n + static_cast<int>(world.pins.size());
+    m_geometry = GridGeometry::fit(contact + 2.0 * m_margin, width, height, items);
+    // A few bodies are cheaper to test all against all than to track through a grid: at extreme
+    // speeds the grid events would outnumber the collisions a hundred to one.
+    m_singleCell = items <= singleCellItems;
+    const int buckets = m_singleCell ? 1 : m_geometry.bucketCount();
+
+    // Renumber the marbles in bucket order (a stable counting sort), so that the marbles of a
+    // bucket, and of a row of buckets, lie side by side in memory.
+    m_sortBucket.resize(n);
+    m_start.assign(static_cast<std::size_t>(buckets) + 1, 0);
+    for (int w = 0; w < n; ++w) {
+        const Vec2 p = world.position[w];
+        const int b = m_singleCell ? 0 : m_geometry.bucket(m_geometry.coord(p.x), m_geometry.coord(p.y));
+        m_sortBucket[w] = b;
+        ++m_start[b + 1];
+    }
+    for (int b = 0; b < buckets; ++b)
+        m_start[b + 1] += m_start[b];
+    m_cursor.assign(m_start.begin(), m_start.end() - 1);
+    m_id.resize(n);
+    for (int w = 0; w < n; ++w)
+        m_id[m_cursor[m_sortBucket[w]]++] = w;
+
+    m_body.resize(n);
+    m_anchor.resize(n);
     m_invMass.resize(n);
+    m_home.resize(n);
     m_stamp.assign(n, 0);
     m_guard.assign(n, Guard{});
-    m_cellX.resize(n);
-    m_cellY.resize(n);
-    m_bucketOf.resize(n);
-    m_next.resize(n);
-    m_prev.resize(n);
+    m_overflowNext.resize(n);
+    m_overflowPrev.assign(n, -2);
+    m_overflowHead.assign(buckets, -1);
     m_contact.resize(n);
     m_crossTime.resize(n);
     m_crossSide.resize(n);
     m_heapPos.assign(n, -1);
     m_heap.clear();
-
-    double rMax = 0.0;
     for (int i = 0; i < n; ++i) {
+        const int w = m_id[i];
+        Body &body = m_body[i];
         // Pushes act at the frame boundary: an instant velocity change. At t = 0, a = p and b = v.
-        m_track[i].a = world.position[i];
-        m_track[i].b = {world.velocity[i].x + world.acceleration[i].x, world.velocity[i].y + world.acceleration[i].y};
-        world.acceleration[i] = {};
-        m_grav[i] = m_gravity;
-        m_radius[i] = world.radius[i];
-        m_invMass[i] = 1.0 / world.mass[i];
-        rMax = std::max(rMax, m_radius[i]);
-    }
-
-    // Contacts happen at centre distances up to 2 rMax (marble-marble) or rMax (pins).
-    const double w = m_walls ? m_width : std::max(m_width, 1.0);
-    const double h = m_walls ? m_height : std::max(m_height, 1.0);
-    const int items = n + static_cast<int>(world.pins.size());
-    m_geometry = GridGeometry::fit(2.0 * rMax, w, h, items);
-    // A few bodies are cheaper to test all against all than to track through a grid: at extreme
-    // speeds the cell crossings would outnumber the collisions a hundred to one.
-    m_singleCell = items <= singleCellItems;
-    m_head.assign(m_singleCell ? 1 : m_geometry.bucketCount(), -1);
-    // Link in descending index order, so each bucket list starts in ascending order.
-    for (int i = n - 1; i >= 0; --i) {
-        m_cellX[i] = m_singleCell ? 0 : m_geometry.coord(m_track[i].a.x);
-        m_cellY[i] = m_singleCell ? 0 : m_geometry.coord(m_track[i].a.y);
-        linkIntoBucket(i, m_singleCell ? 0 : m_geometry.bucket(m_cellX[i], m_cellY[i]));
+        body.a = world.position[w];
+        body.b = {world.velocity[w].x + world.acceleration[w].x, world.velocity[w].y + world.acceleration[w].y};
+        world.acceleration[w] = {};
+        body.radius = world.radius[w];
+        body.contactTime = noTime;
+        body.bucket = m_sortBucket[w];
+        body.gravityOff = 0;
+        body.frozen = 0;
+        m_home[i] = body.bucket;
+        m_anchor[i] = body.a;
+        m_invMass[i] = 1.0 / world.mass[w];
     }
     m_pinGrid.build(m_geometry, world.pins.data(), static_cast<int>(world.pins.size()));
 }
@@ -486,16 +521,16 @@ void ExactModel::endFrame(World &world)
     for (int i = 0; i < n; ++i) {
         Vec2 p;
         Vec2 v;
-        stateAt(i, p, v);
-        if (m_guard[i].frozen)
+        stateAt(m_body[i], p, v);
+        if (m_body[i].frozen)
             v = {};
         // The zero threshold acts at the frame boundary, component by component.
         if (std::abs(v.x) <= z)
             v.x = 0.0;
         if (std::abs(v.y) <= z)
             v.y = 0.0;
-        world.position[i] = p;
-        world.velocity[i] = v;
+        world.position[m_id[i]] = p;
+        world.velocity[m_id[i]] = v;
     }
     m_world = nullptr;
 }
@@ -503,7 +538,7 @@ void ExactModel::endFrame(World &world)
 std::uint64_t ExactModel::tieOf(int i, const Event &e)
 {
     // (kind, lower index, higher index): for a pair the two marbles, otherwise the marble and the
-    // object (wall, pin or crossing side). Indices are below 2^30 (asserted in beginFrame).
+    // object (wall, pin or margin side). Indices are below 2^30 (asserted in beginFrame).
     std::int64_t lo = i;
     std::int64_t hi = e.other;
     if (e.kind == EventKind::Pair || e.kind == EventKind::RecheckPair) {
@@ -618,27 +653,23 @@ void ExactModel::heapUpdate(int i)
     }
 }
 
-void ExactModel::nextCrossing(int i, Vec2 p, Vec2 v)
+void ExactModel::nextEscape(int i, Vec2 p, Vec2 v)
 {
-    m_crossTime[i] = infinity;
-    if (m_singleCell || m_guard[i].frozen)
+    m_crossTime[i] = noTime;
+    const Body &body = m_body[i];
+    if (m_singleCell || body.frozen)
         return;
-    // The centre reaching a lattice line of its cell. The lines are only book-keeping, so the
-    // lower and upper lines are approached "from inside".
-    const Vec2 g = m_grav[i];
-    const std::int64_t kx = m_cellX[i];
-    const std::int64_t ky = m_cellY[i];
+    // The centre reaching a side of the square of half-width margin around the anchor.
+    const Vec2 g = gravityOf(body);
+    const Vec2 anchor = m_anchor[i];
     const double tauEnd = 1.0 - m_now;
-    double tc[sides] = {infinity, infinity, infinity, infinity};
-    if (kx > -GridGeometry::coordLimit)
-        tc[0] = firstDownCrossing(p.x - m_geometry.line(kx), v.x, g.x, m_lambda, tauEnd);
-    if (kx < GridGeometry::coordLimit)
-        tc[1] = firstDownCrossing(m_geometry.line(kx + 1) - p.x, -v.x, -g.x, m_lambda, tauEnd);
-    if (ky > -GridGeometry::coordLimit)
-        tc[2] = firstDownCrossing(p.y - m_geometry.line(ky), v.y, g.y, m_lambda, tauEnd);
-    if (ky < GridGeometry::coordLimit)
-        tc[3] = firstDownCrossing(m_geometry.line(ky + 1) - p.y, -v.y, -g.y, m_lambda, tauEnd);
-    double best = infinity;
+    const double tc[sides] = {
+        firstDownCrossing(p.x - (anchor.x - m_margin), v.x, g.x, m_lambda, tauEnd),
+        firstDownCrossing((anchor.x + m_margin) - p.x, -v.x, -g.x, m_lambda, tauEnd),
+        firstDownCrossing(p.y - (anchor.y - m_margin), v.y, g.y, m_lambda, tauEnd),
+        firstDownCrossing((anchor.y + m_margin) - p.y, -v.y, -g.y, m_lambda, tauEnd),
+    };
+    double best = noTime;
     int side = 0;
     for (int s = 0; s < sides; ++s) {
         if (tc[s] < best) {
@@ -652,14 +683,61 @@ void ExactModel::nextCrossing(int i, Vec2 p, Vec2 v)
     }
 }
 
+void ExactModel::moveToBucket(int i, int bucket)
+{
+    Body &body = m_body[i];
+    if (m_overflowPrev[i] != -2) {
+        const int prev = m_overflowPrev[i];
+        const int next = m_overflowNext[i];
+        if (prev >= 0)
+            m_overflowNext[prev] = next;
+        else
+            m_overflowHead[body.bucket] = next;
+        if (next >= 0)
+            m_overflowPrev[next] = prev;
+        m_overflowPrev[i] = -2;
+    }
+    body.bucket = bucket;
+    if (bucket != m_home[i]) {
+        const int head = m_overflowHead[bucket];
+        m_overflowPrev[i] = -1;
+        m_overflowNext[i] = head;
+        if (head >= 0)
+            m_overflowPrev[head] = i;
+        m_overflowHead[bucket] = i;
+    }
+}
+
+void ExactModel::reanchor(int i)
+{
+    Vec2 p;
+    Vec2 v;
+    stateAt(m_body[i], p, v);
+    m_anchor[i] = p;
+    nextEscape(i, p, v);
+    const int bucket = m_geometry.bucket(m_geometry.coord(p.x), m_geometry.coord(p.y));
+    if (bucket == m_body[i].bucket)
+        return; // the same neighbours as before: nothing new in reach
+    moveToBucket(i, bucket);
+    // New neighbours came into reach. The best contact found so far still stands (the velocity
+    // has not changed); look at the new neighbourhood for earlier ones.
+    int buckets[9];
+    const int count = neighbourBuckets(i, buckets);
+    Event best = m_contact[i];
+    scanPins(i, p, v, buckets, count, best);
+    scanMarbles(i, p, v, buckets, count, best);
+    setContact(i, best);
+}
+
 void ExactModel::predictOwn(int i, Vec2 p, Vec2 v, Event &best)
 {
-    nextCrossing(i, p, v);
-    if (!m_walls || m_guard[i].frozen)
+    nextEscape(i, p, v);
+    const Body &body = m_body[i];
+    if (!m_walls || body.frozen)
         return;
     // Walls 0..3: left, right, top, bottom; contact when the centre is r from the edge.
-    const Vec2 g = m_grav[i];
-    const double r = m_radius[i];
+    const Vec2 g = gravityOf(body);
+    const double r = body.radius;
     const double horizon = std::min(best.time, 1.0) - m_now;
     const double tw[sides] = {
         firstDownCrossing(p.x - r, v.x, g.x, m_lambda, horizon),
@@ -676,19 +754,39 @@ void ExactModel::predictOwn(int i, Vec2 p, Vec2 v, Event &best)
     }
 }
 
-bool ExactModel::pairContact(int i, int j, Vec2 pi, Vec2 vi, double horizon, double &tau, bool &recheck) const
+bool ExactModel::pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi, double horizon, double &tau,
+                              bool &recheck) const
 {
-    // Computed with the pair in canonical order (lower index first), so that both marbles of a
-    // pair predict bit-identical times.
-    Vec2 pj;
-    Vec2 vj;
-    stateAt(j, pj, vj);
+    // The innermost loop of the model, in scalars. Computed with the pair in canonical order
+    // (lower index first), so that both marbles of a pair predict bit-identical times; j's state
+    // now is stateAt() written out.
+    const Body &bi = m_body[i];
+    const Body &bj = m_body[j];
+    const double gix = (bi.gravityOff & 1) ? 0.0 : m_gravity.x;
+    const double giy = (bi.gravityOff & 2) ? 0.0 : m_gravity.y;
+    const double gjx = (bj.gravityOff & 1) ? 0.0 : m_gravity.x;
+    const double gjy = (bj.gravityOff & 2) ? 0.0 : m_gravity.y;
+    const double pjx = bj.a.x + bj.b.x * m_phi1Now + gjx * m_phi2Now;
+    const double pjy = bj.a.y + bj.b.y * m_phi1Now + gjy * m_phi2Now;
+    const double vjx = bj.b.x * m_decayNow + gjx * m_phi1Now;
+    const double vjy = bj.b.y * m_decayNow + gjy * m_phi1Now;
     const bool iLow = i < j;
-    const Vec2 pa = iLow ? pi : pj, pb = iLow ? pj : pi;
-    const Vec2 va = iLow ? vi : vj, vb = iLow ? vj : vi;
-    const Vec2 ga = iLow ? m_grav[i] : m_grav[j], gb = iLow ? m_grav[j] : m_grav[i];
-    const Contact c = firstContact({pa.x - pb.x, pa.y - pb.y}, {va.x - vb.x, va.y - vb.y}, {ga.x - gb.x, ga.y - gb.y},
-                                   m_radius[i] + m_radius[j], m_lambda, horizon, m_sLeft);
+    const double dx = iLow ? pi.x - pjx : pjx - pi.x;
+    const double dy = iLow ? pi.y - pjy : pjy - pi.y;
+    const double dvx = iLow ? vi.x - vjx : vjx - vi.x;
+    const double dvy = iLow ? vi.y - vjy : vjy - vi.y;
+    const double dgx = iLow ? gix - gjx : gjx - gix;
+    const double dgy = iLow ? giy - gjy : gjy - giy;
+    const double R = bi.radius + bj.radius;
+    recheck = false;
+    if (dgx == 0.0 && dgy == 0.0) {
+        const double s = straightContact(dx, dy, dvx, dvy, R, m_sLeft);
+        if (!(s <= m_sLeft))
+            return false;
+        tau = phi1Inverse(m_lambda, s);
+        return tau <= horizon;
+    }
+    const Contact c = firstContact({dx, dy}, {dvx, dvy}, {dgx, dgy}, R, m_lambda, horizon, m_sLeft);
     tau = c.tau;
     recheck = c.recheck;
     return c.tau <= horizon;
@@ -696,48 +794,58 @@ bool ExactModel::pairContact(int i, int j, Vec2 pi, Vec2 vi, double horizon, dou
 
 void ExactModel::scanPins(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const
 {
-    if (!m_guard[i].frozen && !m_world->pins.empty()) {
-        const Vec2 g = m_grav[i];
-        const double r = m_radius[i];
-        auto testPin = [&](int pin) {
-            const double horizon = std::min(best.time, 1.0) - m_now;
-            const Vec2 q = m_world->pins[pin];
-            const Contact c = firstContact({p.x - q.x, p.y - q.y}, v, g, r, m_lambda, horizon, m_sLeft);
-            if (c.tau <= horizon) {
-                const Event e{m_now + c.tau, c.recheck ? EventKind::RecheckPin : EventKind::Pin, pin, 0};
-                if (before(i, e, best))
-                    best = e;
-            }
-        };
-        if (m_singleCell) {
-            for (int pin = 0; pin < static_cast<int>(m_world->pins.size()); ++pin)
-                testPin(pin);
-        } else {
-            for (int nb = 0; nb < count; ++nb) {
-                for (int k = m_pinGrid.begin(buckets[nb]); k < m_pinGrid.end(buckets[nb]); ++k)
-                    testPin(m_pinGrid.items()[k]);
-            }
+    const Body &body = m_body[i];
+    if (body.frozen || m_world->pins.empty())
+        return;
+    const Vec2 g = gravityOf(body);
+    const double r = body.radius;
+    auto testPin = [&](int pin) {
+        const double horizon = std::min(best.time, 1.0) - m_now;
+        const Vec2 q = m_world->pins[pin];
+        const Contact c = firstContact({p.x - q.x, p.y - q.y}, v, g, r, m_lambda, horizon, m_sLeft);
+        if (c.tau <= horizon) {
+            const Event e{m_now + c.tau, c.recheck ? EventKind::RecheckPin : EventKind::Pin, pin, 0};
+            if (before(i, e, best))
+                best = e;
         }
+    };
+    if (m_singleCell) {
+        for (int pin = 0; pin < static_cast<int>(m_world->pins.size()); ++pin)
+            testPin(pin);
+        return;
+    }
+    for (int nb = 0; nb < count; ++nb) {
+        for (int k = m_pinGrid.begin(buckets[nb]); k < m_pinGrid.end(buckets[nb]); ++k)
+            testPin(m_pinGrid.items()[k]);
     }
 }
 
-void ExactModel::scanBuckets(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const
+void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const
 {
-    const bool frozen = m_guard[i].frozen;
+    const bool frozen = m_body[i].frozen;
+    auto test = [&](int j) {
+        const Body &bj = m_body[j];
+        if (frozen && bj.frozen)
+            return;
+        // Contacts after j's own best contact need not be recorded: j is predicted afresh then.
+        const double horizon = std::min({best.time, bj.contactTime, 1.0}) - m_now;
+        double tau;
+        bool recheck;
+        if (pairContact(i, j, p, v, horizon, tau, recheck)) {
+            const Event e{m_now + tau, recheck ? EventKind::RecheckPair : EventKind::Pair, j, recheck ? 0u : m_stamp[j]};
+            if (before(i, e, best))
+                best = e;
+        }
+    };
     for (int nb = 0; nb < count; ++nb) {
-        for (int j = m_head[buckets[nb]]; j >= 0; j = m_next[j]) {
-            if (j == i || (frozen && m_guard[j].frozen))
-                continue;
-            // Contacts after j's own best contact need not be recorded: j is predicted afresh then.
-            const double horizon = std::min({best.time, m_contact[j].time, 1.0}) - m_now;
-            double tau;
-            bool recheck;
-            if (pairContact(i, j, p, v, horizon, tau, recheck)) {
-                const Event e{m_now + tau, recheck ? EventKind::RecheckPair : EventKind::Pair, j,
-                              recheck ? 0u : m_stamp[j]};
-                if (before(i, e, best))
-                    best = e;
-            }
+        const int b = buckets[nb];
+        for (int j = m_start[b]; j < m_start[b + 1]; ++j) {
+            if (j != i && m_body[j].bucket == b)
+                test(j);
+        }
+        for (int j = m_overflowHead[b]; j >= 0; j = m_overflowNext[j]) {
+            if (j != i)
+                test(j);
         }
     }
 }
@@ -746,47 +854,38 @@ void ExactModel::predict(int i)
 {
     Vec2 p;
     Vec2 v;
-    stateAt(i, p, v);
-    Event best{infinity, EventKind::None, -1, 0};
+    stateAt(m_body[i], p, v);
+    Event best{noTime, EventKind::None, -1, 0};
     predictOwn(i, p, v, best);
-    int buckets[9] = {0};
-    int count = 1;
-    if (!m_singleCell) {
-        m_geometry.neighbourhood(m_cellX[i], m_cellY[i], buckets);
-        count = 9;
-    }
+    int buckets[9];
+    const int count = neighbourBuckets(i, buckets);
     scanPins(i, p, v, buckets, count, best);
-    scanBuckets(i, p, v, buckets, count, best);
-    m_contact[i] = best;
+    scanMarbles(i, p, v, buckets, count, best);
+    setContact(i, best);
 }
 
 void ExactModel::predictAll()
 {
-    const int n = static_cast<int>(m_track.size());
-    const Event none{infinity, EventKind::None, -1, 0};
+    const int n = static_cast<int>(m_body.size());
     for (int i = 0; i < n; ++i) {
         // At t = 0 the state is (a, b) itself.
-        Event best = none;
-        predictOwn(i, m_track[i].a, m_track[i].b, best);
-        m_contact[i] = best;
+        Event best{noTime, EventKind::None, -1, 0};
+        predictOwn(i, m_body[i].a, m_body[i].b, best);
+        setContact(i, best);
     }
-    // Pins, then every pair of neighbours once (j > i), offered to both marbles.
+    // Pins, then every pair of neighbours once (j > i: no marble has moved bucket yet, so each
+    // bucket's marbles are its static range), offered to both marbles.
     for (int i = 0; i < n; ++i) {
-        const Vec2 p = m_track[i].a;
-        const Vec2 v = m_track[i].b;
-        int buckets[9] = {0};
-        int count = 1;
-        if (!m_singleCell) {
-            m_geometry.neighbourhood(m_cellX[i], m_cellY[i], buckets);
-            count = 9;
-        }
+        const Vec2 p = m_body[i].a;
+        const Vec2 v = m_body[i].b;
+        int buckets[9];
+        const int count = neighbourBuckets(i, buckets);
         Event best = m_contact[i];
         scanPins(i, p, v, buckets, count, best);
         for (int nb = 0; nb < count; ++nb) {
-            for (int j = m_head[buckets[nb]]; j >= 0; j = m_next[j]) {
-                if (j <= i)
-                    continue;
-                const double horizon = std::min({best.time, m_contact[j].time, 1.0});
+            const int b = buckets[nb];
+            for (int j = std::max(m_start[b], i + 1); j < m_start[b + 1]; ++j) {
+                const double horizon = std::min({best.time, m_body[j].contactTime, 1.0});
                 double tau;
                 bool recheck;
                 if (pairContact(i, j, p, v, horizon, tau, recheck)) {
@@ -796,11 +895,11 @@ void ExactModel::predictAll()
                     if (before(i, ei, best))
                         best = ei;
                     if (before(j, ej, m_contact[j]))
-                        m_contact[j] = ej;
+                        setContact(j, ej);
                 }
             }
         }
-        m_contact[i] = best;
+        setContact(i, best);
     }
     // The calendar: the marbles with an event inside the frame, heap-ordered (Floyd).
     m_heap.clear();
@@ -819,13 +918,14 @@ void ExactModel::unlockMoved(int i, Vec2 v)
 {
     // A marble held against a wall keeps the hold only while nothing gives it a normal velocity.
     Guard &guard = m_guard[i];
+    Body &body = m_body[i];
     if ((guard.locked & 1) && v.x != 0.0) {
         guard.locked &= ~1u;
-        m_grav[i].x = m_gravity.x;
+        body.gravityOff &= ~1u;
     }
     if ((guard.locked & 2) && v.y != 0.0) {
         guard.locked &= ~2u;
-        m_grav[i].y = m_gravity.y;
+        body.gravityOff &= ~2u;
     }
 }
 
@@ -838,7 +938,7 @@ bool ExactModel::overLimit(int i) const
 
 bool ExactModel::countContact(int i)
 {
-    if (++m_guard[i].recheckHits <= freezeAfterRechecks || m_guard[i].frozen)
+    if (++m_guard[i].recheckHits <= freezeAfterRechecks || m_body[i].frozen)
         return false;
     ++m_stamp[i];
     freeze(i);
@@ -847,15 +947,16 @@ bool ExactModel::countContact(int i)
 
 void ExactModel::freeze(int i)
 {
-    if (m_guard[i].frozen)
+    Body &body = m_body[i];
+    if (body.frozen)
         return;
     Vec2 p;
     Vec2 v;
-    stateAt(i, p, v);
-    m_guard[i].frozen = 1;
-    m_grav[i] = {};
+    stateAt(body, p, v);
+    body.frozen = 1;
+    body.gravityOff = 3;
     m_invMass[i] = 0.0;
-    m_crossTime[i] = infinity;
+    m_crossTime[i] = noTime;
     setState(i, p, {});
     ++m_frozenCount;
 }
@@ -866,8 +967,8 @@ void ExactModel::collidePair(World &world, int i, int j)
     Vec2 vi;
     Vec2 pj;
     Vec2 vj;
-    stateAt(i, pi, vi);
-    stateAt(j, pj, vj);
+    stateAt(m_body[i], pi, vi);
+    stateAt(m_body[j], pj, vj);
     const Vec2 n = unit({pj.x - pi.x, pj.y - pi.y});
     // Approach speed along the normal (from i towards j).
     const double approach = (vi.x - vj.x) * n.x + (vi.y - vj.y) * n.y;
@@ -894,17 +995,17 @@ void ExactModel::collidePair(World &world, int i, int j)
         vj.x += impulse * wj * n.x;
         vj.y += impulse * wj * n.y;
         const std::int64_t frame = world.frame + 1;
-        world.lastHit[i] = {frame, unit(inI), n, unit(vi)};
-        world.lastHit[j] = {frame, unit(inJ), {-n.x, -n.y}, unit(vj)};
+        world.lastHit[m_id[i]] = {frame, unit(inI), n, unit(vi)};
+        world.lastHit[m_id[j]] = {frame, unit(inJ), {-n.x, -n.y}, unit(vj)};
         ++m_collisionCount;
     }
     ++m_stamp[i];
     ++m_stamp[j];
-    if (!gi.frozen) {
+    if (!m_body[i].frozen) {
         unlockMoved(i, vi);
         setState(i, pi, vi);
     }
-    if (!gj.frozen) {
+    if (!m_body[j].frozen) {
         unlockMoved(j, vj);
         setState(j, pj, vj);
     }
@@ -918,7 +1019,7 @@ void ExactModel::collidePin(World &world, int i, int pin)
 {
     Vec2 p;
     Vec2 v;
-    stateAt(i, p, v);
+    stateAt(m_body[i], p, v);
     const Vec2 q = world.pins[pin];
     const Vec2 n = unit({q.x - p.x, q.y - p.y});
     const double approach = dot(v, n);
@@ -933,7 +1034,7 @@ void ExactModel::collidePin(World &world, int i, int pin)
         const Vec2 in = v;
         v.x -= (1.0 + e) * approach * n.x;
         v.y -= (1.0 + e) * approach * n.y;
-        world.lastHit[i] = {world.frame + 1, unit(in), n, unit(v)};
+        world.lastHit[m_id[i]] = {world.frame + 1, unit(in), n, unit(v)};
         ++m_collisionCount;
     }
     ++m_stamp[i];
@@ -945,14 +1046,15 @@ void ExactModel::collidePin(World &world, int i, int pin)
 
 void ExactModel::collideWall(World &world, int i, int wall)
 {
+    Body &body = m_body[i];
     Vec2 p;
     Vec2 vel;
-    stateAt(i, p, vel);
+    stateAt(body, p, vel);
     const int axis = wall / 2;          // 0: x, 1: y
     const bool upper = (wall % 2) == 1; // right or bottom
     double &x = axis == 0 ? p.x : p.y;
     double &v = axis == 0 ? vel.x : vel.y;
-    const double r = m_radius[i];
+    const double r = body.radius;
     const double side = axis == 0 ? m_width : m_height;
     const double gAxis = axis == 0 ? m_gravity.x : m_gravity.y;
     // Outward speed (towards this wall) and the push of gravity towards it.
@@ -973,56 +1075,20 @@ void ExactModel::collideWall(World &world, int i, int wall)
         hit = true;
         ++m_collisionCount;
     }
-    if (gOut > 0.0 && outward >= 0.0 && e * outward <= restSpeed && !guard.frozen) {
+    if (gOut > 0.0 && outward >= 0.0 && e * outward <= restSpeed && !body.frozen) {
         v = 0.0;
-        (axis == 0 ? m_grav[i].x : m_grav[i].y) = 0.0;
+        body.gravityOff |= static_cast<std::uint8_t>(1u << axis);
         guard.locked |= static_cast<std::uint8_t>(1u << axis);
     }
     if (hit) {
         Vec2 n{};
         (axis == 0 ? n.x : n.y) = upper ? 1.0 : -1.0;
-        world.lastHit[i] = {world.frame + 1, unit(in), n, unit(vel)};
+        world.lastHit[m_id[i]] = {world.frame + 1, unit(in), n, unit(vel)};
     }
     ++m_stamp[i];
     setState(i, p, vel);
     if (m_inelastic && guard.wallHits > freezeAfterWallBounces)
         freeze(i);
-}
-
-void ExactModel::crossCell(int i, int side)
-{
-    switch (side) {
-    case 0: --m_cellX[i]; break;
-    case 1: ++m_cellX[i]; break;
-    case 2: --m_cellY[i]; break;
-    default: ++m_cellY[i]; break;
-    }
-    const std::int64_t kx = m_cellX[i];
-    const std::int64_t ky = m_cellY[i];
-    const int b = m_geometry.bucket(kx, ky);
-    if (b != m_bucketOf[i]) {
-        unlinkFromBucket(i);
-        linkIntoBucket(i, b);
-    }
-    Vec2 p;
-    Vec2 v;
-    stateAt(i, p, v);
-    nextCrossing(i, p, v);
-    // The row or column of three cells that came into reach; the others were looked at before,
-    // and the best contact found then still stands (the velocity has not changed).
-    int buckets[3];
-    for (int k = -1; k <= 1; ++k) {
-        switch (side) {
-        case 0: buckets[k + 1] = m_geometry.bucket(kx - 1, ky + k); break;
-        case 1: buckets[k + 1] = m_geometry.bucket(kx + 1, ky + k); break;
-        case 2: buckets[k + 1] = m_geometry.bucket(kx + k, ky - 1); break;
-        default: buckets[k + 1] = m_geometry.bucket(kx + k, ky + 1); break;
-        }
-    }
-    Event best = m_contact[i];
-    scanPins(i, p, v, buckets, 3, best);
-    scanBuckets(i, p, v, buckets, 3, best);
-    m_contact[i] = best;
 }
 
 void ExactModel::step(World &world)
@@ -1038,7 +1104,7 @@ void ExactModel::step(World &world)
     // A world that already left finite numbers is only carried along (World::step reports it).
     bool finite = std::isfinite(m_lambda) && isFinite(m_gravity);
     for (int i = 0; i < n && finite; ++i)
-        finite = isFinite(m_track[i].a) && isFinite(m_track[i].b) && std::isfinite(m_radius[i])
+        finite = isFinite(m_body[i].a) && isFinite(m_body[i].b) && std::isfinite(m_body[i].radius)
             && std::isfinite(m_invMass[i]);
     if (!finite) {
         endFrame(world);
@@ -1046,25 +1112,25 @@ void ExactModel::step(World &world)
     }
 
     predictAll();
-    const Event none{infinity, EventKind::None, -1, 0};
+    const Event none{noTime, EventKind::None, -1, 0};
     while (!m_heap.empty()) {
         const int i = m_heap[0].marble;
         const Event ev = currentEvent(i);
         setNow(std::max(m_now, ev.time));
         ++m_eventCount;
         if (ev.kind == EventKind::Cross) {
-            crossCell(i, ev.other);
+            reanchor(i);
             heapUpdate(i);
             continue;
         }
         // Every other event ends with a fresh prediction of i. Its old contact is void from here
         // on (so that no partner's search stops at it).
-        m_contact[i] = none;
+        setContact(i, none);
         switch (ev.kind) {
         case EventKind::Pair:
             if (m_stamp[ev.other] == ev.stamp) {
                 collidePair(world, i, ev.other);
-                m_contact[ev.other] = none;
+                setContact(ev.other, none);
                 predict(ev.other);
                 heapUpdate(ev.other);
             }
@@ -1083,7 +1149,7 @@ void ExactModel::step(World &world)
             // end: its partner freezes in turn, and frozen pairs are not predicted.
             countContact(i);
             if (countContact(ev.other)) {
-                m_contact[ev.other] = none;
+                setContact(ev.other, none);
                 predict(ev.other);
                 heapUpdate(ev.other);
             }

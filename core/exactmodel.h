@@ -13,13 +13,15 @@ namespace marbles {
 /// marble-pin, marble-wall) happen at their exact time of contact and are resolved by an
 /// impulse along the contact normal with restitution e. See exactmodel.cpp for the derivations.
 ///
-/// Data structures (designed for 1e5 marbles and more, cost linear in N): a folded uniform grid
-/// with doubly linked bucket lists (marbles change cell through "cell crossing" events, and then
-/// look only at the three cells that came into reach), per marble one best contact and one next
-/// crossing, an indexed binary heap holding only the marbles with an event inside the frame,
-/// and per-marble collision stamps that reveal stale partner events lazily. All buffers are kept
-/// between frames (no allocation in steady state) and are rebuilt from the World at the start of
-/// every frame, so they are caches only.
+/// Data structures (designed for 1e5 marbles and more, cost linear in N): each frame the marbles
+/// are renumbered in the order of a folded uniform grid, so that neighbours lie side by side in
+/// memory, in 64-byte records that hold all a neighbour test reads. Each marble is "anchored" in
+/// a cell a margin wider than the contact distance and needs a grid event only when it strays
+/// further than the margin from its anchor within one frame. Per marble the calendar keeps its
+/// best contact and that next grid event; an indexed binary heap holds only the marbles with an
+/// event inside the frame, and per-marble collision stamps reveal stale partner events lazily.
+/// All buffers are kept between frames (no allocation in steady state) and are rebuilt from the
+/// World at the start of every frame, so they are caches only.
 class ExactModel final : public Stepper {
 public:
     /// With e < 1 only: after this many marble-marble or marble-pin collisions of a marble within
@@ -41,6 +43,10 @@ public:
     static constexpr double restHeightPx = 1e-3;
     /// Up to this many bodies (marbles and pins) all pairs are tested, without a grid.
     static constexpr int singleCellItems = 64;
+    /// A marble may stray this fraction of the largest contact distance from its anchor (its
+    /// position at the start of the frame) before it needs a grid event; grid cells are wider by
+    /// twice that margin.
+    static constexpr double anchorMargin = 0.25;
 
     ExactModel();
     ~ExactModel() override;
@@ -62,13 +68,19 @@ private:
     struct Event {
         double time = 0.0;   // absolute time within the frame, frames in [0, 1]
         EventKind kind = EventKind::None;
-        int other = -1;      // partner marble, pin index, wall (0..3) or crossing side (0..3)
+        int other = -1;      // partner marble, pin index, wall (0..3) or margin side (0..3)
         std::uint32_t stamp = 0; // the partner's stamp when predicted (pairs only)
     };
-    // A marble's trajectory in frame time t: p(t) = a + b phi1(t) + g phi2(t) (see the .cpp).
-    struct Track {
+    // What a neighbour test reads of a marble, in one cache line. The trajectory in frame time t
+    // is p(t) = a + b phi1(t) + g phi2(t) (see the .cpp).
+    struct alignas(64) Body {
         Vec2 a;
         Vec2 b;
+        double radius = 0.0;
+        double contactTime = 0.0;    // time of its best contact (infinity: none)
+        int bucket = 0;              // bucket of its anchor cell
+        std::uint8_t gravityOff = 0; // bit 0: no gravity along x (held on a wall, or frozen), bit 1: y
+        std::uint8_t frozen = 0;
     };
     // The collapse guard's per-frame counts of one marble.
     struct Guard {
@@ -76,7 +88,6 @@ private:
         int restHits = 0;
         int wallHits = 0;
         int recheckHits = 0;
-        std::uint8_t frozen = 0;
         std::uint8_t locked = 0; // bit 0: x held against a wall, bit 1: y
     };
     // A heap entry: the marble's current event, with its tie-break packed for cheap comparison.
@@ -89,14 +100,17 @@ private:
     void beginFrame(World &world);
     void endFrame(World &world);
     void setNow(double t);
-    void stateAt(int i, Vec2 &p, Vec2 &v) const;
+    Vec2 gravityOf(const Body &body) const;
+    void stateAt(const Body &body, Vec2 &p, Vec2 &v) const;
     void setState(int i, Vec2 p, Vec2 v);
+    void setContact(int i, const Event &e);
+    int neighbourBuckets(int i, int out[9]) const;
     void predictAll();
     void predictOwn(int i, Vec2 p, Vec2 v, Event &best);
     void predict(int i);
     void scanPins(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const;
-    void scanBuckets(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const;
-    bool pairContact(int i, int j, Vec2 pi, Vec2 vi, double horizon, double &tau, bool &recheck) const;
+    void scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const;
+    bool pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi, double horizon, double &tau, bool &recheck) const;
     static std::uint64_t tieOf(int i, const Event &e);
     static bool before(int i, const Event &a, const Event &b);
     Event currentEvent(int i) const;
@@ -106,17 +120,16 @@ private:
     void heapSiftUp(int pos);
     void heapSiftDown(int pos);
     void heapPlace(int pos, const Key &key);
-    void nextCrossing(int i, Vec2 p, Vec2 v);
+    void nextEscape(int i, Vec2 p, Vec2 v);
+    void reanchor(int i);
+    void moveToBucket(int i, int bucket);
     void collidePair(World &world, int i, int j);
     void collidePin(World &world, int i, int pin);
     void collideWall(World &world, int i, int wall);
-    void crossCell(int i, int side);
     void freeze(int i);
     bool overLimit(int i) const;
     bool countContact(int i);
     void unlockMoved(int i, Vec2 v);
-    void linkIntoBucket(int i, int bucket);
-    void unlinkFromBucket(int i);
 
     // Frame constants.
     double m_lambda = 0.0;       // drag rate, 1/frame
@@ -128,7 +141,8 @@ private:
     double m_height = 0.0;
     bool m_walls = true;
     GridGeometry m_geometry;
-    bool m_singleCell = false;   // no grid: one bucket, no cell crossings
+    double m_margin = 0.0;       // how far a marble may stray from its anchor, px
+    bool m_singleCell = false;   // no grid: one bucket, no grid events
     const World *m_world = nullptr;
 
     // The clock: the current event time and phi1, phi2, e^{-lambda t} there.
@@ -139,24 +153,27 @@ private:
     double m_phi1End = 1.0;  // phi1(1)
     double m_sLeft = 1.0;    // >= phi1(1 - now), for quick rejections
 
-    // Marbles.
-    std::vector<Track> m_track;
-    std::vector<Vec2> m_grav;      // gravity as felt (a component is 0 while held on a wall)
-    std::vector<double> m_radius;
+    // Marbles, in grid order: internal index i is world marble m_id[i].
+    std::vector<Body> m_body;
+    std::vector<int> m_id;
+    std::vector<Vec2> m_anchor;
     std::vector<double> m_invMass; // 0 while frozen
     std::vector<std::uint32_t> m_stamp;
     std::vector<Guard> m_guard;
 
-    // Grid: cell coordinates, bucket linked lists.
-    std::vector<std::int64_t> m_cellX;
-    std::vector<std::int64_t> m_cellY;
-    std::vector<int> m_bucketOf;
-    std::vector<int> m_head;
-    std::vector<int> m_next;
-    std::vector<int> m_prev;
+    // Grid: bucket b's marbles at the start of the frame are the internal indices
+    // m_start[b] .. m_start[b + 1] (those still anchored there have Body::bucket == b); marbles
+    // re-anchored into another bucket join that bucket's doubly linked overflow list.
+    std::vector<int> m_start;
+    std::vector<int> m_cursor;
+    std::vector<int> m_sortBucket;
+    std::vector<int> m_home;
+    std::vector<int> m_overflowHead;
+    std::vector<int> m_overflowNext;
+    std::vector<int> m_overflowPrev; // -2: in no overflow list
     UniformGrid m_pinGrid;
 
-    // Calendar: per marble its best contact and next crossing; a heap of the marbles whose
+    // Calendar: per marble its best contact and next grid event; a heap of the marbles whose
     // earlier one falls inside the frame.
     std::vector<Event> m_contact;
     std::vector<double> m_crossTime;
