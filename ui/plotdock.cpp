@@ -34,6 +34,10 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 /// samples becomes its lowest and its highest point, so spikes (collisions) stay visible.
 constexpr qsizetype kMaxPointsPerLine = 2000;
 
+/// Dashes of a comparison model's lines, in pen widths: short enough that even the legend's
+/// short sample line shows two dashes.
+const QList<qreal> kCompareDashes{2.5, 2.0};
+
 /// Marbles without a colour of their own are drawn blue on the stage; their lines use shades
 /// of blue, different enough to tell apart.
 QColor defaultMarbleColor(int marble)
@@ -373,6 +377,8 @@ void PlotDock::setCompareModel(const QString &model)
             auto *series = new QLineSeries;
             QPen pen(QColor(0x55, 0x55, 0x55), 2.0, style);
             pen.setCapStyle(Qt::FlatCap);
+            if (style == Qt::CustomDashLine)
+                pen.setDashPattern(kCompareDashes);
             series->setPen(pen);
             m_chart->addSeries(series);
             series->attachAxis(m_axisX);
@@ -380,7 +386,7 @@ void PlotDock::setCompareModel(const QString &model)
             return series;
         };
         m_modelKey = addKeySeries(Qt::SolidLine);
-        m_compareKey = addKeySeries(Qt::DashLine);
+        m_compareKey = addKeySeries(Qt::CustomDashLine);
     }
     styleSeries();
     m_dirty = true;
@@ -664,8 +670,9 @@ void PlotDock::styleSeries()
         t.series->setPen(QPen(colour, 2.0));
         if (t.compareSeries) {
             t.compareSeries->setName(tr("%1, %2").arg(marbleLabel(t.marble), m_compareModel));
-            QPen dashed(colour, 2.0, Qt::DashLine);
+            QPen dashed(colour, 2.0, Qt::CustomDashLine);
             dashed.setCapStyle(Qt::FlatCap);
+            dashed.setDashPattern(kCompareDashes);
             t.compareSeries->setPen(dashed);
             for (QLegendMarker *marker : m_chart->legend()->markers(t.compareSeries))
                 marker->setVisible(false);

@@ -515,7 +515,7 @@ void TestCompareRun::plotGetsCompareSeries()
     for (int marble = 0; marble < 4; ++marble) {
         QLineSeries *dashed = plot.compareSeries(marble);
         QVERIFY(dashed);
-        QCOMPARE(dashed->pen().style(), Qt::DashLine);
+        QCOMPARE(dashed->pen().style(), Qt::CustomDashLine);
         QCOMPARE(dashed->pen().color(), plot.speedSeries(marble)->pen().color());
         QVERIFY2(dashed->name().contains(QStringLiteral("exact")), qPrintable(dashed->name()));
         // No comparison before it was chosen; its speeds afterwards.
