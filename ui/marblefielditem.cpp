@@ -5,7 +5,6 @@
 
 #include <QImage>
 #include <QPainter>
-#include <QPainterPath>
 #include <QStyleOptionGraphicsItem>
 
 #include <algorithm>
@@ -20,8 +19,9 @@ namespace {
 /// vectors (VectorItem's book length of 30 px past the rim, plus the arrow head).
 constexpr double kVectorLengthPx = 30.0;
 constexpr double kBoundsPaddingPx = kVectorLengthPx + 34.0;
-/// Arrow heads, stage px (as VectorItem draws them).
+/// Arrow heads, stage px (as VectorItem draws them), and the shortest drawn, device px.
 constexpr double kArrowHeadPx = 8.0;
+constexpr double kMinHeadDevicePx = 3.0;
 /// The selection ring sits this far outside the ball: 3 stage px as MarbleItem, but never less
 /// than 3 device px, so that it stays visible when a crowd is zoomed out to 1-px marbles.
 constexpr double kRingGapPx = 3.0;
@@ -42,15 +42,43 @@ QRgb parseColor(const std::string &text)
     return MarbleItem::defaultColor().rgb();
 }
 
-/// The arrow head of VectorItem, a triangle with its tip at `tip` pointing along the unit vector `u`.
-void addHead(QPainterPath &path, const QTransform &toDevice, QPointF tip, QPointF u)
+/// Stage px to device px: QTransform::map() inlined, for the tens of thousands of points of a
+/// crowd per frame (the view's transform is affine: scale and translation).
+struct ToDevice {
+    explicit ToDevice(const QTransform &t)
+        : m11(t.m11()), m12(t.m12()), m21(t.m21()), m22(t.m22()), dx(t.dx()), dy(t.dy())
+    {
+    }
+    QPointF operator()(QPointF p) const { return {m11 * p.x() + m21 * p.y() + dx, m12 * p.x() + m22 * p.y() + dy}; }
+
+    double m11, m12, m21, m22, dx, dy;
+};
+
+/// Appends the three corners of VectorItem's arrow head, a triangle with its tip at `tip`
+/// pointing along the unit vector `u`, in device px.
+void addHead(std::vector<QPointF> &corners, const ToDevice &toDevice, QPointF tip, QPointF u)
 {
     const QPointF n(-u.y(), u.x());
-    QPolygonF head;
-    head << toDevice.map(tip) << toDevice.map(tip - u * kArrowHeadPx + n * kArrowHeadPx * 0.5)
-         << toDevice.map(tip - u * kArrowHeadPx - n * kArrowHeadPx * 0.5);
-    path.addPolygon(head);
-    path.closeSubpath();
+    corners.push_back(toDevice(tip));
+    corners.push_back(toDevice(tip - u * kArrowHeadPx + n * kArrowHeadPx * 0.5));
+    corners.push_back(toDevice(tip - u * kArrowHeadPx - n * kArrowHeadPx * 0.5));
+}
+
+/// Fills the triangles of `corners` (three points each) in `color`. One small polygon at a time:
+/// the raster engine fills thousands of tiny triangles far faster one by one than as one big
+/// path, whose antialiased scan conversion walks every edge on every scan line.
+void fillTriangles(QPainter *painter, const std::vector<QPointF> &corners, const QColor &color)
+{
+    painter->setPen(Qt::NoPen);
+    painter->setBrush(color);
+    for (std::size_t k = 0; k + 2 < corners.size(); k += 3)
+        painter->drawPolygon(corners.data() + k, 3);
+    painter->setBrush(Qt::NoBrush);
+}
+
+void drawLines(QPainter *painter, const std::vector<QLineF> &lines)
+{
+    painter->drawLines(lines.data(), static_cast<int>(lines.size()));
 }
 
 } // namespace
@@ -248,7 +276,10 @@ void MarbleFieldItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *o
     painter->setRenderHint(QPainter::SmoothPixmapTransform, false);
 
     // Marbles too small for a sprite, batched per colour (a scene rarely has more than a few).
-    std::vector<std::pair<QRgb, QList<QRectF>>> tiny;
+    // The buffers keep their capacity from frame to frame.
+    for (auto &bucket : m_tiny)
+        bucket.second.clear();
+    const ToDevice map(toDevice);
     SpriteKey key;
     key.dprPercent = static_cast<int>(std::lround(dpr * 100.0));
     key.ghost = ghost;
@@ -259,16 +290,16 @@ void MarbleFieldItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *o
         if (!(p.x + r >= visible.left() && p.x - r <= visible.right() && p.y + r >= visible.top()
               && p.y - r <= visible.bottom()))
             continue; // off screen, or not finite
-        const QPointF c = toDevice.map(QPointF(p.x, p.y));
+        const QPointF c = map(QPointF(p.x, p.y));
         const double rDevice = r * scale;
         if (rDevice < kTinyRadiusDevicePx) {
             const double side = std::max(1.0, 2.0 * rDevice);
-            auto bucket = std::find_if(tiny.begin(), tiny.end(), [&](const auto &b) { return b.first == m_color[k]; });
-            if (bucket == tiny.end()) {
-                tiny.emplace_back(m_color[k], QList<QRectF>());
-                bucket = std::prev(tiny.end());
+            auto bucket = std::find_if(m_tiny.begin(), m_tiny.end(), [&](const auto &b) { return b.first == m_color[k]; });
+            if (bucket == m_tiny.end()) {
+                m_tiny.emplace_back(m_color[k], std::vector<QRectF>());
+                bucket = std::prev(m_tiny.end());
             }
-            bucket->second.append(QRectF(c.x() - side / 2, c.y() - side / 2, side, side));
+            bucket->second.emplace_back(c.x() - side / 2, c.y() - side / 2, side, side);
             continue;
         }
         key.radiusSteps = static_cast<int>(std::lround(rDevice / kSpriteRadiusStepDevicePx));
@@ -277,7 +308,9 @@ void MarbleFieldItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *o
         const double half = pixmap.width() / (2.0 * dpr);
         painter->drawPixmap(QPointF(std::round(c.x() - half), std::round(c.y() - half)), pixmap);
     }
-    for (auto &[rgb, rects] : tiny) {
+    for (const auto &[rgb, rects] : m_tiny) {
+        if (rects.empty())
+            continue;
         QColor color = QColor::fromRgb(rgb);
         if (ghost) {
             color.setAlpha(200);
@@ -289,48 +322,61 @@ void MarbleFieldItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *o
             painter->setPen(Qt::NoPen);
             painter->setBrush(color);
         }
-        painter->drawRects(rects.constData(), static_cast<int>(rects.size()));
+        painter->drawRects(rects.data(), static_cast<int>(rects.size()));
     }
 
     if (m_vectorsVisible)
-        paintVectors(painter, toDevice, visible, antialias);
+        paintVectors(painter, toDevice, scale, visible, antialias);
     paintRings(painter, toDevice, scale);
     painter->restore();
 }
 
-void MarbleFieldItem::paintVectors(QPainter *painter, const QTransform &toDevice, const QRectF &visible, bool antialias)
+void MarbleFieldItem::paintVectors(QPainter *painter, const QTransform &toDevice, double scale, const QRectF &visible,
+                                   bool antialias)
 {
     const World &w = *m_world;
     const int n = std::min(w.marbleCount(), static_cast<int>(w.lastHit.size()));
-    QList<QLineF> red;
-    QList<QLineF> blue;
-    QList<QLineF> green;
-    QPainterPath blueHeads;
-    QPainterPath greenHeads;
-    // Heads may overlap; with the winding rule overlapping triangles stay filled.
-    blueHeads.setFillRule(Qt::WindingFill);
-    greenHeads.setFillRule(Qt::WindingFill);
+    // Zoomed out, VectorItem's 4-px and 2-px pens would be thicker than the marbles themselves
+    // and bury the stage: the widths shrink with the zoom, down to 1 px (which the raster engine
+    // also draws far faster than thick lines). Heads shorter than kMinHeadDevicePx would be a
+    // blot, not an arrow: they are left out, the colours still tell the vectors apart.
+    const double widthScale = std::clamp(scale, 0.25, 1.0);
+    const bool heads = kArrowHeadPx * scale >= kMinHeadDevicePx;
+    // Buffers kept from frame to frame: no allocation (and no fresh pages to fault in) per frame.
+    std::vector<QLineF> &red = m_redLines;
+    std::vector<QLineF> &blue = m_blueLines;
+    std::vector<QLineF> &green = m_greenLines;
+    std::vector<QPointF> &blueHeads = m_blueHeads;
+    std::vector<QPointF> &greenHeads = m_greenHeads;
+    red.clear();
+    blue.clear();
+    green.clear();
+    blueHeads.clear();
+    greenHeads.clear();
+    const ToDevice map(toDevice);
+    const double reach = m_maxRadius + kVectorLengthPx + kArrowHeadPx;
+    const QRectF near = visible.adjusted(-reach, -reach, reach, reach);
     for (int i = 0; i < n; ++i) {
         const auto k = static_cast<std::size_t>(i);
         const HitRecord &hit = w.lastHit[k];
-        if (hit.frame < 0)
+        const QPointF c(w.position[k].x, w.position[k].y);
+        if (hit.frame < 0 || !near.contains(c))
             continue;
         // As VectorItem: the book's unit vectors drawn 30 px long past the marble's rim.
         const double l = w.radius[k] + kVectorLengthPx;
-        const QPointF c(w.position[k].x, w.position[k].y);
-        if (!visible.adjusted(-l - kArrowHeadPx, -l - kArrowHeadPx, l + kArrowHeadPx, l + kArrowHeadPx).contains(c))
-            continue;
         const QPointF normal(hit.normal.x, hit.normal.y);
         const QPointF in(hit.velocityIn.x, hit.velocityIn.y);
         const QPointF out(hit.velocityOut.x, hit.velocityOut.y);
-        const QPointF centre = toDevice.map(c);
-        red.append(QLineF(toDevice.map(c - normal * l), toDevice.map(c + normal * l)));
-        blue.append(QLineF(centre, toDevice.map(c + in * l)));
-        addHead(blueHeads, toDevice, c + in * l, in);
-        green.append(QLineF(centre, toDevice.map(c + out * l)));
-        addHead(greenHeads, toDevice, c + out * l, out);
+        const QPointF centre = map(c);
+        red.emplace_back(map(c - normal * l), map(c + normal * l));
+        blue.emplace_back(centre, map(c + in * l));
+        green.emplace_back(centre, map(c + out * l));
+        if (heads) {
+            addHead(blueHeads, map, c + in * l, in);
+            addHead(greenHeads, map, c + out * l, out);
+        }
     }
-    if (red.isEmpty())
+    if (red.empty())
         return;
     painter->setRenderHint(QPainter::Antialiasing, antialias);
     painter->setBrush(Qt::NoBrush);
@@ -339,20 +385,20 @@ void MarbleFieldItem::paintVectors(QPainter *painter, const QTransform &toDevice
     pen.setCosmetic(true);
     pen.setWidthF(1.0);
     painter->setPen(pen);
-    painter->drawLines(red.constData(), static_cast<int>(red.size()));
+    drawLines(painter, red);
 
     pen.setColor(kVectorBlue);
-    pen.setWidthF(4.0);
+    pen.setWidthF(std::max(1.0, 4.0 * widthScale));
     pen.setCapStyle(Qt::FlatCap);
     painter->setPen(pen);
-    painter->drawLines(blue.constData(), static_cast<int>(blue.size()));
-    painter->fillPath(blueHeads, kVectorBlue);
+    drawLines(painter, blue);
+    fillTriangles(painter, blueHeads, kVectorBlue);
 
     pen.setColor(kVectorGreen);
-    pen.setWidthF(2.0);
+    pen.setWidthF(std::max(1.0, 2.0 * widthScale));
     painter->setPen(pen);
-    painter->drawLines(green.constData(), static_cast<int>(green.size()));
-    painter->fillPath(greenHeads, kVectorGreen);
+    drawLines(painter, green);
+    fillTriangles(painter, greenHeads, kVectorGreen);
 }
 
 void MarbleFieldItem::paintRings(QPainter *painter, const QTransform &toDevice, double scale)

@@ -5,11 +5,13 @@
 #include <QColor>
 #include <QGraphicsItem>
 #include <QHash>
+#include <QLineF>
 #include <QList>
 #include <QPixmap>
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace marbles {
@@ -117,7 +119,7 @@ private:
 
     const QPixmap &sprite(const SpriteKey &key);
     void syncColors();
-    void paintVectors(QPainter *painter, const QTransform &toDevice, const QRectF &visible, bool antialias);
+    void paintVectors(QPainter *painter, const QTransform &toDevice, double scale, const QRectF &visible, bool antialias);
     void paintRings(QPainter *painter, const QTransform &toDevice, double scale);
 
     const World *m_world = nullptr;
@@ -132,6 +134,14 @@ private:
     std::vector<std::string> m_colorText; ///< info[i].color as last parsed
     std::vector<QRgb> m_color;            ///< marble i's colour, opaque
     QHash<SpriteKey, QPixmap> m_sprites;
+
+    // Per-paint buffers, kept so that their capacity survives from frame to frame.
+    std::vector<std::pair<QRgb, std::vector<QRectF>>> m_tiny; ///< tiny marbles, per colour
+    std::vector<QLineF> m_redLines;
+    std::vector<QLineF> m_blueLines;
+    std::vector<QLineF> m_greenLines;
+    std::vector<QPointF> m_blueHeads;  ///< three corners per head
+    std::vector<QPointF> m_greenHeads; ///< three corners per head
 };
 
 } // namespace marbles

@@ -1,5 +1,6 @@
 #include "ui/stageview.h"
 
+#include "ui/marblefielditem.h"
 #include "ui/marbleitem.h"
 #include "ui/pinitem.h"
 #include "ui/trailitem.h"
@@ -8,10 +9,12 @@
 
 #include <QContextMenuEvent>
 #include <QGraphicsScene>
+#include <QHelpEvent>
 #include <QMenu>
 #include <QMouseEvent>
 #include <QPainter>
 #include <QScrollBar>
+#include <QToolTip>
 #include <QWheelEvent>
 
 #include <algorithm>
@@ -49,8 +52,10 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
     m_scene->setItemIndexMethod(QGraphicsScene::NoIndex);
     setScene(m_scene);
     setRenderHints(QPainter::Antialiasing | QPainter::SmoothPixmapTransform);
+    // While the run goes nearly everything on the stage moves every frame: one full repaint is
+    // cheaper than merging hundreds of small dirty rectangles.
     setViewportUpdateMode(QGraphicsView::FullViewportUpdate);
-    setTransformationAnchor(QGraphicsView::AnchorUnderMouse);
+    setTransformationAnchor(QGraphicsView::AnchorViewCenter);
     setResizeAnchor(QGraphicsView::AnchorViewCenter);
     setDragMode(QGraphicsView::NoDrag);
     setFocusPolicy(Qt::StrongFocus);
@@ -125,8 +130,12 @@ void StageView::deleteSelection()
 void StageView::setVectorsVisible(bool visible)
 {
     m_vectorsVisible = visible;
-    for (VectorItem *item : m_vectors)
-        item->setVisible(visible);
+    if (!visible) {
+        for (VectorItem *item : m_vectors)
+            item->setVisible(false);
+    }
+    if (m_field)
+        m_field->setVectorsVisible(visible);
     syncPoses();
 }
 
@@ -134,7 +143,20 @@ void StageView::setTrailsVisible(bool visible)
 {
     m_trailsVisible = visible;
     m_trail->clear();
-    m_trail->setVisible(visible);
+    updateTrailSuppression();
+}
+
+void StageView::updateTrailSuppression()
+{
+    const bool suppressed = m_trailsVisible && m_document->world().marbleCount() > kMaxTrailMarbles;
+    const bool announce = suppressed && !m_trailsSuppressed;
+    m_trailsSuppressed = suppressed;
+    if (suppressed)
+        m_trail->clear();
+    m_trail->setVisible(m_trailsVisible && !suppressed);
+    if (announce)
+        Q_EMIT message(tr("Trails are off above %L1 marbles: drawing them would slow the stage down.")
+                           .arg(kMaxTrailMarbles));
 }
 
 void StageView::fitToStage()
@@ -151,10 +173,7 @@ void StageView::zoomBy(double factor)
     if (target == current)
         return;
     m_autoFit = false;
-    const ViewportAnchor anchor = transformationAnchor();
-    setTransformationAnchor(QGraphicsView::AnchorViewCenter);
-    scale(target / current, target / current);
-    setTransformationAnchor(anchor);
+    scale(target / current, target / current); // about the viewport centre (the view's anchor)
 }
 
 QPoint StageView::viewportPoint(Vec2 p) const
@@ -177,26 +196,24 @@ void StageView::rebuild()
 {
     const World &world = m_document->world();
     const int n = world.marbleCount();
-    while (static_cast<int>(m_marbles.size()) > n) {
-        delete m_marbles.back();
-        m_marbles.pop_back();
-        delete m_vectors.back();
-        m_vectors.pop_back();
+    if (n > kBatchThreshold) {
+        // Batched: one item draws every marble (and the vectors); no item per marble.
+        rebuildMarbleItems(world, 0);
+        if (!m_field) {
+            m_field = new MarbleFieldItem(&world);
+            m_field->setAntialiasThreshold(kAntialiasThreshold);
+            m_scene->addItem(m_field);
+        }
+        m_field->setVectorsVisible(m_vectorsVisible);
+        m_field->setWorld(&world);
+    } else {
+        delete m_field;
+        m_field = nullptr;
+        rebuildMarbleItems(world, n);
     }
-    while (static_cast<int>(m_marbles.size()) < n) {
-        auto *marble = new MarbleItem();
-        m_scene->addItem(marble);
-        m_marbles.push_back(marble);
-        auto *vectors = new VectorItem();
-        vectors->setZValue(2.0);
-        m_scene->addItem(vectors);
-        m_vectors.push_back(vectors);
-    }
-    for (int i = 0; i < n; ++i) {
-        m_marbles[i]->setRadius(world.radius[i]);
-        m_marbles[i]->setColor(colorOf(world.info[i]));
-        m_marbles[i]->setToolTip(QString::fromStdString(world.info[i].name));
-    }
+    // Lines and pins drawn hard past the threshold; the field item follows the same count.
+    setRenderHint(QPainter::Antialiasing, n <= kAntialiasThreshold);
+
     const int pinCount = static_cast<int>(world.pins.size());
     while (static_cast<int>(m_pins.size()) > pinCount) {
         delete m_pins.back();
@@ -214,6 +231,7 @@ void StageView::rebuild()
     const QRectF stageRect(0, 0, world.stage.width, world.stage.height);
     m_scene->setSceneRect(stageRect.adjusted(-kSceneMarginPx, -kSceneMarginPx, kSceneMarginPx, kSceneMarginPx));
     m_trail->setArea(stageRect);
+    updateTrailSuppression();
     if (m_selectionKind == SelectionKind::Marble && m_selectionIndex >= n)
         clearSelection();
     if (m_selectionKind == SelectionKind::Pin && m_selectionIndex >= pinCount)
@@ -225,11 +243,41 @@ void StageView::rebuild()
     m_scene->update();
 }
 
+void StageView::rebuildMarbleItems(const World &world, int n)
+{
+    while (static_cast<int>(m_marbles.size()) > n) {
+        delete m_marbles.back();
+        m_marbles.pop_back();
+        delete m_vectors.back();
+        m_vectors.pop_back();
+    }
+    while (static_cast<int>(m_marbles.size()) < n) {
+        auto *marble = new MarbleItem();
+        m_scene->addItem(marble);
+        m_marbles.push_back(marble);
+        auto *vectors = new VectorItem();
+        vectors->setZValue(2.0);
+        vectors->setVisible(false);
+        m_scene->addItem(vectors);
+        m_vectors.push_back(vectors);
+    }
+    for (int i = 0; i < n; ++i) {
+        m_marbles[i]->setRadius(world.radius[i]);
+        m_marbles[i]->setColor(colorOf(world.info[i]));
+        m_marbles[i]->setToolTip(QString::fromStdString(world.info[i].name));
+    }
+}
+
 void StageView::syncPoses()
 {
     const World &world = m_document->world();
-    const int n = std::min(world.marbleCount(), static_cast<int>(m_marbles.size()));
     const int held = m_document->heldMarble();
+    if (m_field) {
+        m_field->setHeldMarble(held);
+        m_field->syncFromWorld();
+        return;
+    }
+    const int n = std::min(world.marbleCount(), static_cast<int>(m_marbles.size()));
     for (int i = 0; i < n; ++i) {
         const QPointF p(world.position[i].x, world.position[i].y);
         m_marbles[i]->setPos(p);
@@ -237,13 +285,14 @@ void StageView::syncPoses()
         if (m_vectorsVisible) {
             m_vectors[i]->setPos(p);
             m_vectors[i]->setHit(world.lastHit[i], world.radius[i]);
+            m_vectors[i]->setVisible(world.lastHit[i].frame >= 0);
         }
     }
 }
 
 void StageView::sampleTrail()
 {
-    if (m_trailsVisible)
+    if (m_trailsVisible && !m_trailsSuppressed)
         m_trail->sample(m_document->world());
 }
 
@@ -254,6 +303,8 @@ void StageView::resetTrail()
 
 void StageView::updateHighlights()
 {
+    if (m_field)
+        m_field->setSelectedMarbles(m_selectionKind == SelectionKind::Marble ? QList<int>{m_selectionIndex} : QList<int>{});
     for (int i = 0; i < static_cast<int>(m_marbles.size()); ++i)
         m_marbles[i]->setHighlighted(m_selectionKind == SelectionKind::Marble && i == m_selectionIndex);
     for (int j = 0; j < static_cast<int>(m_pins.size()); ++j)
@@ -283,6 +334,7 @@ void StageView::report(const QString &text)
 
 void StageView::drawBackground(QPainter *painter, const QRectF &rect)
 {
+    const bool antialias = painter->testRenderHint(QPainter::Antialiasing);
     painter->fillRect(rect, palette().color(QPalette::Window).darker(112));
     const Stage &stage = m_document->world().stage;
     const QRectF stageRect(0, 0, stage.width, stage.height);
@@ -313,7 +365,7 @@ void StageView::drawBackground(QPainter *painter, const QRectF &rect)
         painter->setPen(edge);
         painter->drawRect(stageRect);
     }
-    painter->setRenderHint(QPainter::Antialiasing, true);
+    painter->setRenderHint(QPainter::Antialiasing, antialias);
 }
 
 void StageView::mousePressEvent(QMouseEvent *event)
@@ -411,6 +463,22 @@ void StageView::mouseDoubleClickEvent(QMouseEvent *event)
     mousePressEvent(event);
 }
 
+bool StageView::viewportEvent(QEvent *event)
+{
+    // Per-marble items carry their own tool tips; in batched mode the world is searched instead.
+    if (m_field && event->type() == QEvent::ToolTip) {
+        const auto *help = static_cast<QHelpEvent *>(event);
+        const int i = m_field->marbleAt(viewportTransform().inverted().map(QPointF(help->pos())));
+        const QString name = i >= 0 ? QString::fromStdString(m_document->world().info[i].name) : QString();
+        if (name.isEmpty())
+            QToolTip::hideText();
+        else
+            QToolTip::showText(help->globalPos(), name, viewport());
+        return true;
+    }
+    return QGraphicsView::viewportEvent(event);
+}
+
 void StageView::wheelEvent(QWheelEvent *event)
 {
     const double steps = event->angleDelta().y() / 120.0;
@@ -421,7 +489,16 @@ void StageView::wheelEvent(QWheelEvent *event)
     const double current = transform().m11();
     const double target = std::clamp(current * std::pow(1.15, steps), kMinZoom, kMaxZoom);
     m_autoFit = false;
+    // Zoom about the mouse: scale, then scroll the stage point that was under the mouse back
+    // under it. (AnchorUnderMouse would need a hover position the view only has with mouse
+    // tracking, which the stage leaves off.) Where the zoomed stage is smaller than the viewport
+    // it is centred instead, and cannot follow the mouse.
+    const QPointF mouse = event->position();
+    const QPointF anchor = viewportTransform().inverted().map(mouse);
     scale(target / current, target / current);
+    const QPointF drift = viewportTransform().map(anchor) - mouse;
+    horizontalScrollBar()->setValue(horizontalScrollBar()->value() + static_cast<int>(std::lround(drift.x())));
+    verticalScrollBar()->setValue(verticalScrollBar()->value() + static_cast<int>(std::lround(drift.y())));
     event->accept();
 }
 

@@ -14,6 +14,7 @@ class QGraphicsScene;
 
 namespace marbles {
 
+class MarbleFieldItem;
 class MarbleItem;
 class PinItem;
 class TrailItem;
@@ -36,6 +37,16 @@ public:
     static constexpr int kClickTolerancePx = 4;
     /// Radius of a marble made with the add-marble tool, stage px.
     static constexpr double kNewMarbleRadius = 20.0;
+    /// Above this many marbles one MarbleFieldItem draws them all (one item per marble and per
+    /// vector overlay costs more in the scene than in the drawing); at or below it every marble
+    /// is an item of its own. Editing works the same in both modes: the mouse searches the world.
+    static constexpr int kBatchThreshold = 400;
+    /// Above this many marbles nothing is antialiased but the marble sprites (smooth already)
+    /// and the selection rings: grid, walls, pins, vectors and sub-pixel marbles are drawn hard.
+    static constexpr int kAntialiasThreshold = 5000;
+    /// Above this many marbles trails are not drawn (a status message says so): a trail is 90
+    /// segments per marble, and 2,000 marbles already make 180,000 segments per frame.
+    static constexpr int kMaxTrailMarbles = 2000;
 
     /// A view of `document`, which must outlive it.
     explicit StageView(SceneDocument *document, QWidget *parent = nullptr);
@@ -67,8 +78,15 @@ public:
     void setTrailsVisible(bool visible);
     /// True when the vectors overlay is shown.
     bool vectorsVisible() const { return m_vectorsVisible; }
-    /// True when trails are shown.
+    /// True when trails are asked for (they are not drawn above kMaxTrailMarbles marbles).
     bool trailsVisible() const { return m_trailsVisible; }
+    /// True when trails are asked for but the scene has too many marbles to draw them.
+    bool trailsSuppressed() const { return m_trailsSuppressed; }
+
+    /// True when the marbles are drawn by one MarbleFieldItem (more than kBatchThreshold marbles).
+    bool isBatched() const { return m_field != nullptr; }
+    /// The item drawing every marble in batched mode, or null (owned by the scene).
+    MarbleFieldItem *fieldItem() const { return m_field; }
 
     /// Scales the view so that the whole stage fits, and keeps fitting on resize.
     void fitToStage();
@@ -99,6 +117,7 @@ protected:
     void mouseMoveEvent(QMouseEvent *event) override;
     void mouseReleaseEvent(QMouseEvent *event) override;
     void mouseDoubleClickEvent(QMouseEvent *event) override;
+    bool viewportEvent(QEvent *event) override;
     void wheelEvent(QWheelEvent *event) override;
     void resizeEvent(QResizeEvent *event) override;
     void contextMenuEvent(QContextMenuEvent *event) override;
@@ -106,6 +125,8 @@ protected:
 
 private:
     void rebuild();
+    void rebuildMarbleItems(const World &world, int n);
+    void updateTrailSuppression();
     void syncPoses();
     void sampleTrail();
     void resetTrail();
@@ -119,12 +140,14 @@ private:
     std::vector<VectorItem *> m_vectors;
     std::vector<PinItem *> m_pins;
     TrailItem *m_trail = nullptr;
+    MarbleFieldItem *m_field = nullptr;
 
     Tool m_tool = Tool::Select;
     SelectionKind m_selectionKind = SelectionKind::None;
     int m_selectionIndex = -1;
     bool m_vectorsVisible = true;
     bool m_trailsVisible = false;
+    bool m_trailsSuppressed = false;
     bool m_autoFit = true;
 
     // Mouse gesture in progress.

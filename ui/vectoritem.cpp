@@ -43,7 +43,6 @@ void VectorItem::setHit(const HitRecord &hit, double radiusPx)
         prepareGeometryChange();
     m_hit = hit;
     m_radius = radiusPx;
-    setVisible(m_hit.frame >= 0);
     update();
 }
 

@@ -15,7 +15,8 @@ public:
 
     VectorItem();
 
-    /// Shows `hit` (nothing when hit.frame < 0) around a marble of radius `radiusPx`.
+    /// Shows `hit` (nothing when hit.frame < 0) around a marble of radius `radiusPx`. The owner
+    /// hides items of marbles never hit, so that the scene skips them.
     void setHit(const HitRecord &hit, double radiusPx);
 
     int type() const override { return Type; }

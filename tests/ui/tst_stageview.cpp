@@ -1,0 +1,475 @@
+// StageView: items mirror the world, the mouse edits through the document (drags, holds, drops,
+// tools), the wheel zooms about the mouse, and the Figure 11.12 overlay follows World::lastHit.
+
+#include "core/presets.h"
+#include "ui/marblefielditem.h"
+#include "ui/marbleitem.h"
+#include "ui/pinitem.h"
+#include "ui/scenedocument.h"
+#include "ui/stageview.h"
+#include "ui/vectoritem.h"
+#include "ui/worldedit.h"
+
+#include <QApplication>
+#include <QGraphicsScene>
+#include <QSignalSpy>
+#include <QTest>
+#include <QWheelEvent>
+
+#include <cmath>
+#include <memory>
+
+using namespace marbles;
+
+namespace {
+
+template<typename Item>
+QList<Item *> itemsOf(const StageView &view)
+{
+    QList<Item *> found;
+    for (QGraphicsItem *item : view.scene()->items()) {
+        if (item->type() == Item::Type)
+            found << static_cast<Item *>(item);
+    }
+    return found;
+}
+
+} // namespace
+
+class TestStageView : public QObject {
+    Q_OBJECT
+
+private Q_SLOTS:
+    void init();
+    void cleanup();
+
+    void itemsMirrorTheWorld();
+    void fitShowsTheWholeStage();
+    void wheelZoomsAboutTheMouse_data();
+    void wheelZoomsAboutTheMouse();
+    void heldMarbleStaysStillWhileRunning();
+    void dropOntoPinGoesToNearestFreeSpot();
+    void pinDragIsOneUndoStep();
+    void addToolsPlaceOnFreeSpots_data();
+    void addToolsPlaceOnFreeSpots();
+    void vectorsFollowLastHit();
+    void shortMoveIsStillAClick_data();
+    void shortMoveIsStillAClick();
+    void batchedAboveTheThreshold_data();
+    void batchedAboveTheThreshold();
+    void batchedClickSelectsAndPushes_data();
+    void batchedClickSelectsAndPushes();
+    void batchedDragHoldsAndDrops();
+    void batchedVectorsAndSelection();
+    void trailsOffForLargeCrowds();
+
+private:
+    QWidget *viewport() const { return m_view->viewport(); }
+    /// Loads a crowd of `n` marbles at rest (seed 7), so that clicks land where the test aims.
+    void loadCrowd(int n);
+    /// A marble of the loaded scene with at least `minRadius`, well inside the stage.
+    int bigMarble(double minRadius) const;
+
+    std::unique_ptr<SceneDocument> m_document;
+    std::unique_ptr<StageView> m_view;
+};
+
+void TestStageView::init()
+{
+    m_document = std::make_unique<SceneDocument>();
+    World w;
+    QVERIFY(makePreset("pins", w));
+    m_document->resetScene(w);
+    m_view = std::make_unique<StageView>(m_document.get());
+    m_view->resize(900, 700);
+    m_view->show();
+    QVERIFY(QTest::qWaitForWindowExposed(m_view.get()));
+}
+
+void TestStageView::cleanup()
+{
+    m_view.reset();
+    m_document.reset();
+}
+
+void TestStageView::itemsMirrorTheWorld()
+{
+    m_document->advance(37);
+    const World &w = m_document->world();
+    auto marbles = itemsOf<MarbleItem>(*m_view);
+    QCOMPARE(marbles.size(), w.marbleCount());
+    QCOMPARE(itemsOf<PinItem>(*m_view).size(), static_cast<qsizetype>(w.pins.size()));
+    // Each world marble has an item at its position with its radius.
+    for (int i = 0; i < w.marbleCount(); ++i) {
+        const bool found = std::any_of(marbles.begin(), marbles.end(), [&](MarbleItem *item) {
+            return item->pos() == QPointF(w.position[i].x, w.position[i].y) && item->radius() == w.radius[i];
+        });
+        QVERIFY2(found, qPrintable(QStringLiteral("marble %1").arg(i)));
+    }
+    QVERIFY(m_document->addMarble({60, 540}, 14).isEmpty());
+    QCOMPARE(itemsOf<MarbleItem>(*m_view).size(), w.marbleCount());
+    m_document->undoStack()->undo();
+    QCOMPARE(itemsOf<MarbleItem>(*m_view).size(), w.marbleCount());
+    // Moving items are not indexed (they move every frame).
+    QCOMPARE(m_view->scene()->itemIndexMethod(), QGraphicsScene::NoIndex);
+}
+
+void TestStageView::fitShowsTheWholeStage()
+{
+    const Stage &stage = m_document->world().stage;
+    const QRect inside = viewport()->rect();
+    for (Vec2 corner : {Vec2{0, 0}, Vec2{stage.width, 0}, Vec2{0, stage.height}, Vec2{stage.width, stage.height}})
+        QVERIFY(inside.contains(m_view->viewportPoint(corner)));
+    m_view->zoomBy(3.0);
+    QVERIFY(!inside.contains(m_view->viewportPoint({0, 0})));
+    m_view->fitToStage();
+    QVERIFY(inside.contains(m_view->viewportPoint({0, 0})));
+}
+
+void TestStageView::wheelZoomsAboutTheMouse_data()
+{
+    QTest::addColumn<QPoint>("mouse");
+    QTest::addColumn<int>("clicks"); // wheel clicks, + zooms in
+    QTest::addColumn<double>("zoomFirst"); // zoomBy() before the wheel: room to scroll when zooming out
+    QTest::addRow("in, upper left") << QPoint(200, 150) << 3 << 1.0;
+    QTest::addRow("in, centre") << QPoint(450, 350) << 1 << 1.0;
+    QTest::addRow("in, zoomed in, lower left") << QPoint(120, 600) << 2 << 2.0;
+    QTest::addRow("out, lower right") << QPoint(700, 520) << -2 << 4.0;
+}
+
+void TestStageView::wheelZoomsAboutTheMouse()
+{
+    QFETCH(QPoint, mouse);
+    QFETCH(int, clicks);
+    QFETCH(double, zoomFirst);
+    if (zoomFirst != 1.0)
+        m_view->zoomBy(zoomFirst);
+    const Vec2 before = m_view->stagePoint(mouse);
+    const double scaleBefore = m_view->transform().m11();
+    QWheelEvent wheel(QPointF(mouse), QPointF(viewport()->mapToGlobal(mouse)), QPoint(), QPoint(0, 120 * clicks),
+                      Qt::NoButton, Qt::NoModifier, Qt::NoScrollPhase, false);
+    QApplication::sendEvent(viewport(), &wheel);
+    const double scaleAfter = m_view->transform().m11();
+    QCOMPARE_LE(std::abs(scaleAfter / scaleBefore - std::pow(1.15, clicks)), 1e-9);
+    // The stage point under the mouse stays under it (to within a pixel of rounding).
+    const Vec2 after = m_view->stagePoint(mouse);
+    QCOMPARE_LE(std::abs(after.x - before.x), 1.0 / std::min(scaleBefore, scaleAfter));
+    QCOMPARE_LE(std::abs(after.y - before.y), 1.0 / std::min(scaleBefore, scaleAfter));
+}
+
+void TestStageView::heldMarbleStaysStillWhileRunning()
+{
+    const World &w = m_document->world();
+    const int marble = 1; // the big one, moving at (-6, -5.5) px/frame
+    const QPoint press = m_view->viewportPoint(w.position[marble]);
+    QTest::mousePress(viewport(), Qt::LeftButton, {}, press);
+    QTest::mouseMove(viewport(), press + QPoint(-20, -10));
+    QCOMPARE(m_document->heldMarble(), marble);
+    const Vec2 held = w.position[marble];
+    m_document->advance(25);
+    QCOMPARE(w.position[marble], held);
+    QCOMPARE(w.velocity[marble], Vec2{});
+    QCOMPARE(w.acceleration[marble], Vec2{});
+    QTest::mouseRelease(viewport(), Qt::LeftButton, {}, press + QPoint(-20, -10));
+    QCOMPARE(m_document->heldMarble(), -1);
+    QCOMPARE(m_document->undoStack()->count(), 1);
+    // Released, it stays where it was dropped, at rest, and the others went on moving.
+    QCOMPARE(w.position[marble], held);
+    QCOMPARE(w.velocity[marble], Vec2{});
+}
+
+void TestStageView::dropOntoPinGoesToNearestFreeSpot()
+{
+    const World &w = m_document->world();
+    const int marble = 2; // radius 16
+    const Vec2 pin = w.pins[7];
+    QSignalSpy messages(m_view.get(), &StageView::message);
+    const QPoint press = m_view->viewportPoint(w.position[marble]);
+    const QPoint target = m_view->viewportPoint(pin);
+    QTest::mousePress(viewport(), Qt::LeftButton, {}, press);
+    QTest::mouseMove(viewport(), (press + target) / 2);
+    QTest::mouseMove(viewport(), target);
+    QTest::mouseRelease(viewport(), Qt::LeftButton, {}, target);
+    QVERIFY(isFreeSpot(w, w.position[marble], w.radius[marble], BodyKind::Marble, marble));
+    // The nearest free spot just clears the pin (2 px search rings).
+    const double d = distance(w.position[marble], pin);
+    QCOMPARE_GT(d, w.radius[marble]);
+    QCOMPARE_LE(d, w.radius[marble] + 2.5);
+    QCOMPARE(messages.count(), 1);
+    QCOMPARE(m_document->undoStack()->count(), 1);
+}
+
+void TestStageView::pinDragIsOneUndoStep()
+{
+    const World &w = m_document->world();
+    const Vec2 start = w.pins[0];
+    const QPoint press = m_view->viewportPoint(start);
+    const QPoint release = press + QPoint(25, 40);
+    QTest::mousePress(viewport(), Qt::LeftButton, {}, press);
+    QCOMPARE(m_view->selectedPin(), 0);
+    for (int k = 1; k <= 5; ++k)
+        QTest::mouseMove(viewport(), press + (release - press) * k / 5);
+    QTest::mouseRelease(viewport(), Qt::LeftButton, {}, release);
+    const Vec2 from = m_view->stagePoint(press);
+    const Vec2 to = m_view->stagePoint(release);
+    QCOMPARE_LE(std::abs(w.pins[0].x - (start.x + to.x - from.x)), 1e-9);
+    QCOMPARE_LE(std::abs(w.pins[0].y - (start.y + to.y - from.y)), 1e-9);
+    QCOMPARE(m_document->undoStack()->count(), 1);
+    m_document->undoStack()->undo();
+    QCOMPARE(w.pins[0], start);
+    QCOMPARE(itemsOf<PinItem>(*m_view).size(), static_cast<qsizetype>(w.pins.size()));
+}
+
+void TestStageView::addToolsPlaceOnFreeSpots_data()
+{
+    QTest::addColumn<bool>("marbleTool");
+    QTest::addColumn<int>("onPin"); // click on this pin, or -1 for open space
+    QTest::addRow("marble, open space") << true << -1;
+    QTest::addRow("marble, on a pin") << true << 5;
+    QTest::addRow("pin, open space") << false << -1;
+}
+
+void TestStageView::addToolsPlaceOnFreeSpots()
+{
+    QFETCH(bool, marbleTool);
+    QFETCH(int, onPin);
+    const World &w = m_document->world();
+    const Vec2 at = onPin >= 0 ? w.pins[static_cast<std::size_t>(onPin)] : Vec2{760, 40};
+    const int marbles = w.marbleCount();
+    const auto pins = w.pins.size();
+    m_view->setTool(marbleTool ? StageView::Tool::AddMarble : StageView::Tool::AddPin);
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, m_view->viewportPoint(at));
+    if (marbleTool) {
+        QCOMPARE(w.marbleCount(), marbles + 1);
+        QCOMPARE(w.radius.back(), StageView::kNewMarbleRadius);
+        QVERIFY(isFreeSpot(w, w.position.back(), w.radius.back(), BodyKind::Marble, marbles));
+        QCOMPARE(m_view->selectedMarble(), marbles);
+    } else {
+        QCOMPARE(w.pins.size(), pins + 1);
+        QVERIFY(isFreeSpot(w, w.pins.back(), 0.0, BodyKind::Pin, -1, static_cast<int>(pins)));
+    }
+    QCOMPARE(m_document->undoStack()->count(), 1);
+}
+
+void TestStageView::vectorsFollowLastHit()
+{
+    m_document->advance(60); // the pins field: every marble hits something early on
+    const World &w = m_document->world();
+    int hitMarbles = 0;
+    for (const HitRecord &hit : w.lastHit)
+        hitMarbles += hit.frame >= 0 ? 1 : 0;
+    QVERIFY(hitMarbles > 0);
+    const auto visibleVectors = [this] {
+        int n = 0;
+        for (VectorItem *item : itemsOf<VectorItem>(*m_view))
+            n += item->isVisible() ? 1 : 0;
+        return n;
+    };
+    QCOMPARE(visibleVectors(), hitMarbles);
+    m_view->setVectorsVisible(false);
+    QCOMPARE(visibleVectors(), 0);
+    m_view->setVectorsVisible(true);
+    QCOMPARE(visibleVectors(), hitMarbles);
+    // Back to frame 0: nothing has been hit yet.
+    QVERIFY(m_document->rewind());
+    QCOMPARE(visibleVectors(), 0);
+}
+
+void TestStageView::shortMoveIsStillAClick_data()
+{
+    QTest::addColumn<QPoint>("move");
+    QTest::addColumn<bool>("isClick");
+    QTest::addRow("still") << QPoint(0, 0) << true;
+    QTest::addRow("jitter") << QPoint(2, -2) << true;
+    QTest::addRow("drag") << QPoint(6, 3) << false;
+}
+
+void TestStageView::shortMoveIsStillAClick()
+{
+    QFETCH(QPoint, move);
+    QFETCH(bool, isClick);
+    const World &w = m_document->world();
+    const int marble = 0;
+    const Vec2 start = w.position[marble];
+    const QPoint press = m_view->viewportPoint(start) + QPoint(-8, 0);
+    QTest::mousePress(viewport(), Qt::LeftButton, {}, press);
+    QTest::mouseMove(viewport(), press + move);
+    QTest::mouseRelease(viewport(), Qt::LeftButton, {}, press + move);
+    if (isClick) {
+        QCOMPARE(w.position[marble], start);
+        QVERIFY(w.acceleration[marble] != Vec2{});
+        QCOMPARE(m_document->undoStack()->count(), 0);
+    } else {
+        QVERIFY(w.position[marble] != start);
+        QCOMPARE(w.acceleration[marble], Vec2{});
+        QCOMPARE(m_document->undoStack()->count(), 1);
+    }
+}
+
+void TestStageView::loadCrowd(int n)
+{
+    m_document->resetScene(makeCrowd(n, 7, 0.0));
+    QTest::qWait(0);
+}
+
+int TestStageView::bigMarble(double minRadius) const
+{
+    const World &w = m_document->world();
+    for (int i = w.marbleCount() / 2; i < w.marbleCount(); ++i) {
+        if (w.radius[i] >= minRadius)
+            return i;
+    }
+    return -1;
+}
+
+void TestStageView::batchedAboveTheThreshold_data()
+{
+    QTest::addColumn<int>("marbles");
+    QTest::addColumn<bool>("batched");
+    QTest::addColumn<bool>("antialiased");
+    QTest::addRow("at the threshold") << StageView::kBatchThreshold << false << true;
+    QTest::addRow("one above") << StageView::kBatchThreshold + 1 << true << true;
+    QTest::addRow("past the antialias threshold") << StageView::kAntialiasThreshold + 1 << true << false;
+}
+
+void TestStageView::batchedAboveTheThreshold()
+{
+    QFETCH(int, marbles);
+    QFETCH(bool, batched);
+    QFETCH(bool, antialiased);
+    loadCrowd(marbles);
+    const World &w = m_document->world();
+    QCOMPARE(m_view->isBatched(), batched);
+    QCOMPARE(itemsOf<MarbleItem>(*m_view).size(), batched ? 0 : marbles);
+    QCOMPARE(itemsOf<VectorItem>(*m_view).size(), batched ? 0 : marbles);
+    QCOMPARE(itemsOf<MarbleFieldItem>(*m_view).size(), batched ? 1 : 0);
+    QCOMPARE(m_view->renderHints().testFlag(QPainter::Antialiasing), antialiased);
+    QCOMPARE(m_view->scene()->itemIndexMethod(), QGraphicsScene::NoIndex);
+    if (batched) {
+        QCOMPARE(m_view->fieldItem()->world(), &w);
+        QCOMPARE(m_view->fieldItem()->isAntialiased(), antialiased);
+    }
+    // Across the threshold and back by editing: one marble less, then undo.
+    const bool atThreshold = marbles == StageView::kBatchThreshold;
+    if (atThreshold)
+        QVERIFY(m_document->addMarble({1, 1}, 3).isEmpty());
+    else
+        m_document->removeMarble(0);
+    const bool crossed = atThreshold || marbles == StageView::kBatchThreshold + 1;
+    QCOMPARE(m_view->isBatched(), crossed ? !batched : batched);
+    QCOMPARE(itemsOf<MarbleItem>(*m_view).size(), m_view->isBatched() ? 0 : w.marbleCount());
+    m_document->undoStack()->undo();
+    QCOMPARE(w.marbleCount(), marbles);
+    QCOMPARE(m_view->isBatched(), batched);
+    QCOMPARE(itemsOf<MarbleItem>(*m_view).size(), batched ? 0 : marbles);
+    QCOMPARE(itemsOf<MarbleFieldItem>(*m_view).size(), batched ? 1 : 0);
+}
+
+void TestStageView::batchedClickSelectsAndPushes_data()
+{
+    QTest::addColumn<QPoint>("offset"); // from the marble's centre, viewport px
+    QTest::addRow("left of centre") << QPoint(-3, 0);
+    QTest::addRow("below right") << QPoint(2, 3);
+    QTest::addRow("dead centre") << QPoint(0, 0);
+}
+
+void TestStageView::batchedClickSelectsAndPushes()
+{
+    QFETCH(QPoint, offset);
+    loadCrowd(1000);
+    QVERIFY(m_view->isBatched());
+    const World &w = m_document->world();
+    const int marble = bigMarble(10.0);
+    QVERIFY(marble >= 0);
+    QCOMPARE_GE(w.radius[marble] * m_view->transform().m11(), 5.0); // the offsets stay on the marble
+    QSignalSpy selection(m_view.get(), &StageView::selectionChanged);
+    const QPoint click = m_view->viewportPoint(w.position[marble]) + offset;
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, click);
+    QCOMPARE(m_view->selectedMarble(), marble);
+    QCOMPARE(selection.count(), 1);
+    QCOMPARE(m_view->fieldItem()->selectedMarbles(), QList<int>({marble}));
+    // The chapter's hitMarble: a = (p - c) * pushScale / m, from the click point c on release.
+    const Vec2 c = m_view->stagePoint(click);
+    const Vec2 p = w.position[marble];
+    const double k = w.params.pushScale / w.mass[marble];
+    QCOMPARE_LE(std::abs(w.acceleration[marble].x - (p.x - c.x) * k), 1e-12);
+    QCOMPARE_LE(std::abs(w.acceleration[marble].y - (p.y - c.y) * k), 1e-12);
+    for (int i = 0; i < w.marbleCount(); ++i) {
+        if (i != marble)
+            QCOMPARE(w.acceleration[i], Vec2{});
+    }
+    QCOMPARE(m_document->undoStack()->count(), 0);
+    // A click on empty stage (a wall corner) selects nothing.
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, m_view->viewportPoint({0.5, 0.5}));
+    QCOMPARE(m_view->selectedMarble(), -1);
+    QVERIFY(m_view->fieldItem()->selectedMarbles().isEmpty());
+}
+
+void TestStageView::batchedDragHoldsAndDrops()
+{
+    loadCrowd(1000);
+    const World &w = m_document->world();
+    const int marble = bigMarble(10.0);
+    QVERIFY(marble >= 0);
+    const Vec2 start = w.position[marble];
+    const QPoint press = m_view->viewportPoint(start);
+    QTest::mousePress(viewport(), Qt::LeftButton, {}, press);
+    QTest::mouseMove(viewport(), press + QPoint(10, 0));
+    QCOMPARE(m_document->heldMarble(), marble);
+    QCOMPARE(m_view->fieldItem()->heldMarble(), marble);
+    QVERIFY(w.position[marble] != start);
+    // Drop it back where it came from (a free spot): one undo step.
+    QTest::mouseMove(viewport(), press);
+    QTest::mouseRelease(viewport(), Qt::LeftButton, {}, press);
+    QCOMPARE(m_document->heldMarble(), -1);
+    QCOMPARE(m_view->fieldItem()->heldMarble(), -1);
+    QCOMPARE_LE(distance(w.position[marble], start), 1.0 / m_view->transform().m11());
+    QCOMPARE(m_document->undoStack()->count(), 1);
+    m_document->undoStack()->undo();
+    QCOMPARE(w.position[marble], start);
+}
+
+void TestStageView::batchedVectorsAndSelection()
+{
+    loadCrowd(1000);
+    MarbleFieldItem *field = m_view->fieldItem();
+    QVERIFY(field);
+    QCOMPARE(field->vectorsVisible(), m_view->vectorsVisible());
+    m_view->setVectorsVisible(false);
+    QVERIFY(!field->vectorsVisible());
+    m_view->setVectorsVisible(true);
+    QVERIFY(field->vectorsVisible());
+    m_view->selectMarble(17);
+    QCOMPARE(field->selectedMarbles(), QList<int>({17}));
+    m_view->selectPin(0); // the crowd has no pins: selects nothing
+    QVERIFY(field->selectedMarbles().isEmpty());
+    m_view->selectMarble(3);
+    m_view->deleteSelection();
+    QCOMPARE(m_document->world().marbleCount(), 999);
+    QCOMPARE(m_view->selectedMarble(), -1);
+    QVERIFY(field == m_view->fieldItem());
+}
+
+void TestStageView::trailsOffForLargeCrowds()
+{
+    QSignalSpy messages(m_view.get(), &StageView::message);
+    m_view->setTrailsVisible(true);
+    QVERIFY(!m_view->trailsSuppressed());
+    QCOMPARE(messages.count(), 0);
+    loadCrowd(StageView::kMaxTrailMarbles + 1);
+    QVERIFY(m_view->trailsVisible());
+    QVERIFY(m_view->trailsSuppressed());
+    QCOMPARE(messages.count(), 1);
+    QVERIFY(messages.front().front().toString().contains(QStringLiteral("Trails are off")));
+    m_document->advance(3);
+    QCOMPARE(messages.count(), 1); // said once, not every frame
+    loadCrowd(StageView::kMaxTrailMarbles);
+    QVERIFY(!m_view->trailsSuppressed());
+    m_view->setTrailsVisible(false);
+    loadCrowd(StageView::kMaxTrailMarbles + 1);
+    QVERIFY(!m_view->trailsSuppressed());
+    QCOMPARE(messages.count(), 1);
+}
+
+QTEST_MAIN(TestStageView)
+#include "tst_stageview.moc"
