@@ -149,13 +149,16 @@ QString CompareRun::summary() const
     const QString model = QString::fromUtf8(name.data(), static_cast<qsizetype>(name.size()));
     if (!m_problem.isEmpty())
         return tr("Compare: %1 - not running: %2").arg(model, m_problem);
+    // After a restart the gap counts from the restart, and the readout says so.
+    const QString since = m_startFrame > 0 ? tr(" since frame %1").arg(m_startFrame) : QString();
     if (m_largestGapMarble < 0)
-        return tr("Compare: %1 - largest gap 0 px").arg(model);
-    return tr("Compare: %1 - largest gap %2 px (marble %3, frame %4)")
+        return tr("Compare: %1 - largest gap 0 px%2").arg(model, since);
+    return tr("Compare: %1 - largest gap %2 px (marble %3, frame %4)%5")
         .arg(model)
         .arg(m_largestGap, 0, 'f', 1)
         .arg(m_largestGapMarble)
-        .arg(m_largestGapFrame);
+        .arg(m_largestGapFrame)
+        .arg(since);
 }
 
 void CompareRun::setStage(QGraphicsScene *scene)

@@ -84,8 +84,8 @@ public:
     /// Frame at which the largest gap happened (startFrame() while it is 0).
     std::int64_t largestGapFrame() const { return m_largestGapFrame; }
 
-    /// One line for the status bar: "Compare: exact - largest gap 12.3 px (marble 2, frame 57)";
-    /// "" while off.
+    /// One line for the status bar: "Compare: exact - largest gap 12.3 px (marble 2, frame 57)",
+    /// ending " since frame S" after a restart at frame S > 0; "" while off.
     QString summary() const;
 
     /// Draws the comparison marbles as dashed ghost outlines in `scene` (the stage's scene; null

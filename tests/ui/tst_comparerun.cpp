@@ -331,6 +331,8 @@ void TestCompareRun::restartsFromDocument()
     QCOMPARE(compare.largestGapFrame(), doc.world().frame);
     QVERIFY(compare.currentGapPx() == 0.0);
     QVERIFY(compare.largestGapPx() == 0.0);
+    const QString since = doc.world().frame > 0 ? QStringLiteral(" since frame %1").arg(doc.world().frame) : QString();
+    QCOMPARE(compare.summary(), QStringLiteral("Compare: exact - largest gap 0 px") + since);
 
     // From there both run again, the comparison exactly as its model runs from that state.
     World oracle = doc.world();
@@ -623,6 +625,7 @@ void TestCompareRun::choosingWithKeysShowsGhostsReadoutAndPlot()
     QTest::keyClick(window->stageView(), Qt::Key_Left);
     QCOMPARE(compare->startFrame(), 119);
     QVERIFY(compare->largestGapPx() == 0.0);
+    QCOMPARE(readout->text(), QStringLiteral("Compare: exact - largest gap 0 px since frame 119"));
 
     // Back up to "none": the ghosts go, the readout hides, the plot drops the dashed lines.
     box->setFocus();
