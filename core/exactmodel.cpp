@@ -262,18 +262,18 @@ inline double straightContact(double dx, double dy, double dvx, double dvy, doub
 {
     // |d0 + dv s|^2 = R^2, i.e. a s^2 + 2 b s + c = 0.
     const double b = dx * dvx + dy * dvy;
-    if (!(b < 0.0))
-        return infinity; // separating, or sliding past: no contact ahead
     const double d2 = dx * dx + dy * dy;
+    const double c = d2 - R * R;
+    // Most pairs fail here: separating or sliding past (b >= 0), or too far to close the gap in
+    // time (the root below is s = c / (-b + sqrt(disc)) >= c / (-2 b) > sMax). One branch for
+    // both (no short circuit): which of them fails is unpredictable.
+    if (!((b < 0.0) & (c <= -2.0 * b * sMax)))
+        return infinity;
     const double a = dvx * dvx + dvy * dvy;
     if (b * b <= grazingApproach * grazingApproach * d2 * a)
         return infinity; // an approach within rounding of zero (b < -grazingApproach |d0| |dv| fails)
-    const double c = d2 - R * R;
     if (c <= 0.0)
         return 0.0; // touching or overlapping, and approaching: collide at once
-    // The root below is s = c / (-b + sqrt(disc)) >= c / (-2 b): beyond reach if that is.
-    if (c > -2.0 * b * sMax)
-        return infinity;
     const double disc = b * b - a * c;
     if (!(disc > 0.0))
         return infinity; // misses (or grazes without approach)
@@ -414,6 +414,44 @@ void ExactModel::setContact(int i, const Event &e)
     m_body[i].contactTime = e.time;
 }
 
+int ExactModel::neighbourRanges(int i, int out[12]) const
+{
+    // The 3 x 3 buckets around i's as ranges of internal indices: the three buckets of a row are
+    // consecutive, except where the row wraps around (then two ranges).
+    if (m_singleCell) {
+        out[0] = 0;
+        out[1] = static_cast<int>(m_body.size());
+        return 1;
+    }
+    const int nx = m_geometry.bucketsX();
+    const int ny = m_geometry.bucketsY();
+    const int b = m_body[i].bucket;
+    const int bx = b % nx;
+    const int by = b / nx;
+    int count = 0;
+    for (int dy = -1; dy <= 1; ++dy) {
+        const int row = (by + dy + ny) % ny * nx;
+        if (bx == 0) {
+            out[2 * count] = m_start[row];
+            out[2 * count + 1] = m_start[row + 2];
+            ++count;
+            out[2 * count] = m_start[row + nx - 1];
+            out[2 * count + 1] = m_start[row + nx];
+        } else if (bx == nx - 1) {
+            out[2 * count] = m_start[row + nx - 2];
+            out[2 * count + 1] = m_start[row + nx];
+            ++count;
+            out[2 * count] = m_start[row];
+            out[2 * count + 1] = m_start[row + 1];
+        } else {
+            out[2 * count] = m_start[row + bx - 1];
+            out[2 * count + 1] = m_start[row + bx + 2];
+        }
+        ++count;
+    }
+    return count;
+}
+
 int ExactModel::neighbourBuckets(int i, int out[9]) const
 {
     if (m_singleCell) {
@@ -489,6 +527,7 @@ void ExactModel::beginFrame(World &world)
     m_overflowNext.resize(n);
     m_overflowPrev.assign(n, -2);
     m_overflowHead.assign(buckets, -1);
+    m_overflowCount = 0;
     m_contact.resize(n);
     m_crossTime.resize(n);
     m_crossSide.resize(n);
@@ -506,6 +545,7 @@ void ExactModel::beginFrame(World &world)
         body.bucket = m_sortBucket[w];
         body.gravityOff = 0;
         body.frozen = 0;
+        body.moved = 0;
         m_home[i] = body.bucket;
         m_anchor[i] = body.a;
         m_invMass[i] = 1.0 / world.mass[w];
@@ -696,9 +736,12 @@ void ExactModel::moveToBucket(int i, int bucket)
         if (next >= 0)
             m_overflowPrev[next] = prev;
         m_overflowPrev[i] = -2;
+        --m_overflowCount;
     }
     body.bucket = bucket;
-    if (bucket != m_home[i]) {
+    body.moved = bucket != m_home[i];
+    if (body.moved) {
+        ++m_overflowCount;
         const int head = m_overflowHead[bucket];
         m_overflowPrev[i] = -1;
         m_overflowNext[i] = head;
@@ -837,13 +880,18 @@ void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int coun
                 best = e;
         }
     };
-    for (int nb = 0; nb < count; ++nb) {
-        const int b = buckets[nb];
-        for (int j = m_start[b]; j < m_start[b + 1]; ++j) {
-            if (j != i && m_body[j].bucket == b)
+    int ranges[12];
+    const int rangeCount = neighbourRanges(i, ranges);
+    for (int r = 0; r < rangeCount; ++r) {
+        for (int j = ranges[2 * r]; j < ranges[2 * r + 1]; ++j) {
+            if (j != i && !m_body[j].moved)
                 test(j);
         }
-        for (int j = m_overflowHead[b]; j >= 0; j = m_overflowNext[j]) {
+    }
+    if (m_overflowCount == 0)
+        return;
+    for (int nb = 0; nb < count; ++nb) {
+        for (int j = m_overflowHead[buckets[nb]]; j >= 0; j = m_overflowNext[j]) {
             if (j != i)
                 test(j);
         }
@@ -878,25 +926,33 @@ void ExactModel::predictAll()
     for (int i = 0; i < n; ++i) {
         const Vec2 p = m_body[i].a;
         const Vec2 v = m_body[i].b;
-        int buckets[9];
-        const int count = neighbourBuckets(i, buckets);
         Event best = m_contact[i];
-        scanPins(i, p, v, buckets, count, best);
-        for (int nb = 0; nb < count; ++nb) {
-            const int b = buckets[nb];
-            for (int j = std::max(m_start[b], i + 1); j < m_start[b + 1]; ++j) {
-                const double horizon = std::min({best.time, m_body[j].contactTime, 1.0});
-                double tau;
-                bool recheck;
-                if (pairContact(i, j, p, v, horizon, tau, recheck)) {
-                    const EventKind kind = recheck ? EventKind::RecheckPair : EventKind::Pair;
-                    const Event ei{tau, kind, j, 0};
-                    const Event ej{tau, kind, i, 0};
-                    if (before(i, ei, best))
-                        best = ei;
-                    if (before(j, ej, m_contact[j]))
-                        setContact(j, ej);
-                }
+        if (!m_world->pins.empty()) {
+            int buckets[9];
+            const int count = neighbourBuckets(i, buckets);
+            scanPins(i, p, v, buckets, count, best);
+        }
+        int ranges[12];
+        const int rangeCount = neighbourRanges(i, ranges);
+        const double ri = m_body[i].radius;
+        for (int r = 0; r < rangeCount; ++r) {
+            for (int j = std::max(ranges[2 * r], i + 1); j < ranges[2 * r + 1]; ++j) {
+                // At t = 0 every marble feels the same gravity, so every relative path is straight
+                // (pairContact() with i < j, phi1 = phi2 = 0, dg = 0, written out).
+                const Body &bj = m_body[j];
+                const double s = straightContact(p.x - bj.a.x, p.y - bj.a.y, v.x - bj.b.x, v.y - bj.b.y, ri + bj.radius,
+                                                 m_sLeft);
+                if (!(s <= m_sLeft))
+                    continue;
+                const double tau = phi1Inverse(m_lambda, s);
+                if (!(tau <= std::min({best.time, bj.contactTime, 1.0})))
+                    continue;
+                const Event ei{tau, EventKind::Pair, j, 0};
+                const Event ej{tau, EventKind::Pair, i, 0};
+                if (before(i, ei, best))
+                    best = ei;
+                if (before(j, ej, m_contact[j]))
+                    setContact(j, ej);
             }
         }
         setContact(i, best);

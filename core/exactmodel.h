@@ -81,6 +81,7 @@ private:
         int bucket = 0;              // bucket of its anchor cell
         std::uint8_t gravityOff = 0; // bit 0: no gravity along x (held on a wall, or frozen), bit 1: y
         std::uint8_t frozen = 0;
+        std::uint8_t moved = 0;      // anchored outside the bucket it was sorted into
     };
     // The collapse guard's per-frame counts of one marble.
     struct Guard {
@@ -105,6 +106,7 @@ private:
     void setState(int i, Vec2 p, Vec2 v);
     void setContact(int i, const Event &e);
     int neighbourBuckets(int i, int out[9]) const;
+    int neighbourRanges(int i, int out[12]) const;
     void predictAll();
     void predictOwn(int i, Vec2 p, Vec2 v, Event &best);
     void predict(int i);
@@ -171,6 +173,7 @@ private:
     std::vector<int> m_overflowHead;
     std::vector<int> m_overflowNext;
     std::vector<int> m_overflowPrev; // -2: in no overflow list
+    int m_overflowCount = 0;
     UniformGrid m_pinGrid;
 
     // Calendar: per marble its best contact and next grid event; a heap of the marbles whose
