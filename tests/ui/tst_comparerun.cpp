@@ -15,6 +15,7 @@
 #include <QAction>
 #include <QComboBox>
 #include <QDir>
+#include <QFile>
 #include <QGraphicsScene>
 #include <QLabel>
 #include <QLineSeries>
@@ -22,6 +23,7 @@
 #include <QSettings>
 #include <QSignalSpy>
 #include <QStandardPaths>
+#include <QTemporaryDir>
 #include <QTest>
 
 #include <cmath>
@@ -125,6 +127,7 @@ private Q_SLOTS:
     void ghostsFollowTheComparison();
     void ghostsSurviveStageDestroyedFirst();
     void plotGetsCompareSeries();
+    void plotExportsAndDescribesCompareLines();
 
     void boxOffersTheOtherModels_data();
     void boxOffersTheOtherModels();
@@ -532,6 +535,50 @@ void TestCompareRun::plotGetsCompareSeries()
     plot.setCompareModel(QString());
     QVERIFY(plot.compareSeries(0) == nullptr);
     QVERIFY(plot.speedSeries(0));
+}
+
+void TestCompareRun::plotExportsAndDescribesCompareLines()
+{
+    World scene;
+    scene.addMarble({100, 100}, 10.0, {3.0, 4.0});
+    scene.addMarble({300, 100}, 20.0, {0.0, -2.0});
+    World other = scene;
+    other.velocity = {{0.0, 0.5}, {1.5, 2.0}};
+    PlotDock plot;
+    plot.reset(scene);
+    scene.frame = other.frame = 1;
+    plot.appendFrame(scene); // before the comparison: no dashed lines, no compare columns
+    plot.setCompareModel(QStringLiteral("impulse"));
+    scene.frame = other.frame = 2;
+    plot.appendFrame(scene, &other);
+    scene.frame = other.frame = 3;
+    plot.appendFrame(scene, nullptr); // a frame the comparison did not run (it waits or stopped)
+
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    const QString path = dir.filePath(QStringLiteral("compare.csv"));
+    QCOMPARE(plot.exportCsv(path), QString());
+    QFile file(path);
+    QVERIFY(file.open(QIODevice::ReadOnly | QIODevice::Text));
+    const QStringList lines = QString::fromUtf8(file.readAll()).split(QLatin1Char('\n'));
+    QCOMPARE(lines.size(), 5);
+    QCOMPARE(lines[0], QStringLiteral("frame,time_s,speed_0,speed_1,kinetic,momentum,speed_0_impulse,speed_1_impulse"));
+    QVERIFY2(lines[1].startsWith(QStringLiteral("1,0.02,5,2,")) && lines[1].endsWith(QStringLiteral(",,")),
+             qPrintable(lines[1]));
+    QVERIFY2(lines[2].endsWith(QStringLiteral(",0.5,2.5")), qPrintable(lines[2]));
+    QVERIFY2(lines[3].endsWith(QStringLiteral(",,")), qPrintable(lines[3]));
+
+    // The legend lists the marbles once and the two models once; the dashed line names its model.
+    plot.refreshChart();
+    QLineSeries *dashed = plot.compareSeries(1);
+    QVERIFY(dashed);
+    QCOMPARE(dashed->name(), QStringLiteral("marble 1, impulse"));
+    QCOMPARE(plot.speedSeries(1)->name(), QStringLiteral("marble 1"));
+    QCOMPARE(dashed->count(), 1);
+    const QString hover = plot.describePoint(dashed, QPointF(2.0, 2.5));
+    QVERIFY2(hover.contains(QStringLiteral("frame 2")) && hover.contains(QStringLiteral("impulse"))
+                 && hover.contains(QStringLiteral("speed 2.5 px/frame")),
+             qPrintable(hover));
 }
 
 std::unique_ptr<MainWindow> TestCompareRun::makeWindow()
