@@ -304,10 +304,11 @@ void BookModel::step(World &world)
                         widened = true;
                         m_widened.clear();
                         m_marbleGrid.gather(i, old, m_widened);
-                        const auto tail = m_candidates.begin() + static_cast<std::ptrdiff_t>(c) + 1;
-                        const std::size_t keep = m_candidates.size();
+                        // Iterators are taken afresh for each k: push_back may reallocate.
+                        const auto tail = static_cast<std::ptrdiff_t>(c) + 1;
+                        const auto keep = static_cast<std::ptrdiff_t>(m_candidates.size());
                         for (int k : m_widened) {
-                            if (k > j && !std::binary_search(tail, m_candidates.begin() + static_cast<std::ptrdiff_t>(keep), k))
+                            if (k > j && !std::binary_search(m_candidates.begin() + tail, m_candidates.begin() + keep, k))
                                 m_candidates.push_back(k);
                         }
                         sortSmall(m_candidates.begin() + static_cast<std::ptrdiff_t>(c) + 1, m_candidates.end());

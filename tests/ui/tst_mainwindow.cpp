@@ -14,6 +14,7 @@
 
 #include <QAction>
 #include <QDir>
+#include <QFile>
 #include <QDoubleSpinBox>
 #include <QSettings>
 #include <QStandardPaths>
@@ -66,6 +67,7 @@ class TestMainWindow : public QObject {
 
 private Q_SLOTS:
     void initTestCase();
+    void cleanupTestCase();
     void init();
     void cleanup();
 
@@ -100,8 +102,16 @@ void TestMainWindow::initTestCase()
 {
     QStandardPaths::setTestModeEnabled(true);
     QCoreApplication::setOrganizationName(QStringLiteral("MarblesTests"));
-    QCoreApplication::setApplicationName(QStringLiteral("tst_mainwindow"));
+    // One settings file and autosave folder per process: two runs of this suite at once (two
+    // build trees) must not share the autosave lock or wipe each other's files.
+    QCoreApplication::setApplicationName(QStringLiteral("tst_mainwindow-%1").arg(QCoreApplication::applicationPid()));
     QSettings().clear();
+    QDir(QStandardPaths::writableLocation(QStandardPaths::AppDataLocation)).removeRecursively();
+}
+
+void TestMainWindow::cleanupTestCase()
+{
+    QFile::remove(QSettings().fileName());
     QDir(QStandardPaths::writableLocation(QStandardPaths::AppDataLocation)).removeRecursively();
 }
 
