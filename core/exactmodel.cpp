@@ -410,7 +410,7 @@ void ExactModel::setState(int i, Vec2 p, Vec2 v)
 
 void ExactModel::setContact(int i, const Event &e)
 {
-    m_contact[i] = e;
+    m_rec[i].contact = e;
     m_body[i].contactTime = e.time;
 }
 
@@ -426,11 +426,11 @@ int ExactModel::neighbourRanges(int i, int out[12]) const
     const int nx = m_geometry.bucketsX();
     const int ny = m_geometry.bucketsY();
     const int b = m_body[i].bucket;
-    const int bx = b % nx;
     const int by = b / nx;
+    const int bx = b - by * nx;
+    const int rows[3] = {(by == 0 ? ny - 1 : by - 1) * nx, by * nx, (by == ny - 1 ? 0 : by + 1) * nx};
     int count = 0;
-    for (int dy = -1; dy <= 1; ++dy) {
-        const int row = (by + dy + ny) % ny * nx;
+    for (const int row : rows) {
         if (bx == 0) {
             out[2 * count] = m_start[row];
             out[2 * count + 1] = m_start[row + 2];
@@ -514,27 +514,15 @@ void ExactModel::beginFrame(World &world)
     for (int b = 0; b < buckets; ++b)
         m_start[b + 1] += m_start[b];
     m_cursor.assign(m_start.begin(), m_start.end() - 1);
-    m_id.resize(n);
-    for (int w = 0; w < n; ++w)
-        m_id[m_cursor[m_sortBucket[w]]++] = w;
-
     m_body.resize(n);
-    m_anchor.resize(n);
-    m_invMass.resize(n);
-    m_home.resize(n);
-    m_stamp.assign(n, 0);
-    m_guard.assign(n, Guard{});
-    m_overflowNext.resize(n);
-    m_overflowPrev.assign(n, -2);
+    m_rec.resize(n);
+    for (int w = 0; w < n; ++w)
+        m_rec[m_cursor[m_sortBucket[w]]++].id = w;
     m_overflowHead.assign(buckets, -1);
     m_overflowCount = 0;
-    m_contact.resize(n);
-    m_crossTime.resize(n);
-    m_crossSide.resize(n);
-    m_heapPos.assign(n, -1);
     m_heap.clear();
     for (int i = 0; i < n; ++i) {
-        const int w = m_id[i];
+        const int w = m_rec[i].id;
         Body &body = m_body[i];
         // Pushes act at the frame boundary: an instant velocity change. At t = 0, a = p and b = v.
         body.a = world.position[w];
@@ -546,9 +534,18 @@ void ExactModel::beginFrame(World &world)
         body.gravityOff = 0;
         body.frozen = 0;
         body.moved = 0;
-        m_home[i] = body.bucket;
-        m_anchor[i] = body.a;
-        m_invMass[i] = 1.0 / world.mass[w];
+        Record &rec = m_rec[i];
+        rec.contact = {noTime, EventKind::None, -1, 0};
+        rec.crossTime = noTime;
+        rec.anchor = body.a;
+        rec.invMass = 1.0 / world.mass[w];
+        rec.stamp = 0;
+        rec.heapPos = -1;
+        rec.home = body.bucket;
+        rec.overflowNext = -1;
+        rec.overflowPrev = -2;
+        rec.guard = Guard{};
+        rec.crossSide = 0;
     }
     m_pinGrid.build(m_geometry, world.pins.data(), static_cast<int>(world.pins.size()));
 }
@@ -569,8 +566,8 @@ void ExactModel::endFrame(World &world)
             v.x = 0.0;
         if (std::abs(v.y) <= z)
             v.y = 0.0;
-        world.position[m_id[i]] = p;
-        world.velocity[m_id[i]] = v;
+        world.position[m_rec[i].id] = p;
+        world.velocity[m_rec[i].id] = v;
     }
     m_world = nullptr;
 }
@@ -600,9 +597,9 @@ bool ExactModel::before(int i, const Event &a, const Event &b)
 
 ExactModel::Event ExactModel::currentEvent(int i) const
 {
-    const Event &c = m_contact[i];
-    if (m_crossTime[i] <= 1.0) {
-        const Event x{m_crossTime[i], EventKind::Cross, m_crossSide[i], 0};
+    const Event &c = m_rec[i].contact;
+    if (m_rec[i].crossTime <= 1.0) {
+        const Event x{m_rec[i].crossTime, EventKind::Cross, m_rec[i].crossSide, 0};
         if (before(i, x, c))
             return x;
     }
@@ -627,7 +624,7 @@ bool ExactModel::keyBefore(const Key &a, const Key &b)
 void ExactModel::heapPlace(int pos, const Key &key)
 {
     m_heap[pos] = key;
-    m_heapPos[key.marble] = pos;
+    m_rec[key.marble].heapPos = pos;
 }
 
 void ExactModel::heapSiftUp(int pos)
@@ -664,7 +661,7 @@ void ExactModel::heapSiftDown(int pos)
 void ExactModel::heapUpdate(int i)
 {
     const Key key = keyOf(i);
-    const int pos = m_heapPos[i];
+    const int pos = m_rec[i].heapPos;
     if (key.time <= 1.0) {
         if (pos < 0) {
             m_heap.push_back(key);
@@ -681,10 +678,10 @@ void ExactModel::heapUpdate(int i)
         // Leaves the calendar: the last entry takes its place.
         const Key last = m_heap.back();
         m_heap.pop_back();
-        m_heapPos[i] = -1;
+        m_rec[i].heapPos = -1;
         if (pos < static_cast<int>(m_heap.size())) {
             m_heap[pos] = last;
-            m_heapPos[last.marble] = pos;
+            m_rec[last.marble].heapPos = pos;
             if (pos > 0 && keyBefore(last, m_heap[(pos - 1) / 2]))
                 heapSiftUp(pos);
             else
@@ -695,13 +692,21 @@ void ExactModel::heapUpdate(int i)
 
 void ExactModel::nextEscape(int i, Vec2 p, Vec2 v)
 {
-    m_crossTime[i] = noTime;
+    m_rec[i].crossTime = noTime;
     const Body &body = m_body[i];
     if (m_singleCell || body.frozen)
         return;
     // The centre reaching a side of the square of half-width margin around the anchor.
     const Vec2 g = gravityOf(body);
-    const Vec2 anchor = m_anchor[i];
+    const Vec2 anchor = m_rec[i].anchor;
+    if (g.x == 0.0 && g.y == 0.0) {
+        // Straight in s: out of reach if every side is further than |v| phi1(time left).
+        const double reachX = std::abs(v.x) * m_sLeft;
+        const double reachY = std::abs(v.y) * m_sLeft;
+        if (p.x - (anchor.x - m_margin) > reachX && (anchor.x + m_margin) - p.x > reachX
+            && p.y - (anchor.y - m_margin) > reachY && (anchor.y + m_margin) - p.y > reachY)
+            return;
+    }
     const double tauEnd = 1.0 - m_now;
     const double tc[sides] = {
         firstDownCrossing(p.x - (anchor.x - m_margin), v.x, g.x, m_lambda, tauEnd),
@@ -718,35 +723,35 @@ void ExactModel::nextEscape(int i, Vec2 p, Vec2 v)
         }
     }
     if (best <= tauEnd) {
-        m_crossTime[i] = m_now + best;
-        m_crossSide[i] = static_cast<std::uint8_t>(side);
+        m_rec[i].crossTime = m_now + best;
+        m_rec[i].crossSide = static_cast<std::uint8_t>(side);
     }
 }
 
 void ExactModel::moveToBucket(int i, int bucket)
 {
     Body &body = m_body[i];
-    if (m_overflowPrev[i] != -2) {
-        const int prev = m_overflowPrev[i];
-        const int next = m_overflowNext[i];
+    if (m_rec[i].overflowPrev != -2) {
+        const int prev = m_rec[i].overflowPrev;
+        const int next = m_rec[i].overflowNext;
         if (prev >= 0)
-            m_overflowNext[prev] = next;
+            m_rec[prev].overflowNext = next;
         else
             m_overflowHead[body.bucket] = next;
         if (next >= 0)
-            m_overflowPrev[next] = prev;
-        m_overflowPrev[i] = -2;
+            m_rec[next].overflowPrev = prev;
+        m_rec[i].overflowPrev = -2;
         --m_overflowCount;
     }
     body.bucket = bucket;
-    body.moved = bucket != m_home[i];
+    body.moved = bucket != m_rec[i].home;
     if (body.moved) {
         ++m_overflowCount;
         const int head = m_overflowHead[bucket];
-        m_overflowPrev[i] = -1;
-        m_overflowNext[i] = head;
+        m_rec[i].overflowPrev = -1;
+        m_rec[i].overflowNext = head;
         if (head >= 0)
-            m_overflowPrev[head] = i;
+            m_rec[head].overflowPrev = i;
         m_overflowHead[bucket] = i;
     }
 }
@@ -756,7 +761,7 @@ void ExactModel::reanchor(int i)
     Vec2 p;
     Vec2 v;
     stateAt(m_body[i], p, v);
-    m_anchor[i] = p;
+    m_rec[i].anchor = p;
     nextEscape(i, p, v);
     const int bucket = m_geometry.bucket(m_geometry.coord(p.x), m_geometry.coord(p.y));
     if (bucket == m_body[i].bucket)
@@ -766,7 +771,7 @@ void ExactModel::reanchor(int i)
     // has not changed); look at the new neighbourhood for earlier ones.
     int buckets[9];
     const int count = neighbourBuckets(i, buckets);
-    Event best = m_contact[i];
+    Event best = m_rec[i].contact;
     scanPins(i, p, v, buckets, count, best);
     scanMarbles(i, p, v, buckets, count, best);
     setContact(i, best);
@@ -781,6 +786,13 @@ void ExactModel::predictOwn(int i, Vec2 p, Vec2 v, Event &best)
     // Walls 0..3: left, right, top, bottom; contact when the centre is r from the edge.
     const Vec2 g = gravityOf(body);
     const double r = body.radius;
+    if (g.x == 0.0 && g.y == 0.0) {
+        // Straight in s: no wall is within reach if every gap exceeds |v| phi1(time left).
+        const double reachX = std::abs(v.x) * m_sLeft;
+        const double reachY = std::abs(v.y) * m_sLeft;
+        if (p.x - r > reachX && m_width - r - p.x > reachX && p.y - r > reachY && m_height - r - p.y > reachY)
+            return;
+    }
     const double horizon = std::min(best.time, 1.0) - m_now;
     const double tw[sides] = {
         firstDownCrossing(p.x - r, v.x, g.x, m_lambda, horizon),
@@ -875,7 +887,7 @@ void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int coun
         double tau;
         bool recheck;
         if (pairContact(i, j, p, v, horizon, tau, recheck)) {
-            const Event e{m_now + tau, recheck ? EventKind::RecheckPair : EventKind::Pair, j, recheck ? 0u : m_stamp[j]};
+            const Event e{m_now + tau, recheck ? EventKind::RecheckPair : EventKind::Pair, j, recheck ? 0u : m_rec[j].stamp};
             if (before(i, e, best))
                 best = e;
         }
@@ -891,7 +903,7 @@ void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int coun
     if (m_overflowCount == 0)
         return;
     for (int nb = 0; nb < count; ++nb) {
-        for (int j = m_overflowHead[buckets[nb]]; j >= 0; j = m_overflowNext[j]) {
+        for (int j = m_overflowHead[buckets[nb]]; j >= 0; j = m_rec[j].overflowNext) {
             if (j != i)
                 test(j);
         }
@@ -915,18 +927,32 @@ void ExactModel::predict(int i)
 void ExactModel::predictAll()
 {
     const int n = static_cast<int>(m_body.size());
+    // A marble at rest without gravity stays put until something hits it: no wall, pin or grid
+    // event, and no contact with another resting marble. The first look costs nothing for it.
+    const bool gravity = m_gravity.x != 0.0 || m_gravity.y != 0.0;
+    auto resting = [&](int i) { return !gravity && m_body[i].b.x == 0.0 && m_body[i].b.y == 0.0; };
+    const Event none{noTime, EventKind::None, -1, 0};
+    bool anyResting = false;
     for (int i = 0; i < n; ++i) {
         // At t = 0 the state is (a, b) itself.
-        Event best{noTime, EventKind::None, -1, 0};
-        predictOwn(i, m_body[i].a, m_body[i].b, best);
+        Event best = none;
+        if (resting(i)) {
+            m_rec[i].crossTime = noTime;
+            anyResting = true;
+        } else {
+            predictOwn(i, m_body[i].a, m_body[i].b, best);
+        }
         setContact(i, best);
     }
-    // Pins, then every pair of neighbours once (j > i: no marble has moved bucket yet, so each
-    // bucket's marbles are its static range), offered to both marbles.
+    // Pins, then every pair of neighbours once, offered to both marbles: from the lower index when
+    // both move, from the moving one otherwise (no marble has moved bucket yet, so each bucket's
+    // marbles are its static range).
     for (int i = 0; i < n; ++i) {
+        if (resting(i))
+            continue;
         const Vec2 p = m_body[i].a;
         const Vec2 v = m_body[i].b;
-        Event best = m_contact[i];
+        Event best = m_rec[i].contact;
         if (!m_world->pins.empty()) {
             int buckets[9];
             const int count = neighbourBuckets(i, buckets);
@@ -936,12 +962,19 @@ void ExactModel::predictAll()
         const int rangeCount = neighbourRanges(i, ranges);
         const double ri = m_body[i].radius;
         for (int r = 0; r < rangeCount; ++r) {
-            for (int j = std::max(ranges[2 * r], i + 1); j < ranges[2 * r + 1]; ++j) {
-                // At t = 0 every marble feels the same gravity, so every relative path is straight
-                // (pairContact() with i < j, phi1 = phi2 = 0, dg = 0, written out).
+            // Partners below i only if some marbles rest (those are not looked at from their side).
+            for (int j = anyResting ? ranges[2 * r] : std::max(ranges[2 * r], i + 1); j < ranges[2 * r + 1]; ++j) {
                 const Body &bj = m_body[j];
-                const double s = straightContact(p.x - bj.a.x, p.y - bj.a.y, v.x - bj.b.x, v.y - bj.b.y, ri + bj.radius,
-                                                 m_sLeft);
+                if (j <= i && !(j < i && resting(j)))
+                    continue;
+                // At t = 0 every marble feels the same gravity, so every relative path is straight
+                // (pairContact() with phi1 = phi2 = 0 and dg = 0, written out, lower index first).
+                const bool iLow = i < j;
+                const double dx = iLow ? p.x - bj.a.x : bj.a.x - p.x;
+                const double dy = iLow ? p.y - bj.a.y : bj.a.y - p.y;
+                const double dvx = iLow ? v.x - bj.b.x : bj.b.x - v.x;
+                const double dvy = iLow ? v.y - bj.b.y : bj.b.y - v.y;
+                const double s = straightContact(dx, dy, dvx, dvy, ri + bj.radius, m_sLeft);
                 if (!(s <= m_sLeft))
                     continue;
                 const double tau = phi1Inverse(m_lambda, s);
@@ -951,7 +984,7 @@ void ExactModel::predictAll()
                 const Event ej{tau, EventKind::Pair, i, 0};
                 if (before(i, ei, best))
                     best = ei;
-                if (before(j, ej, m_contact[j]))
+                if (before(j, ej, m_rec[j].contact))
                     setContact(j, ej);
             }
         }
@@ -962,7 +995,7 @@ void ExactModel::predictAll()
     for (int i = 0; i < n; ++i) {
         const Key key = keyOf(i);
         if (key.time <= 1.0) {
-            m_heapPos[i] = static_cast<int>(m_heap.size());
+            m_rec[i].heapPos = static_cast<int>(m_heap.size());
             m_heap.push_back(key);
         }
     }
@@ -973,7 +1006,7 @@ void ExactModel::predictAll()
 void ExactModel::unlockMoved(int i, Vec2 v)
 {
     // A marble held against a wall keeps the hold only while nothing gives it a normal velocity.
-    Guard &guard = m_guard[i];
+    Guard &guard = m_rec[i].guard;
     Body &body = m_body[i];
     if ((guard.locked & 1) && v.x != 0.0) {
         guard.locked &= ~1u;
@@ -988,15 +1021,15 @@ void ExactModel::unlockMoved(int i, Vec2 v)
 bool ExactModel::overLimit(int i) const
 {
     // Collision counts only matter for e < 1 (inelastic collapse); resting contacts always.
-    const Guard &guard = m_guard[i];
+    const Guard &guard = m_rec[i].guard;
     return guard.restHits > freezeAfterRestingContacts || (m_inelastic && guard.pairHits > freezeAfterCollisions);
 }
 
 bool ExactModel::countContact(int i)
 {
-    if (++m_guard[i].recheckHits <= freezeAfterRechecks || m_body[i].frozen)
+    if (++m_rec[i].guard.recheckHits <= freezeAfterRechecks || m_body[i].frozen)
         return false;
-    ++m_stamp[i];
+    ++m_rec[i].stamp;
     freeze(i);
     return true;
 }
@@ -1011,8 +1044,8 @@ void ExactModel::freeze(int i)
     stateAt(body, p, v);
     body.frozen = 1;
     body.gravityOff = 3;
-    m_invMass[i] = 0.0;
-    m_crossTime[i] = noTime;
+    m_rec[i].invMass = 0.0;
+    m_rec[i].crossTime = noTime;
     setState(i, p, {});
     ++m_frozenCount;
 }
@@ -1028,10 +1061,10 @@ void ExactModel::collidePair(World &world, int i, int j)
     const Vec2 n = unit({pj.x - pi.x, pj.y - pi.y});
     // Approach speed along the normal (from i towards j).
     const double approach = (vi.x - vj.x) * n.x + (vi.y - vj.y) * n.y;
-    const double wi = m_invMass[i];
-    const double wj = m_invMass[j];
-    Guard &gi = m_guard[i];
-    Guard &gj = m_guard[j];
+    const double wi = m_rec[i].invMass;
+    const double wj = m_rec[j].invMass;
+    Guard &gi = m_rec[i].guard;
+    Guard &gj = m_rec[j].guard;
     ++gi.pairHits;
     ++gj.pairHits;
     if (approach <= m_restSpeed) {
@@ -1051,12 +1084,12 @@ void ExactModel::collidePair(World &world, int i, int j)
         vj.x += impulse * wj * n.x;
         vj.y += impulse * wj * n.y;
         const std::int64_t frame = world.frame + 1;
-        world.lastHit[m_id[i]] = {frame, unit(inI), n, unit(vi)};
-        world.lastHit[m_id[j]] = {frame, unit(inJ), {-n.x, -n.y}, unit(vj)};
+        world.lastHit[m_rec[i].id] = {frame, unit(inI), n, unit(vi)};
+        world.lastHit[m_rec[j].id] = {frame, unit(inJ), {-n.x, -n.y}, unit(vj)};
         ++m_collisionCount;
     }
-    ++m_stamp[i];
-    ++m_stamp[j];
+    ++m_rec[i].stamp;
+    ++m_rec[j].stamp;
     if (!m_body[i].frozen) {
         unlockMoved(i, vi);
         setState(i, pi, vi);
@@ -1079,7 +1112,7 @@ void ExactModel::collidePin(World &world, int i, int pin)
     const Vec2 q = world.pins[pin];
     const Vec2 n = unit({q.x - p.x, q.y - p.y});
     const double approach = dot(v, n);
-    Guard &guard = m_guard[i];
+    Guard &guard = m_rec[i].guard;
     ++guard.pairHits;
     if (approach <= m_restSpeed)
         ++guard.restHits;
@@ -1090,10 +1123,10 @@ void ExactModel::collidePin(World &world, int i, int pin)
         const Vec2 in = v;
         v.x -= (1.0 + e) * approach * n.x;
         v.y -= (1.0 + e) * approach * n.y;
-        world.lastHit[m_id[i]] = {world.frame + 1, unit(in), n, unit(v)};
+        world.lastHit[m_rec[i].id] = {world.frame + 1, unit(in), n, unit(v)};
         ++m_collisionCount;
     }
-    ++m_stamp[i];
+    ++m_rec[i].stamp;
     unlockMoved(i, v);
     setState(i, p, v);
     if (overLimit(i))
@@ -1118,7 +1151,7 @@ void ExactModel::collideWall(World &world, int i, int wall)
     const double gOut = upper ? gAxis : -gAxis;
     // Touching exactly: the solver stops at contact up to rounding.
     x = upper ? side - r : r;
-    Guard &guard = m_guard[i];
+    Guard &guard = m_rec[i].guard;
     ++guard.wallHits;
     const double e = m_restitution;
     // A bounce of speed w against gravity gOut rises w^2 / (2 gOut): below restHeightPx it is
@@ -1139,9 +1172,9 @@ void ExactModel::collideWall(World &world, int i, int wall)
     if (hit) {
         Vec2 n{};
         (axis == 0 ? n.x : n.y) = upper ? 1.0 : -1.0;
-        world.lastHit[m_id[i]] = {world.frame + 1, unit(in), n, unit(vel)};
+        world.lastHit[m_rec[i].id] = {world.frame + 1, unit(in), n, unit(vel)};
     }
-    ++m_stamp[i];
+    ++m_rec[i].stamp;
     setState(i, p, vel);
     if (m_inelastic && guard.wallHits > freezeAfterWallBounces)
         freeze(i);
@@ -1161,7 +1194,7 @@ void ExactModel::step(World &world)
     bool finite = std::isfinite(m_lambda) && isFinite(m_gravity);
     for (int i = 0; i < n && finite; ++i)
         finite = isFinite(m_body[i].a) && isFinite(m_body[i].b) && std::isfinite(m_body[i].radius)
-            && std::isfinite(m_invMass[i]);
+            && std::isfinite(m_rec[i].invMass);
     if (!finite) {
         endFrame(world);
         return;
@@ -1184,7 +1217,7 @@ void ExactModel::step(World &world)
         setContact(i, none);
         switch (ev.kind) {
         case EventKind::Pair:
-            if (m_stamp[ev.other] == ev.stamp) {
+            if (m_rec[ev.other].stamp == ev.stamp) {
                 collidePair(world, i, ev.other);
                 setContact(ev.other, none);
                 predict(ev.other);

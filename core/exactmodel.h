@@ -155,34 +155,39 @@ private:
     double m_phi1End = 1.0;  // phi1(1)
     double m_sLeft = 1.0;    // >= phi1(1 - now), for quick rejections
 
-    // Marbles, in grid order: internal index i is world marble m_id[i].
+    // Everything else the calendar and the guard keep of a marble, in two adjacent cache lines.
+    struct alignas(64) Record {
+        Event contact;           // best contact (see the .cpp, point 4)
+        double crossTime = 0.0;  // next grid event (infinity: none)
+        Vec2 anchor;             // where it was anchored, px
+        double invMass = 0.0;    // 0 while frozen
+        std::uint32_t stamp = 0; // increases with every change of velocity
+        int heapPos = -1;        // -1: not in the heap
+        int id = 0;              // index in the World
+        int home = 0;            // the bucket it was sorted into
+        int overflowNext = -1;
+        int overflowPrev = -2;   // -2: in no overflow list
+        Guard guard;
+        std::uint8_t crossSide = 0;
+    };
+
+    // Marbles, in grid order: internal index i is World marble m_rec[i].id.
     std::vector<Body> m_body;
-    std::vector<int> m_id;
-    std::vector<Vec2> m_anchor;
-    std::vector<double> m_invMass; // 0 while frozen
-    std::vector<std::uint32_t> m_stamp;
-    std::vector<Guard> m_guard;
+    std::vector<Record> m_rec;
 
     // Grid: bucket b's marbles at the start of the frame are the internal indices
-    // m_start[b] .. m_start[b + 1] (those still anchored there have Body::bucket == b); marbles
+    // m_start[b] .. m_start[b + 1] (those still anchored there have Body::moved == 0); marbles
     // re-anchored into another bucket join that bucket's doubly linked overflow list.
     std::vector<int> m_start;
     std::vector<int> m_cursor;
     std::vector<int> m_sortBucket;
-    std::vector<int> m_home;
     std::vector<int> m_overflowHead;
-    std::vector<int> m_overflowNext;
-    std::vector<int> m_overflowPrev; // -2: in no overflow list
     int m_overflowCount = 0;
     UniformGrid m_pinGrid;
 
-    // Calendar: per marble its best contact and next grid event; a heap of the marbles whose
-    // earlier one falls inside the frame.
-    std::vector<Event> m_contact;
-    std::vector<double> m_crossTime;
-    std::vector<std::uint8_t> m_crossSide;
+    // Calendar: a heap of the marbles whose earlier event (best contact or grid event) falls
+    // inside the frame.
     std::vector<Key> m_heap;
-    std::vector<int> m_heapPos; // -1: not in the heap
 
     std::int64_t m_eventCount = 0;
     std::int64_t m_collisionCount = 0;
