@@ -47,12 +47,19 @@ std::int64_t GridGeometry::coord(double x) const
 
 int GridGeometry::bucket(std::int64_t kx, std::int64_t ky) const
 {
-    std::int64_t bx = kx % m_nx;
-    std::int64_t by = ky % m_ny;
-    if (bx < 0)
-        bx += m_nx;
-    if (by < 0)
-        by += m_ny;
+    // Most cells lie on the stage, where no folding is needed: skip the (slow) 64-bit division.
+    std::int64_t bx = kx;
+    std::int64_t by = ky;
+    if (bx < 0 || bx >= m_nx) {
+        bx %= m_nx;
+        if (bx < 0)
+            bx += m_nx;
+    }
+    if (by < 0 || by >= m_ny) {
+        by %= m_ny;
+        if (by < 0)
+            by += m_ny;
+    }
     return static_cast<int>(bx + by * m_nx);
 }
 

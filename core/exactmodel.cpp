@@ -627,11 +627,13 @@ void ExactModel::heapPlace(int pos, const Key &key)
     m_rec[key.marble].heapPos = pos;
 }
 
+// The calendar is a 4-ary heap: half the depth of a binary one, and the four children of a node
+// share one or two cache lines.
 void ExactModel::heapSiftUp(int pos)
 {
     const Key key = m_heap[pos];
     while (pos > 0) {
-        const int parent = (pos - 1) / 2;
+        const int parent = (pos - 1) / 4;
         if (!keyBefore(key, m_heap[parent]))
             break;
         heapPlace(pos, m_heap[parent]);
@@ -645,11 +647,15 @@ void ExactModel::heapSiftDown(int pos)
     const Key key = m_heap[pos];
     const int size = static_cast<int>(m_heap.size());
     while (true) {
-        int child = 2 * pos + 1;
-        if (child >= size)
+        const int first = 4 * pos + 1;
+        if (first >= size)
             break;
-        if (child + 1 < size && keyBefore(m_heap[child + 1], m_heap[child]))
-            ++child;
+        int child = first;
+        const int last = std::min(first + 4, size);
+        for (int c = first + 1; c < last; ++c) {
+            if (keyBefore(m_heap[c], m_heap[child]))
+                child = c;
+        }
         if (!keyBefore(m_heap[child], key))
             break;
         heapPlace(pos, m_heap[child]);
@@ -682,7 +688,7 @@ void ExactModel::heapUpdate(int i)
         if (pos < static_cast<int>(m_heap.size())) {
             m_heap[pos] = last;
             m_rec[last.marble].heapPos = pos;
-            if (pos > 0 && keyBefore(last, m_heap[(pos - 1) / 2]))
+            if (pos > 0 && keyBefore(last, m_heap[(pos - 1) / 4]))
                 heapSiftUp(pos);
             else
                 heapSiftDown(pos);
@@ -931,28 +937,23 @@ void ExactModel::predictAll()
     // event, and no contact with another resting marble. The first look costs nothing for it.
     const bool gravity = m_gravity.x != 0.0 || m_gravity.y != 0.0;
     auto resting = [&](int i) { return !gravity && m_body[i].b.x == 0.0 && m_body[i].b.y == 0.0; };
-    const Event none{noTime, EventKind::None, -1, 0};
     bool anyResting = false;
-    for (int i = 0; i < n; ++i) {
-        // At t = 0 the state is (a, b) itself.
-        Event best = none;
-        if (resting(i)) {
-            m_rec[i].crossTime = noTime;
-            anyResting = true;
-        } else {
-            predictOwn(i, m_body[i].a, m_body[i].b, best);
-        }
-        setContact(i, best);
-    }
-    // Pins, then every pair of neighbours once, offered to both marbles: from the lower index when
-    // both move, from the moving one otherwise (no marble has moved bucket yet, so each bucket's
-    // marbles are its static range).
+    for (int i = 0; i < n && !anyResting; ++i)
+        anyResting = resting(i);
+    m_heap.clear();
+    m_restingHit.clear();
+    // One pass in grid order. For each moving marble: its own events, pins, then every pair of
+    // neighbours once, offered to both marbles: from the lower index when both move, from the
+    // moving one otherwise (no marble has moved bucket yet, so each bucket's marbles are its
+    // static range). A moving marble's record is final once its turn is over.
     for (int i = 0; i < n; ++i) {
         if (resting(i))
             continue;
+        // At t = 0 the state is (a, b) itself.
         const Vec2 p = m_body[i].a;
         const Vec2 v = m_body[i].b;
         Event best = m_rec[i].contact;
+        predictOwn(i, p, v, best);
         if (!m_world->pins.empty()) {
             int buckets[9];
             const int count = neighbourBuckets(i, buckets);
@@ -984,22 +985,28 @@ void ExactModel::predictAll()
                 const Event ej{tau, EventKind::Pair, i, 0};
                 if (before(i, ei, best))
                     best = ei;
-                if (before(j, ej, m_rec[j].contact))
+                if (before(j, ej, m_rec[j].contact)) {
+                    // A resting marble has no turn of its own: it joins the calendar below.
+                    if (m_rec[j].contact.kind == EventKind::None && resting(j))
+                        m_restingHit.push_back(j);
                     setContact(j, ej);
+                }
             }
         }
         setContact(i, best);
-    }
-    // The calendar: the marbles with an event inside the frame, heap-ordered (Floyd).
-    m_heap.clear();
-    for (int i = 0; i < n; ++i) {
         const Key key = keyOf(i);
         if (key.time <= 1.0) {
             m_rec[i].heapPos = static_cast<int>(m_heap.size());
             m_heap.push_back(key);
         }
     }
-    for (int pos = static_cast<int>(m_heap.size()) / 2 - 1; pos >= 0; --pos)
+    for (const int j : m_restingHit) {
+        m_rec[j].heapPos = static_cast<int>(m_heap.size());
+        m_heap.push_back(keyOf(j));
+    }
+    // The calendar: heap-ordered in place (Floyd).
+    const int size = static_cast<int>(m_heap.size());
+    for (int pos = size > 1 ? (size - 2) / 4 : -1; pos >= 0; --pos)
         heapSiftDown(pos);
 }
 

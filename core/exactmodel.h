@@ -188,6 +188,7 @@ private:
     // Calendar: a heap of the marbles whose earlier event (best contact or grid event) falls
     // inside the frame.
     std::vector<Key> m_heap;
+    std::vector<int> m_restingHit; // marbles at rest that got a contact in the first look
 
     std::int64_t m_eventCount = 0;
     std::int64_t m_collisionCount = 0;

@@ -127,6 +127,8 @@ private slots:
     void elasticAtExtremeSpeeds();
     void densePileBoundedWork_data();
     void densePileBoundedWork();
+    void fewMovingAmongResting_data();
+    void fewMovingAmongResting();
 };
 
 void TestExactModel::dragOnly_data()
@@ -696,6 +698,46 @@ void TestExactModel::densePileBoundedWork()
     // frame (its resting contacts); 64 leaves room, and still catches a guard that lets a pile
     // grind through hundreds of collisions per marble.
     QCOMPARE_LE(events, std::int64_t(n) * frames * 64);
+}
+
+void TestExactModel::fewMovingAmongResting_data()
+{
+    QTest::addColumn<double>("movingFraction");
+    QTest::addColumn<bool>("walls");
+    QTest::addRow("2%% moving, walls") << 0.02 << true;
+    QTest::addRow("2%% moving, no walls") << 0.02 << false;
+    QTest::addRow("30%% moving, walls") << 0.3 << true;
+}
+
+void TestExactModel::fewMovingAmongResting()
+{
+    QFETCH(double, movingFraction);
+    QFETCH(bool, walls);
+    // A crowd in which most marbles start at rest: the first look of each frame tests pairs only
+    // from their moving side, so a resting marble must still be found by every marble that runs
+    // into it, in every frame. Sped up so that each moving marble crosses several cells a frame.
+    World w = makeCrowd(1500, 17, movingFraction);
+    w.stage.walls = walls;
+    for (Vec2 &v : w.velocity)
+        v = {v.x * 5, v.y * 5};
+    const double e0 = w.kineticEnergy();
+    const Vec2 p0 = w.momentum();
+    const double scale = momentumScale(w);
+    ExactModel model;
+    std::int64_t collisions = 0;
+    for (int f = 0; f < 60; ++f) {
+        run(w, model, 1);
+        collisions += model.lastCollisionCount();
+        QCOMPARE(model.lastFrozenCount(), 0);
+        QCOMPARE_GE(smallestGap(w), -1e-9);
+    }
+    QCOMPARE_GE(collisions, std::int64_t(200));
+    QCOMPARE_LE(relativeError(w.kineticEnergy(), e0), 1e-12);
+    if (!walls) {
+        const Vec2 p1 = w.momentum();
+        QCOMPARE_LE(std::abs(p1.x - p0.x), 1e-12 * scale);
+        QCOMPARE_LE(std::abs(p1.y - p0.y), 1e-12 * scale);
+    }
 }
 
 QTEST_APPLESS_MAIN(TestExactModel)
