@@ -192,6 +192,11 @@ void MarbleFieldItem::setAntialiasThreshold(int marbles)
     update();
 }
 
+bool MarbleFieldItem::vectorsLegibleAt(double scale)
+{
+    return kVectorLengthPx * scale >= kMinVectorDevicePx;
+}
+
 bool MarbleFieldItem::isAntialiased() const
 {
     return !m_world || m_world->marbleCount() <= m_antialiasThreshold;
@@ -293,13 +298,15 @@ void MarbleFieldItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *o
         const QPointF c = map(QPointF(p.x, p.y));
         const double rDevice = r * scale;
         if (rDevice < kTinyRadiusDevicePx) {
-            const double side = std::max(1.0, 2.0 * rDevice);
+            // Whole pixels, so that every tiny marble is a crisp square of the same size as its
+            // neighbours of the same radius, not a 1x2 or 2x1 sliver of a rounded fractional rectangle.
+            const double side = std::max(1.0, std::round(2.0 * rDevice));
             auto bucket = std::find_if(m_tiny.begin(), m_tiny.end(), [&](const auto &b) { return b.first == m_color[k]; });
             if (bucket == m_tiny.end()) {
                 m_tiny.emplace_back(m_color[k], std::vector<QRectF>());
                 bucket = std::prev(m_tiny.end());
             }
-            bucket->second.emplace_back(c.x() - side / 2, c.y() - side / 2, side, side);
+            bucket->second.emplace_back(std::round(c.x() - side / 2), std::round(c.y() - side / 2), side, side);
             continue;
         }
         key.radiusSteps = static_cast<int>(std::lround(rDevice / kSpriteRadiusStepDevicePx));
@@ -325,7 +332,7 @@ void MarbleFieldItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *o
         painter->drawRects(rects.data(), static_cast<int>(rects.size()));
     }
 
-    if (m_vectorsVisible)
+    if (m_vectorsVisible && vectorsLegibleAt(scale))
         paintVectors(painter, toDevice, scale, visible, antialias);
     paintRings(painter, toDevice, scale);
     painter->restore();

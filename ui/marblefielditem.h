@@ -47,6 +47,10 @@ public:
     static constexpr double kSpriteRadiusStepDevicePx = 0.25;
     /// The cache is emptied when it holds more sprites than this (after many zoom levels).
     static constexpr int kMaxCachedSprites = 2048;
+    /// The vectors are drawn only where the book's 30 stage px come to at least this many device
+    /// px: a crowd zoomed out to 1-px marbles would be buried under a tangle of arrows too short
+    /// to read. Zooming in brings them back.
+    static constexpr double kMinVectorDevicePx = 6.0;
 
     /// A field showing `world` (may be null: the item draws nothing), which must outlive the item.
     explicit MarbleFieldItem(const World *world = nullptr, Style style = Style::Solid);
@@ -70,6 +74,8 @@ public:
     /// Shows or hides the Figure 11.12 vectors (velocity before the last hit blue, collision
     /// vector both ways red, reflected velocity green), for marbles that have been hit.
     void setVectorsVisible(bool visible);
+    /// True when the vectors are long enough to be drawn at `scale` (device px per stage px).
+    static bool vectorsLegibleAt(double scale);
 
     /// The selected marbles (indices into the world), drawn with MarbleItem's dashed orange ring.
     const QList<int> &selectedMarbles() const { return m_selected; }

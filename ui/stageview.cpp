@@ -137,6 +137,20 @@ void StageView::setVectorsVisible(bool visible)
     if (m_field)
         m_field->setVectorsVisible(visible);
     syncPoses();
+    updateVectorNote();
+}
+
+bool StageView::vectorsHiddenByZoom() const
+{
+    return m_field && m_vectorsVisible && !MarbleFieldItem::vectorsLegibleAt(transform().m11());
+}
+
+void StageView::updateVectorNote()
+{
+    const bool hidden = vectorsHiddenByZoom();
+    if (hidden && !m_vectorNoteShown)
+        Q_EMIT message(tr("The collision vectors are too small to read at this zoom: zoom in to see them."));
+    m_vectorNoteShown = hidden;
 }
 
 void StageView::setTrailsVisible(bool visible)
@@ -164,6 +178,7 @@ void StageView::fitToStage()
     m_autoFit = true;
     // The whole scene rectangle (stage and margin) fits, so no scroll bar is needed.
     fitInView(m_scene->sceneRect(), Qt::KeepAspectRatio);
+    updateVectorNote();
 }
 
 void StageView::zoomBy(double factor)
@@ -174,6 +189,7 @@ void StageView::zoomBy(double factor)
         return;
     m_autoFit = false;
     scale(target / current, target / current); // about the viewport centre (the view's anchor)
+    updateVectorNote();
 }
 
 QPoint StageView::viewportPoint(Vec2 p) const
@@ -240,6 +256,7 @@ void StageView::rebuild()
     syncPoses();
     if (m_autoFit)
         fitToStage();
+    updateVectorNote();
     m_scene->update();
 }
 
@@ -499,6 +516,7 @@ void StageView::wheelEvent(QWheelEvent *event)
     const QPointF drift = viewportTransform().map(anchor) - mouse;
     horizontalScrollBar()->setValue(horizontalScrollBar()->value() + static_cast<int>(std::lround(drift.x())));
     verticalScrollBar()->setValue(verticalScrollBar()->value() + static_cast<int>(std::lround(drift.y())));
+    updateVectorNote();
     event->accept();
 }
 

@@ -83,6 +83,10 @@ public:
     /// True when trails are asked for but the scene has too many marbles to draw them.
     bool trailsSuppressed() const { return m_trailsSuppressed; }
 
+    /// True when the vectors are on but the crowd is zoomed out too far to draw them legibly
+    /// (MarbleFieldItem::kMinVectorDevicePx); a status message says so once.
+    bool vectorsHiddenByZoom() const;
+
     /// True when the marbles are drawn by one MarbleFieldItem (more than kBatchThreshold marbles).
     bool isBatched() const { return m_field != nullptr; }
     /// The item drawing every marble in batched mode, or null (owned by the scene).
@@ -127,6 +131,7 @@ private:
     void rebuild();
     void rebuildMarbleItems(const World &world, int n);
     void updateTrailSuppression();
+    void updateVectorNote();
     void syncPoses();
     void sampleTrail();
     void resetTrail();
@@ -148,6 +153,7 @@ private:
     bool m_vectorsVisible = true;
     bool m_trailsVisible = false;
     bool m_trailsSuppressed = false;
+    bool m_vectorNoteShown = false;
     bool m_autoFit = true;
 
     // Mouse gesture in progress.

@@ -83,6 +83,9 @@ private Q_SLOTS:
     void drawsMarblesOverTheBackground();
     void ghostDrawsOutlinesNotFills();
     void vectorsFollowLastHit();
+    void vectorsOnlyWhenLegible_data();
+    void vectorsOnlyWhenLegible();
+    void tinyMarblesAreWholePixelSquares();
     void selectionAndHeldRings();
     void boundsCoverMarblesOffTheStage();
     void spritesAreSharedBetweenMarbles();
@@ -167,6 +170,64 @@ void TestMarbleFieldItem::vectorsFollowLastHit()
     QCOMPARE_LE(hueDistance(colourAt(alongNormal), QColor(0xe0, 0x00, 0x00)), 5);
     // Marble 1 was never hit: nothing around it.
     QCOMPARE(colourAt({345, 100}), kBackground);
+    delete item;
+}
+
+void TestMarbleFieldItem::vectorsOnlyWhenLegible_data()
+{
+    QTest::addColumn<double>("scale");
+    QTest::addColumn<bool>("drawn");
+    // The book's 30 px come to 4.5 device px at 0.15 and 7.5 at 0.25 (the limit is 6).
+    QTest::addRow("too small") << 0.15 << false;
+    QTest::addRow("legible") << 0.25 << true;
+}
+
+void TestMarbleFieldItem::vectorsOnlyWhenLegible()
+{
+    QFETCH(double, scale);
+    QFETCH(bool, drawn);
+    QCOMPARE(MarbleFieldItem::vectorsLegibleAt(scale), drawn);
+    World w = twoMarbles();
+    HitRecord hit;
+    hit.frame = 1;
+    hit.velocityIn = {1, 0};
+    hit.normal = {0, 1};
+    hit.velocityOut = {0, -1};
+    w.lastHit[0] = hit;
+    auto *item = new MarbleFieldItem(&w);
+    item->setVectorsVisible(true);
+    const QSize size(static_cast<int>(400 * scale), static_cast<int>(200 * scale));
+    const QImage image = render(item, size, scale);
+    // Just past the rim of marble 0 (radius 30) along the blue vector: 37 stage px from its centre.
+    const QColor seen = image.pixelColor(imagePoint({137, 100}, scale));
+    if (drawn)
+        QCOMPARE_LE(hueDistance(seen, QColor(0x00, 0x55, 0xff)), 5);
+    else
+        QCOMPARE(seen, kBackground);
+    delete item;
+}
+
+void TestMarbleFieldItem::tinyMarblesAreWholePixelSquares()
+{
+    World w;
+    w.stage = {1000, 1000, true};
+    w.addMarble({333.3, 517.7}, 30); // 1.5 device px at 0.05: a 3 x 3 square
+    w.addMarble({666.6, 250.1}, 20); // 1.0 device px: 2 x 2
+    w.addMarble({500.0, 800.0}, 4);  // 0.2 device px: still one pixel
+    auto *item = new MarbleFieldItem(&w);
+    const QImage image = render(item, QSize(50, 50), 0.05);
+    const auto pixelsAround = [&](Vec2 p) {
+        const QPoint c = imagePoint(p, 0.05);
+        int n = 0;
+        for (int y = c.y() - 4; y <= c.y() + 4; ++y) {
+            for (int x = c.x() - 4; x <= c.x() + 4; ++x)
+                n += image.pixelColor(x, y) == MarbleItem::defaultColor() ? 1 : 0;
+        }
+        return n;
+    };
+    QCOMPARE(pixelsAround(w.position[0]), 9);
+    QCOMPARE(pixelsAround(w.position[1]), 4);
+    QCOMPARE(pixelsAround(w.position[2]), 1);
     delete item;
 }
 

@@ -62,6 +62,7 @@ private Q_SLOTS:
     void batchedDragHoldsAndDrops();
     void batchedVectorsAndSelection();
     void trailsOffForLargeCrowds();
+    void vectorsWaitForALegibleZoom();
 
 private:
     QWidget *viewport() const { return m_view->viewport(); }
@@ -469,6 +470,25 @@ void TestStageView::trailsOffForLargeCrowds()
     loadCrowd(StageView::kMaxTrailMarbles + 1);
     QVERIFY(!m_view->trailsSuppressed());
     QCOMPARE(messages.count(), 1);
+}
+
+void TestStageView::vectorsWaitForALegibleZoom()
+{
+    QSignalSpy messages(m_view.get(), &StageView::message);
+    loadCrowd(20000); // a 4,260-px stage in a 900 x 700 view: the 30-px vectors come to 5 px
+    QVERIFY(m_view->vectorsVisible());
+    QVERIFY(m_view->fieldItem()->vectorsVisible());
+    QVERIFY(m_view->vectorsHiddenByZoom());
+    QCOMPARE(messages.count(), 1);
+    QVERIFY(messages.front().front().toString().contains(QStringLiteral("zoom in")));
+    m_view->zoomBy(2.0);
+    QVERIFY(!m_view->vectorsHiddenByZoom());
+    m_view->fitToStage();
+    QVERIFY(m_view->vectorsHiddenByZoom());
+    QCOMPARE(messages.count(), 2); // said again after zooming back out, not on every check
+    m_view->setVectorsVisible(false);
+    QVERIFY(!m_view->vectorsHiddenByZoom());
+    QCOMPARE(messages.count(), 2);
 }
 
 QTEST_MAIN(TestStageView)
