@@ -110,12 +110,15 @@ void InspectorDock::refresh()
     if (m_marble < 0 || m_marble >= world.marbleCount()) {
         m_marble = -1;
         m_title->setText(tr("Select a marble to see and edit it."));
+        // No stale numbers of a marble that is not selected: the fields go away until one is.
         m_form->setEnabled(false);
+        m_form->setVisible(false);
         return;
     }
     const QString name = QString::fromStdString(world.info[m_marble].name);
     m_title->setText(name.isEmpty() ? tr("Marble %1").arg(m_marble) : tr("Marble %1 — %2").arg(m_marble).arg(name));
     m_form->setEnabled(true);
+    m_form->setVisible(true);
     showValue(m_radius, world.radius[m_marble]);
     showValue(m_mass, world.mass[m_marble]);
     {
