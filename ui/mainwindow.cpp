@@ -395,9 +395,6 @@ void MainWindow::createToolBars()
     m_frameDisplay->setFont(font);
     runBar->addWidget(m_frameDisplay);
     runBar->addSeparator();
-    auto *compareTitle = new QLabel(tr("Compare with "), runBar);
-    compareTitle->setContentsMargins(4, 0, 0, 0);
-    runBar->addWidget(compareTitle);
     m_compareBox = new QComboBox(runBar);
     m_compareBox->setObjectName(QStringLiteral("compareBox"));
     m_compareBox->setToolTip(tr("Run a second model beside this one on the same scene; its marbles are drawn "
@@ -836,7 +833,7 @@ void MainWindow::updateCompareControls()
         action->setVisible(data < 0 || data != static_cast<int>(current));
         action->setChecked(data == chosen);
         if (action->isVisible())
-            m_compareBox->addItem(action->text().remove(QLatin1Char('&')).toLower(), data);
+            m_compareBox->addItem(tr("Compare: %1").arg(action->text().remove(QLatin1Char('&')).toLower()), data);
     }
     m_compareBox->setCurrentIndex(m_compareBox->findData(chosen));
     QString plotted;
