@@ -815,7 +815,7 @@ void ExactModel::predictOwn(int i, Vec2 p, Vec2 v, Event &best)
     }
 }
 
-bool ExactModel::pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi, double horizon, double &tau,
+inline bool ExactModel::pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi, double horizon, double &tau,
                               bool &recheck) const
 {
     // The innermost loop of the model, in scalars. Computed with the pair in canonical order
