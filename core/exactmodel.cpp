@@ -881,29 +881,30 @@ void ExactModel::scanPins(int i, Vec2 p, Vec2 v, const int *buckets, int count, 
     }
 }
 
+inline void ExactModel::offerPair(int i, int j, const Vec2 &p, const Vec2 &v, Event &best) const
+{
+    const Body &bj = m_body[j];
+    if (m_body[i].frozen && bj.frozen)
+        return;
+    // Contacts after j's own best contact need not be recorded: j is predicted afresh then.
+    const double horizon = std::min({best.time, bj.contactTime, 1.0}) - m_now;
+    double tau;
+    bool recheck;
+    if (pairContact(i, j, p, v, horizon, tau, recheck)) {
+        const Event e{m_now + tau, recheck ? EventKind::RecheckPair : EventKind::Pair, j, recheck ? 0u : m_rec[j].stamp};
+        if (before(i, e, best))
+            best = e;
+    }
+}
+
 void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const
 {
-    const bool frozen = m_body[i].frozen;
-    auto test = [&](int j) {
-        const Body &bj = m_body[j];
-        if (frozen && bj.frozen)
-            return;
-        // Contacts after j's own best contact need not be recorded: j is predicted afresh then.
-        const double horizon = std::min({best.time, bj.contactTime, 1.0}) - m_now;
-        double tau;
-        bool recheck;
-        if (pairContact(i, j, p, v, horizon, tau, recheck)) {
-            const Event e{m_now + tau, recheck ? EventKind::RecheckPair : EventKind::Pair, j, recheck ? 0u : m_rec[j].stamp};
-            if (before(i, e, best))
-                best = e;
-        }
-    };
     int ranges[12];
     const int rangeCount = neighbourRanges(i, ranges);
     for (int r = 0; r < rangeCount; ++r) {
         for (int j = ranges[2 * r]; j < ranges[2 * r + 1]; ++j) {
             if (j != i && !m_body[j].moved)
-                test(j);
+                offerPair(i, j, p, v, best);
         }
     }
     if (m_overflowCount == 0)
@@ -911,7 +912,7 @@ void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int coun
     for (int nb = 0; nb < count; ++nb) {
         for (int j = m_overflowHead[buckets[nb]]; j >= 0; j = m_rec[j].overflowNext) {
             if (j != i)
-                test(j);
+                offerPair(i, j, p, v, best);
         }
     }
 }

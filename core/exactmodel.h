@@ -113,6 +113,7 @@ private:
     void scanPins(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const;
     void scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const;
     bool pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi, double horizon, double &tau, bool &recheck) const;
+    void offerPair(int i, int j, const Vec2 &p, const Vec2 &v, Event &best) const;
     static std::uint64_t tieOf(int i, const Event &e);
     static bool before(int i, const Event &a, const Event &b);
     Event currentEvent(int i) const;
