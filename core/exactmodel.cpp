@@ -47,8 +47,8 @@
 //    contact, grazing ones included.
 //
 // 4. The calendar. Each marble keeps two things: its best contact (the earliest of the wall,
-//    pin and marble contacts it has looked at since its velocity last changed) and its next cell
-//    crossing. Its event is the earlier of the two; an indexed binary heap holds only the marbles
+//    pin and marble contacts it has looked at since its velocity last changed) and its next grid
+//    event (below). Its event is the earlier of the two; a 4-ary heap holds only the marbles
 //    whose event falls inside the frame (in a calm crowd most marbles have none, and cost nothing
 //    after the first look). When a marble's velocity changes, its stamp increases; a pair event
 //    whose partner's stamp has changed since the prediction is stale and only triggers a new
@@ -56,11 +56,22 @@
 //    triggers a full new prediction of its marble when it comes due, which allows two savings:
 //    - a search for the contacts of i stops at the earlier of i's and the partner's best
 //      contact (anything later will be found again by whichever of them is predicted first);
-//    - a cell crossing keeps the best contact and only looks at the three cells that came into
-//      reach: bodies in cells that were already neighbours were looked at before.
-//    At the start of a frame every pair of neighbours is tested once, for both marbles.
-//    Ties are broken by (time, kind, lower index, higher index, marble), so results never depend
-//    on anything but the World.
+//    - a grid event keeps the best contact and only looks for new partners if the marble's
+//      neighbourhood changed.
+//    At the start of a frame every pair of neighbours is tested once, for both marbles, from the
+//    moving side (without gravity, two marbles at rest cannot meet, so a crowd at rest costs
+//    almost nothing). Ties are broken by (time, kind, lower index, higher index, marble), so
+//    results never depend on anything but the World.
+//
+//    The grid. At the start of a frame the marbles are sorted by bucket and renumbered, so the
+//    marbles of a bucket (and of three neighbouring buckets in a row) lie side by side in memory.
+//    Each marble is anchored at its position then. Cells are wider than the contact distance
+//    D = 2 rMax by twice a margin m: while every marble stays within m of its anchor (in x and in
+//    y), two marbles anchored in cells that are not neighbours are more than (D + 2m) - 2m = D
+//    apart, so only the 3 x 3 neighbourhood can hold partners. A marble that strays to m from
+//    its anchor (its grid event, rare when m exceeds a frame's travel) is anchored afresh where
+//    it is, and if that is in another bucket it joins that bucket's overflow list and looks for
+//    partners in its new neighbourhood. The lattice is folded as described in broadphase.h.
 //
 // 5. Robustness. Contacts are only resolved between approaching bodies. A pair that overlaps (by
 //    rounding, or because the scene put it so) and approaches collides at once; one that overlaps
@@ -924,8 +935,11 @@ void ExactModel::predict(int i)
     stateAt(m_body[i], p, v);
     Event best{noTime, EventKind::None, -1, 0};
     predictOwn(i, p, v, best);
+    // The nine buckets one by one are only needed for pins and overflow lists.
     int buckets[9];
-    const int count = neighbourBuckets(i, buckets);
+    int count = 0;
+    if (!m_world->pins.empty() || m_overflowCount > 0)
+        count = neighbourBuckets(i, buckets);
     scanPins(i, p, v, buckets, count, best);
     scanMarbles(i, p, v, buckets, count, best);
     setContact(i, best);

@@ -55,7 +55,7 @@ public:
     /// instant velocity change; leaves acceleration zero; does not touch world.frame.
     void step(World &world) override;
 
-    /// Events handled in the last frame: collisions, cell crossings and re-predictions.
+    /// Events handled in the last frame: collisions, grid events and re-predictions.
     std::int64_t lastEventCount() const { return m_eventCount; }
     /// Collisions (impulses applied) in the last frame.
     std::int64_t lastCollisionCount() const { return m_collisionCount; }
