@@ -532,6 +532,7 @@ void ExactModel::beginFrame(World &world)
     m_overflowHead.assign(buckets, -1);
     m_overflowCount = 0;
     m_heap.clear();
+    bool finite = std::isfinite(m_lambda) && isFinite(m_gravity);
     for (int i = 0; i < n; ++i) {
         const int w = m_rec[i].id;
         Body &body = m_body[i];
@@ -557,8 +558,11 @@ void ExactModel::beginFrame(World &world)
         rec.overflowPrev = -2;
         rec.guard = Guard{};
         rec.crossSide = 0;
+        finite &= isFinite(body.a) & isFinite(body.b) & std::isfinite(body.radius) & std::isfinite(rec.invMass);
     }
-    m_pinGrid.build(m_geometry, world.pins.data(), static_cast<int>(world.pins.size()));
+    m_finite = finite;
+    if (!world.pins.empty())
+        m_pinGrid.build(m_geometry, world.pins.data(), static_cast<int>(world.pins.size()));
 }
 
 void ExactModel::endFrame(World &world)
@@ -1213,11 +1217,7 @@ void ExactModel::step(World &world)
     beginFrame(world);
 
     // A world that already left finite numbers is only carried along (World::step reports it).
-    bool finite = std::isfinite(m_lambda) && isFinite(m_gravity);
-    for (int i = 0; i < n && finite; ++i)
-        finite = isFinite(m_body[i].a) && isFinite(m_body[i].b) && std::isfinite(m_body[i].radius)
-            && std::isfinite(m_rec[i].invMass);
-    if (!finite) {
+    if (!m_finite) {
         endFrame(world);
         return;
     }

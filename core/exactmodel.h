@@ -146,6 +146,7 @@ private:
     GridGeometry m_geometry;
     double m_margin = 0.0;       // how far a marble may stray from its anchor, px
     bool m_singleCell = false;   // no grid: one bucket, no grid events
+    bool m_finite = true;        // every marble's state and the parameters are finite
     const World *m_world = nullptr;
 
     // The clock: the current event time and phi1, phi2, e^{-lambda t} there.
