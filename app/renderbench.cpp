@@ -34,6 +34,8 @@ struct Options {
     int frames = 120;
     int warmup = 10;
     bool vectors = true;
+    bool trails = false;
+    double zoom = 1.0;
     QSize size{1280, 800};
     bool mainWindow = false;
     double moving = 1.0;
@@ -48,6 +50,9 @@ struct Result {
     int items = 0;
     QSize viewport;
     bool antialias = false;
+    bool trails = false; ///< trails drawn (asked for and not switched off for the crowd's size)
+    bool vectorsDrawn = false; ///< vectors asked for and long enough on screen to be drawn
+    double scale = 1.0;        ///< view px per stage px
     double modelMs = 0.0;     ///< median World::step() alone, on a copy of the scene (no document, no view)
     double physicsMs = 0.0;   ///< median simulation + item sync per frame
     double paintMs = 0.0;     ///< median event delivery and paint after a step
@@ -150,10 +155,13 @@ Result measure(int n, const Options &options)
     }
     document->resetScene(world);
     view->setVectorsVisible(options.vectors);
+    view->setTrailsVisible(options.trails);
     top->resize(options.size);
     top->show();
     waitExposed(top);
     view->fitToStage();
+    if (options.zoom != 1.0)
+        view->zoomBy(options.zoom);
 
     for (int f = 0; f < options.warmup; ++f) {
         document->advance(1);
@@ -192,6 +200,9 @@ Result measure(int n, const Options &options)
     result.items = static_cast<int>(view->scene()->items().size());
     result.viewport = view->viewport()->size();
     result.antialias = view->renderHints().testFlag(QPainter::Antialiasing);
+    result.trails = view->trailsVisible() && !view->trailsSuppressed();
+    result.vectorsDrawn = view->vectorsVisible() && !view->vectorsHiddenByZoom();
+    result.scale = view->transform().m11();
     result.modelMs = median(model);
     result.physicsMs = median(physics);
     result.paintMs = median(paint);
@@ -222,6 +233,12 @@ bool parseOptions(const QCoreApplication &app, Options &options, QString &error)
     const QCommandLineOption vectorsOption(QStringLiteral("vectors"),
                                            QStringLiteral("Figure 11.12 vectors on or off."), QStringLiteral("on|off"),
                                            QStringLiteral("on"));
+    const QCommandLineOption trailsOption(QStringLiteral("trails"),
+                                          QStringLiteral("Fading trails on or off (off above 2,000 marbles anyway)."),
+                                          QStringLiteral("on|off"), QStringLiteral("off"));
+    const QCommandLineOption zoomOption(QStringLiteral("zoom"),
+                                        QStringLiteral("Zoom relative to the whole stage fitting the view (> 1 zooms in)."),
+                                        QStringLiteral("F"), QStringLiteral("1"));
     const QCommandLineOption sizeOption(QStringLiteral("size"), QStringLiteral("Window size, px."),
                                         QStringLiteral("WxH"), QStringLiteral("1280x800"));
     const QCommandLineOption windowOption(QStringLiteral("window"),
@@ -236,7 +253,7 @@ bool parseOptions(const QCoreApplication &app, Options &options, QString &error)
                                          QStringLiteral("Physics model (default: the crowd's own, exact)."),
                                          QStringLiteral("book|impulse|exact"));
     const QCommandLineOption csvOption(QStringLiteral("csv"), QStringLiteral("Print CSV rows instead of text."));
-    parser.addOptions({countOption, framesOption, warmupOption, vectorsOption, sizeOption, windowOption, movingOption,
+    parser.addOptions({countOption, framesOption, warmupOption, vectorsOption, trailsOption, zoomOption, sizeOption, windowOption, movingOption,
                        seedOption, modelOption, csvOption});
     parser.process(app);
 
@@ -265,6 +282,17 @@ bool parseOptions(const QCoreApplication &app, Options &options, QString &error)
         return false;
     }
     options.vectors = vectors == QLatin1String("on");
+    const QString trails = parser.value(trailsOption);
+    if (trails != QLatin1String("on") && trails != QLatin1String("off")) {
+        error = QStringLiteral("--trails: must be on or off");
+        return false;
+    }
+    options.trails = trails == QLatin1String("on");
+    options.zoom = parser.value(zoomOption).toDouble(&ok);
+    if (!ok || options.zoom < 0.1 || options.zoom > 100.0) {
+        error = QStringLiteral("--zoom: must be a number in [0.1, 100]");
+        return false;
+    }
     const QStringList size = parser.value(sizeOption).split(QLatin1Char('x'));
     int width = 0;
     int height = 0;
@@ -322,7 +350,7 @@ int main(int argc, char *argv[])
 
     QTextStream out(stdout);
     if (options.csv) {
-        out << "n,vectors,hit_marbles,window,items,antialias,frames,model_ms,physics_ms,paint_ms,frame_ms,paint_only_ms,"
+        out << "n,vectors,vectors_drawn,hit_marbles,scale,trails,window,items,antialias,frames,model_ms,physics_ms,paint_ms,frame_ms,paint_only_ms,"
                "frame_cpu_ms,paint_only_cpu_ms,physics_paint_fps,paint_fps,paints_per_frame\n";
     } else {
         out << "marbles-renderbench: platform " << QGuiApplication::platformName() << ", "
@@ -334,7 +362,9 @@ int main(int argc, char *argv[])
     for (int n : options.counts) {
         const Result r = measure(n, options);
         if (options.csv) {
-            out << r.n << "," << (options.vectors ? "on" : "off") << "," << r.hitMarbles << ","
+            out << r.n << "," << (options.vectors ? "on" : "off") << "," << (r.vectorsDrawn ? "yes" : "no") << ","
+                << r.hitMarbles << "," << QString::number(r.scale, 'f', 4) << ","
+                << (r.trails ? "on" : "off") << ","
                 << (options.mainWindow ? "main" : "stage")
                 << "," << r.items << "," << (r.antialias ? "on" : "off") << "," << options.frames << ","
                 << QString::number(r.modelMs, 'f', 3) << "," << QString::number(r.physicsMs, 'f', 3) << "," << QString::number(r.paintMs, 'f', 3) << ","
@@ -343,10 +373,12 @@ int main(int argc, char *argv[])
                 << QString::number(fps(r.frameMs), 'f', 1) << "," << QString::number(fps(r.paintOnlyMs), 'f', 1)
                 << "," << QString::number(r.paintsPerFrame, 'f', 2) << "\n";
         } else {
-            out << "n=" << r.n << " vectors=" << (options.vectors ? "on" : "off") << " (" << r.hitMarbles
-                << " marbles hit)" << " viewport="
+            out << "n=" << r.n << " vectors=" << (options.vectors ? "on" : "off")
+                << (options.vectors && !r.vectorsDrawn ? " (too short to draw at this zoom)" : "") << " hit="
+                << r.hitMarbles << " scale=" << QString::number(r.scale, 'f', 3) << " viewport="
                 << r.viewport.width() << "x" << r.viewport.height() << " items=" << r.items
-                << " antialias=" << (r.antialias ? "on" : "off") << "\n"
+                << " antialias=" << (r.antialias ? "on" : "off")
+                << " trails=" << (r.trails ? "on" : "off") << "\n"
                 << "  physics+paint " << QString::number(fps(r.frameMs), 'f', 1) << " fps ("
                 << QString::number(r.frameMs, 'f', 2) << " ms: physics+sync " << QString::number(r.physicsMs, 'f', 2)
                 << " (model alone " << QString::number(r.modelMs, 'f', 2) << ")"

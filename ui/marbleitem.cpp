@@ -18,7 +18,9 @@ MarbleItem::MarbleItem(double radiusPx, const QColor &color)
     : m_radius(radiusPx)
     , m_color(color)
 {
-    setCacheMode(NoCache);
+    // The ball is rendered once into a pixmap in device pixels and blitted as it moves; it is
+    // redrawn only on a zoom or a change of look (radius, colour, ring).
+    setCacheMode(DeviceCoordinateCache);
 }
 
 void MarbleItem::setRadius(double radiusPx)

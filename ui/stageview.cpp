@@ -160,6 +160,12 @@ void StageView::setTrailsVisible(bool visible)
     updateTrailSuppression();
 }
 
+int StageView::trailLength() const
+{
+    const int n = std::max(1, m_document->world().marbleCount());
+    return std::clamp(kTrailSegmentBudget / n, kMinTrailLength, TrailItem::kMaxLength);
+}
+
 void StageView::updateTrailSuppression()
 {
     const bool suppressed = m_trailsVisible && m_document->world().marbleCount() > kMaxTrailMarbles;
@@ -168,6 +174,8 @@ void StageView::updateTrailSuppression()
     if (suppressed)
         m_trail->clear();
     m_trail->setVisible(m_trailsVisible && !suppressed);
+    m_trail->setLength(trailLength());
+    m_trail->setAntialiased(m_document->world().marbleCount() <= kBatchThreshold);
     if (announce)
         Q_EMIT message(tr("Trails are off above %L1 marbles: drawing them would slow the stage down.")
                            .arg(kMaxTrailMarbles));

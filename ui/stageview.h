@@ -44,9 +44,14 @@ public:
     /// Above this many marbles nothing is antialiased but the marble sprites (smooth already)
     /// and the selection rings: grid, walls, pins, vectors and sub-pixel marbles are drawn hard.
     static constexpr int kAntialiasThreshold = 5000;
-    /// Above this many marbles trails are not drawn (a status message says so): a trail is 90
-    /// segments per marble, and 2,000 marbles already make 180,000 segments per frame.
+    /// Above this many marbles trails are not drawn (a status message says so): even at their
+    /// shortest, trails of more marbles cost more than the rest of the frame.
     static constexpr int kMaxTrailMarbles = 2000;
+    /// Trails are shortened so that all of them together stay within this many segments (each
+    /// costs about a microsecond to draw): 90 frames up to 133 marbles, 6 frames at 2,000.
+    static constexpr int kTrailSegmentBudget = 12000;
+    /// The shortest trail, frames.
+    static constexpr int kMinTrailLength = 6;
 
     /// A view of `document`, which must outlive it.
     explicit StageView(SceneDocument *document, QWidget *parent = nullptr);
@@ -82,6 +87,8 @@ public:
     bool trailsVisible() const { return m_trailsVisible; }
     /// True when trails are asked for but the scene has too many marbles to draw them.
     bool trailsSuppressed() const { return m_trailsSuppressed; }
+    /// Frames a trail keeps for the current marble count (kTrailSegmentBudget shared out).
+    int trailLength() const;
 
     /// True when the vectors are on but the crowd is zoomed out too far to draw them legibly
     /// (MarbleFieldItem::kMinVectorDevicePx); a status message says so once.

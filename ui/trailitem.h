@@ -3,6 +3,7 @@
 #include "core/world.h"
 
 #include <QGraphicsItem>
+#include <QLineF>
 
 #include <deque>
 #include <vector>
@@ -15,8 +16,20 @@ class TrailItem : public QGraphicsItem {
 public:
     enum { Type = UserType + 4 };
 
-    /// Trails of at most `length` frames.
-    explicit TrailItem(int length = 90);
+    /// Longest trail, frames.
+    static constexpr int kMaxLength = 90;
+
+    /// Trails of at most `length` frames (at least 2).
+    explicit TrailItem(int length = kMaxLength);
+
+    /// Longest trail kept, frames.
+    int length() const { return m_length; }
+    /// Keeps at most `frames` positions per marble (at least 2); longer trails are cut.
+    void setLength(int frames);
+    /// True when the segments are drawn antialiased.
+    bool isAntialiased() const { return m_antialiased; }
+    /// Draws the segments antialiased or hard (faster for thousands of segments).
+    void setAntialiased(bool antialiased);
 
     /// Area the trails may cover (the stage), stage px.
     void setArea(const QRectF &area);
@@ -30,9 +43,14 @@ public:
     void paint(QPainter *painter, const QStyleOptionGraphicsItem *option, QWidget *widget) override;
 
 private:
+    /// Opacity levels of a trail's fade (segments are batched per level).
+    static constexpr int kFadeSteps = 12;
+
     int m_length;
+    bool m_antialiased = true;
     QRectF m_area;
     std::vector<std::deque<QPointF>> m_trails;
+    std::vector<std::vector<QLineF>> m_batches; ///< per fade level, kept between paints
 };
 
 } // namespace marbles

@@ -7,6 +7,7 @@
 #include "ui/pinitem.h"
 #include "ui/scenedocument.h"
 #include "ui/stageview.h"
+#include "ui/trailitem.h"
 #include "ui/vectoritem.h"
 #include "ui/worldedit.h"
 
@@ -457,6 +458,11 @@ void TestStageView::trailsOffForLargeCrowds()
     m_view->setTrailsVisible(true);
     QVERIFY(!m_view->trailsSuppressed());
     QCOMPARE(messages.count(), 0);
+    // A few marbles: full-length trails. A crowd shares out the segment budget.
+    QCOMPARE(m_view->trailLength(), TrailItem::kMaxLength);
+    loadCrowd(400);
+    QCOMPARE(m_view->trailLength(), StageView::kTrailSegmentBudget / 400);
+    QVERIFY(!m_view->trailsSuppressed());
     loadCrowd(StageView::kMaxTrailMarbles + 1);
     QVERIFY(m_view->trailsVisible());
     QVERIFY(m_view->trailsSuppressed());
@@ -466,6 +472,7 @@ void TestStageView::trailsOffForLargeCrowds()
     QCOMPARE(messages.count(), 1); // said once, not every frame
     loadCrowd(StageView::kMaxTrailMarbles);
     QVERIFY(!m_view->trailsSuppressed());
+    QCOMPARE(m_view->trailLength(), StageView::kMinTrailLength);
     m_view->setTrailsVisible(false);
     loadCrowd(StageView::kMaxTrailMarbles + 1);
     QVERIFY(!m_view->trailsSuppressed());
