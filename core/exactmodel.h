@@ -18,7 +18,7 @@ namespace marbles {
 /// memory, in 64-byte records that hold all a neighbour test reads. Each marble is "anchored" in
 /// a cell a margin wider than the contact distance and needs a grid event only when it strays
 /// further than the margin from its anchor within one frame. Per marble the calendar keeps its
-/// best contact and that next grid event; an indexed binary heap holds only the marbles with an
+/// best contact and that next grid event; an indexed 4-ary heap holds only the marbles with an
 /// event inside the frame, and per-marble collision stamps reveal stale partner events lazily.
 /// All buffers are kept between frames (no allocation in steady state) and are rebuilt from the
 /// World at the start of every frame, so they are caches only.
@@ -59,7 +59,8 @@ public:
     std::int64_t lastEventCount() const { return m_eventCount; }
     /// Collisions (impulses applied) in the last frame.
     std::int64_t lastCollisionCount() const { return m_collisionCount; }
-    /// Marbles the inelastic-collapse guard froze in the last frame.
+    /// Marbles the guard against endless collision sequences froze in the last frame (0 with e = 1
+    /// and no gravity).
     int lastFrozenCount() const { return m_frozenCount; }
 
 private:
