@@ -558,7 +558,7 @@ void ExactModel::beginFrame(World &world)
         rec.overflowPrev = -2;
         rec.guard = Guard{};
         rec.crossSide = 0;
-        finite &= isFinite(body.a) & isFinite(body.b) & std::isfinite(body.radius) & std::isfinite(rec.invMass);
+        finite = finite && isFinite(body.a) && isFinite(body.b) && std::isfinite(body.radius) && std::isfinite(rec.invMass);
     }
     m_finite = finite;
     if (!world.pins.empty())
