@@ -15,7 +15,6 @@
 #include <QCommandLineParser>
 #include <QElapsedTimer>
 #include <QGraphicsScene>
-#include <QScreen>
 #include <QTextStream>
 #include <QWindow>
 
