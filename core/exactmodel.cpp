@@ -532,6 +532,7 @@ void ExactModel::beginFrame(World &world)
     m_overflowHead.assign(buckets, -1);
     m_overflowCount = 0;
     m_heap.clear();
+    m_heapPos.assign(n, -1);
     bool finite = std::isfinite(m_lambda) && isFinite(m_gravity);
     for (int i = 0; i < n; ++i) {
         const int w = m_rec[i].id;
@@ -552,7 +553,6 @@ void ExactModel::beginFrame(World &world)
         rec.anchor = body.a;
         rec.invMass = 1.0 / world.mass[w];
         rec.stamp = 0;
-        rec.heapPos = -1;
         rec.home = body.bucket;
         rec.overflowNext = -1;
         rec.overflowPrev = -2;
@@ -639,7 +639,7 @@ bool ExactModel::keyBefore(const Key &a, const Key &b)
 void ExactModel::heapPlace(int pos, const Key &key)
 {
     m_heap[pos] = key;
-    m_rec[key.marble].heapPos = pos;
+    m_heapPos[key.marble] = pos;
 }
 
 // The calendar is a 4-ary heap: half the depth of a binary one, and the four children of a node
@@ -682,7 +682,7 @@ void ExactModel::heapSiftDown(int pos)
 void ExactModel::heapUpdate(int i)
 {
     const Key key = keyOf(i);
-    const int pos = m_rec[i].heapPos;
+    const int pos = m_heapPos[i];
     if (key.time <= 1.0) {
         if (pos < 0) {
             m_heap.push_back(key);
@@ -699,10 +699,10 @@ void ExactModel::heapUpdate(int i)
         // Leaves the calendar: the last entry takes its place.
         const Key last = m_heap.back();
         m_heap.pop_back();
-        m_rec[i].heapPos = -1;
+        m_heapPos[i] = -1;
         if (pos < static_cast<int>(m_heap.size())) {
             m_heap[pos] = last;
-            m_rec[last.marble].heapPos = pos;
+            m_heapPos[last.marble] = pos;
             if (pos > 0 && keyBefore(last, m_heap[(pos - 1) / 4]))
                 heapSiftUp(pos);
             else
@@ -1015,12 +1015,12 @@ void ExactModel::predictAll()
         setContact(i, best);
         const Key key = keyOf(i);
         if (key.time <= 1.0) {
-            m_rec[i].heapPos = static_cast<int>(m_heap.size());
+            m_heapPos[i] = static_cast<int>(m_heap.size());
             m_heap.push_back(key);
         }
     }
     for (const int j : m_restingHit) {
-        m_rec[j].heapPos = static_cast<int>(m_heap.size());
+        m_heapPos[j] = static_cast<int>(m_heap.size());
         m_heap.push_back(keyOf(j));
     }
     // The calendar: heap-ordered in place (Floyd).

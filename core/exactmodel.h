@@ -165,7 +165,6 @@ private:
         Vec2 anchor;             // where it was anchored, px
         double invMass = 0.0;    // 0 while frozen
         std::uint32_t stamp = 0; // increases with every change of velocity
-        int heapPos = -1;        // -1: not in the heap
         int id = 0;              // index in the World
         int home = 0;            // the bucket it was sorted into
         int overflowNext = -1;
@@ -191,6 +190,10 @@ private:
     // Calendar: a heap of the marbles whose earlier event (best contact or grid event) falls
     // inside the frame.
     std::vector<Key> m_heap;
+    // Each marble's place in the heap (-1: none). Apart from the records: a heap operation moves
+    // entries of many marbles, and this array (4 bytes a marble) stays in cache where the
+    // records would not.
+    std::vector<int> m_heapPos;
     std::vector<int> m_restingHit; // marbles at rest that got a contact in the first look
 
     std::int64_t m_eventCount = 0;
