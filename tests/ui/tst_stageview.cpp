@@ -15,6 +15,7 @@
 #include <QGraphicsScene>
 #include <QSignalSpy>
 #include <QTest>
+#include <QToolTip>
 #include <QWheelEvent>
 
 #include <cmath>
@@ -64,6 +65,7 @@ private Q_SLOTS:
     void batchedVectorsAndSelection();
     void trailsOffForLargeCrowds();
     void vectorsWaitForALegibleZoom();
+    void batchedToolTipNamesTheMarble();
 
 private:
     QWidget *viewport() const { return m_view->viewport(); }
@@ -496,6 +498,19 @@ void TestStageView::vectorsWaitForALegibleZoom()
     m_view->setVectorsVisible(false);
     QVERIFY(!m_view->vectorsHiddenByZoom());
     QCOMPARE(messages.count(), 2);
+}
+
+void TestStageView::batchedToolTipNamesTheMarble()
+{
+    World crowd = makeCrowd(1000, 7, 0.0);
+    const int marble = 640;
+    crowd.info[marble].name = "Alice";
+    m_document->resetScene(crowd);
+    QVERIFY(m_view->isBatched());
+    const QPoint at = m_view->viewportPoint(m_document->world().position[marble]);
+    QHelpEvent help(QEvent::ToolTip, at, viewport()->mapToGlobal(at));
+    QApplication::sendEvent(viewport(), &help);
+    QCOMPARE(QToolTip::text(), QStringLiteral("Alice"));
 }
 
 QTEST_MAIN(TestStageView)
