@@ -149,7 +149,7 @@ void StageView::updateVectorNote()
 {
     const bool hidden = vectorsHiddenByZoom();
     if (hidden && !m_vectorNoteShown)
-        Q_EMIT message(tr("The collision vectors are too small to read at this zoom: zoom in to see them."));
+        noteLater(tr("The collision vectors are too small to read at this zoom: zoom in to see them."));
     m_vectorNoteShown = hidden;
 }
 
@@ -177,8 +177,7 @@ void StageView::updateTrailSuppression()
     m_trail->setLength(trailLength());
     m_trail->setAntialiased(m_document->world().marbleCount() <= kBatchThreshold);
     if (announce)
-        Q_EMIT message(tr("Trails are off above %L1 marbles: drawing them would slow the stage down.")
-                           .arg(kMaxTrailMarbles));
+        noteLater(tr("Trails are off above %L1 marbles: drawing them would slow the stage down.").arg(kMaxTrailMarbles));
 }
 
 void StageView::fitToStage()
@@ -349,6 +348,14 @@ void StageView::pickAt(Vec2 p)
         selectMarble(marble);
     else
         clearSelection();
+}
+
+void StageView::noteLater(const QString &text)
+{
+    // Queued: a note raised while a file opens would otherwise be replaced at once by the
+    // window's own "Opened ..." message.
+    QMetaObject::invokeMethod(
+        this, [this, text] { Q_EMIT message(text); }, Qt::QueuedConnection);
 }
 
 void StageView::report(const QString &text)

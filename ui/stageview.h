@@ -145,6 +145,7 @@ private:
     void updateHighlights();
     void pickAt(Vec2 p);
     void report(const QString &text);
+    void noteLater(const QString &text);
 
     SceneDocument *m_document;
     QGraphicsScene *m_scene;
