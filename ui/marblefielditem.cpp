@@ -76,6 +76,25 @@ void fillTriangles(QPainter *painter, const std::vector<QPointF> &corners, const
     painter->setBrush(Qt::NoBrush);
 }
 
+/// One marble as the field draws it: a shaded ball, or for a ghost a dashed, semi-transparent
+/// outline with no fill. `centre` and `r` in painter coordinates (device px).
+void paintMarbleShape(QPainter *painter, QPointF centre, double r, const QColor &base, bool ghost)
+{
+    if (!ghost) {
+        MarbleItem::paintBall(painter, centre, r, base, 1.0);
+        return;
+    }
+    QColor line = base;
+    line.setAlpha(200);
+    QPen pen(line);
+    pen.setWidthF(1.5);
+    pen.setDashPattern({3.0, 3.0});
+    painter->setRenderHint(QPainter::Antialiasing);
+    painter->setPen(pen);
+    painter->setBrush(Qt::NoBrush);
+    painter->drawEllipse(centre, r, r);
+}
+
 void drawLines(QPainter *painter, const std::vector<QLineF> &lines)
 {
     painter->drawLines(lines.data(), static_cast<int>(lines.size()));
@@ -226,8 +245,10 @@ const QPixmap &MarbleFieldItem::sprite(const SpriteKey &key)
     const auto found = m_sprites.constFind(key);
     if (found != m_sprites.cend())
         return *found;
-    if (m_sprites.size() >= kMaxCachedSprites)
+    if (m_sprites.size() >= kMaxCachedSprites || m_spriteBytes > kMaxSpriteCacheBytes) {
         m_sprites.clear();
+        m_spriteBytes = 0;
+    }
 
     const double dpr = key.dprPercent / 100.0;
     const double r = key.radiusSteps * kSpriteRadiusStepDevicePx;
@@ -240,21 +261,9 @@ const QPixmap &MarbleFieldItem::sprite(const SpriteKey &key)
     image.fill(Qt::transparent);
     QPainter painter(&image);
     const double centre = side / (2.0 * dpr);
-    const QColor base = QColor::fromRgb(key.color);
-    if (key.ghost) {
-        QColor line = base;
-        line.setAlpha(200);
-        QPen pen(line);
-        pen.setWidthF(1.5);
-        pen.setDashPattern({3.0, 3.0});
-        painter.setRenderHint(QPainter::Antialiasing);
-        painter.setPen(pen);
-        painter.setBrush(Qt::NoBrush);
-        painter.drawEllipse(QPointF(centre, centre), r, r);
-    } else {
-        MarbleItem::paintBall(&painter, QPointF(centre, centre), r, base, 1.0);
-    }
+    paintMarbleShape(&painter, QPointF(centre, centre), r, QColor::fromRgb(key.color), key.ghost);
     painter.end();
+    m_spriteBytes += image.sizeInBytes();
     return *m_sprites.insert(key, QPixmap::fromImage(std::move(image)));
 }
 
@@ -307,6 +316,13 @@ void MarbleFieldItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *o
                 bucket = std::prev(m_tiny.end());
             }
             bucket->second.emplace_back(std::round(c.x() - side / 2), std::round(c.y() - side / 2), side, side);
+            continue;
+        }
+        if (rDevice > kMaxSpriteRadiusDevicePx) {
+            // Zoomed far in: few marbles are on screen, each would need a large sprite of its own.
+            painter->save();
+            paintMarbleShape(painter, c, rDevice, QColor::fromRgb(m_color[k]), ghost);
+            painter->restore();
             continue;
         }
         key.radiusSteps = static_cast<int>(std::lround(rDevice / kSpriteRadiusStepDevicePx));

@@ -45,8 +45,13 @@ public:
     static constexpr double kTinyRadiusDevicePx = 2.0;
     /// Sprite radii are rounded to this step, device px (at most half of it off the true size).
     static constexpr double kSpriteRadiusStepDevicePx = 0.25;
-    /// The cache is emptied when it holds more sprites than this (after many zoom levels).
+    /// The cache is emptied when it holds more sprites than this, or more bytes than
+    /// kMaxSpriteCacheBytes (after many zoom levels).
     static constexpr int kMaxCachedSprites = 2048;
+    static constexpr qsizetype kMaxSpriteCacheBytes = 64 * 1024 * 1024;
+    /// Marbles larger than this radius on the device (px) are painted directly, not cached:
+    /// zoomed that far in, few are on screen and each would need a large sprite of its own.
+    static constexpr double kMaxSpriteRadiusDevicePx = 48.0;
     /// The vectors are drawn only where the book's 30 stage px come to at least this many device
     /// px: a crowd zoomed out to 1-px marbles would be buried under a tangle of arrows too short
     /// to read. Zooming in brings them back.
@@ -140,6 +145,7 @@ private:
     std::vector<std::string> m_colorText; ///< info[i].color as last parsed
     std::vector<QRgb> m_color;            ///< marble i's colour, opaque
     QHash<SpriteKey, QPixmap> m_sprites;
+    qsizetype m_spriteBytes = 0; ///< memory held by m_sprites
 
     // Per-paint buffers, kept so that their capacity survives from frame to frame.
     std::vector<std::pair<QRgb, std::vector<QRectF>>> m_tiny; ///< tiny marbles, per colour

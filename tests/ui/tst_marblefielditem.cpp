@@ -276,6 +276,11 @@ void TestMarbleFieldItem::spritesAreSharedBetweenMarbles()
     QCOMPARE(item->cachedSpriteCount(), 2); // one blue, one red: 100 marbles, 2 sprites
     render(item, QSize(200, 200), 0.5);
     QCOMPARE(item->cachedSpriteCount(), 4); // a new zoom needs new sprites
+    // Zoomed far in (60-px marbles) the few marbles on screen are painted directly, not cached.
+    const QImage close = render(item, QSize(240, 240), 6.0);
+    QCOMPARE(item->cachedSpriteCount(), 4);
+    QCOMPARE_LE(hueDistance(close.pixelColor(120, 120), item->marbleColor(0)), 12);
+    QCOMPARE_GE(close.pixelColor(120, 120).hsvSaturation(), 100);
     delete item;
 }
 
