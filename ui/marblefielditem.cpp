@@ -84,14 +84,20 @@ void paintMarbleShape(QPainter *painter, QPointF centre, double r, const QColor 
         MarbleItem::paintBall(painter, centre, r, base, 1.0);
         return;
     }
-    QColor line = base;
-    line.setAlpha(200);
+    // A pale halo under the dashes keeps a ghost readable where it lies over a solid marble of
+    // the same colour (the usual case: the same marble in the other model, a few px away).
+    painter->setRenderHint(QPainter::Antialiasing);
+    painter->setBrush(Qt::NoBrush);
+    QPen halo(QColor(255, 255, 255, 190));
+    halo.setWidthF(3.0);
+    painter->setPen(halo);
+    painter->drawEllipse(centre, r, r);
+    QColor line = base.darker(130);
+    line.setAlpha(230);
     QPen pen(line);
     pen.setWidthF(1.5);
     pen.setDashPattern({3.0, 3.0});
-    painter->setRenderHint(QPainter::Antialiasing);
     painter->setPen(pen);
-    painter->setBrush(Qt::NoBrush);
     painter->drawEllipse(centre, r, r);
 }
 
