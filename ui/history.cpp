@@ -7,12 +7,17 @@ namespace marbles {
 FrameSnapshot FrameSnapshot::of(const World &world)
 {
     FrameSnapshot s;
-    s.frame = world.frame;
-    s.position = world.position;
-    s.velocity = world.velocity;
-    s.acceleration = world.acceleration;
-    s.lastHit = world.lastHit;
+    s.copyFrom(world);
     return s;
+}
+
+void FrameSnapshot::copyFrom(const World &world)
+{
+    frame = world.frame;
+    position.assign(world.position.begin(), world.position.end());
+    velocity.assign(world.velocity.begin(), world.velocity.end());
+    acceleration.assign(world.acceleration.begin(), world.acceleration.end());
+    lastHit.assign(world.lastHit.begin(), world.lastHit.end());
 }
 
 void FrameSnapshot::restoreInto(World &world) const
@@ -57,7 +62,19 @@ void FrameHistory::record(const World &world)
         m_frames.clear();
         m_bytes = 0;
     }
-    m_frames.push_back(FrameSnapshot::of(world));
+    // Once the history is full, the oldest frame's buffers are reused for the newest: a big
+    // scene then costs one copy per frame, not an allocation, page faults and a free.
+    const std::size_t incoming = sizeof(FrameSnapshot)
+        + static_cast<std::size_t>(world.marbleCount()) * (3 * sizeof(Vec2) + sizeof(HitRecord));
+    if (!m_frames.empty() && (m_frames.size() >= m_maxFrames || m_bytes + incoming > m_maxBytes)) {
+        FrameSnapshot recycled = std::move(m_frames.front());
+        m_bytes -= recycled.byteSize();
+        m_frames.pop_front();
+        recycled.copyFrom(world);
+        m_frames.push_back(std::move(recycled));
+    } else {
+        m_frames.push_back(FrameSnapshot::of(world));
+    }
     m_bytes += m_frames.back().byteSize();
     while (m_frames.size() > m_maxFrames || (m_bytes > m_maxBytes && m_frames.size() > 1)) {
         m_bytes -= m_frames.front().byteSize();

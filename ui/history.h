@@ -21,6 +21,8 @@ struct FrameSnapshot {
 
     /// Copies the dynamic state of `world`.
     static FrameSnapshot of(const World &world);
+    /// Copies the dynamic state of `world` into this snapshot, reusing its buffers.
+    void copyFrom(const World &world);
     /// Writes this state back into `world`, bit for bit. `world` must have the same marble count.
     void restoreInto(World &world) const;
     /// Approximate heap size of this snapshot, bytes.
