@@ -27,6 +27,22 @@ World bareWorld(double friction = 0.0, bool walls = false, double restitution = 
     return w;
 }
 
+// `rows` rows of touching marbles of radius `r` resting on the floor of a `width` x `height`
+// box, each row in the hollows of the one below, under gravity 0.5 px/frame^2.
+World restingPile(double width, double height, double r, int rows, double friction, double restitution)
+{
+    World w = bareWorld(friction, true, restitution);
+    w.stage = {width, height, true};
+    w.params.gravity = {0.0, 0.5};
+    w.params.zeroThreshold = 0.01;
+    for (int row = 0; row < rows; ++row) {
+        const double y = height - r - row * r * std::sqrt(3.0);
+        for (double x = r + (row % 2) * r; x + r <= width; x += 2 * r)
+            w.addMarble({x, y}, r, {0.0, 0.0});
+    }
+    return w;
+}
+
 void run(World &w, ExactModel &model, int frames)
 {
     for (int f = 0; f < frames; ++f) {
@@ -558,17 +574,7 @@ void TestExactModel::inelasticClusterNeverStalls()
     QFETCH(double, friction);
     // A pile: rows of touching marbles resting on the floor, the rows stacked in the hollows,
     // plus a few falling in from above, under gravity.
-    World w = bareWorld(friction, true, restitution);
-    w.stage = {240, 300, true};
-    w.params.gravity = {0.0, 0.5};
-    w.params.zeroThreshold = 0.01;
-    const double r = 10.0;
-    for (int row = 0; row < 5; ++row) {
-        const double y = 300 - r - row * r * std::sqrt(3.0);
-        const double x0 = r + (row % 2) * r;
-        for (double x = x0; x + r <= 240; x += 2 * r)
-            w.addMarble({x, y}, r, {0.0, 0.0});
-    }
+    World w = restingPile(240, 300, 10.0, 5, friction, restitution);
     for (int k = 0; k < 6; ++k)
         w.addMarble({30.0 + 35 * k, 40.0}, 8, {0.3 * k - 1, 2.0});
 
@@ -677,16 +683,7 @@ void TestExactModel::densePileBoundedWork()
     // shaken by a few fast marbles dropped on it. With e < 1 a resting cluster is where
     // inelastic collapse lives (infinitely many ever smaller bounces in a finite time); the
     // guards must keep every frame finite. The work is counted in events, not in seconds.
-    World w = bareWorld(friction, true, restitution);
-    w.stage = {400, 400, true};
-    w.params.gravity = {0.0, 0.5};
-    w.params.zeroThreshold = 0.01;
-    const double r = 8.0;
-    for (int row = 0; row < 12; ++row) {
-        const double y = 400 - r - row * r * std::sqrt(3.0);
-        for (double x = r + (row % 2) * r; x + r <= 400; x += 2 * r)
-            w.addMarble({x, y}, r, {0.0, 0.0});
-    }
+    World w = restingPile(400, 400, 8.0, 12, friction, restitution);
     for (int k = 0; k < 8; ++k)
         w.addMarble({30.0 + 45 * k, 30.0}, 6, {0.5 * k - 2, 6.0});
     QCOMPARE_GE(smallestGap(w), -1e-12);

@@ -46,39 +46,36 @@ QPoint imagePoint(Vec2 p, double scale)
     return QPoint(static_cast<int>(std::floor(p.x * scale)), static_cast<int>(std::floor(p.y * scale)));
 }
 
-/// Pixels of `image` that differ from the background, within the annulus [r0, r1] about `c` (image px).
-double changedFraction(const QImage &image, QPointF c, double r0, double r1)
+/// The fraction of the pixels of `image` within the annulus [r0, r1] about `c` (image px) for
+/// which `counts(colour)` holds.
+template <typename Predicate>
+double annulusFraction(const QImage &image, QPointF c, double r0, double r1, Predicate counts)
 {
     int inside = 0;
-    int changed = 0;
+    int hits = 0;
     for (int y = static_cast<int>(c.y() - r1) - 1; y <= static_cast<int>(c.y() + r1) + 1; ++y) {
         for (int x = static_cast<int>(c.x() - r1) - 1; x <= static_cast<int>(c.x() + r1) + 1; ++x) {
             const double d = std::hypot(x + 0.5 - c.x(), y + 0.5 - c.y());
             if (d < r0 || d > r1 || !image.rect().contains(x, y))
                 continue;
             ++inside;
-            changed += image.pixelColor(x, y) != kBackground ? 1 : 0;
+            hits += counts(image.pixelColor(x, y)) ? 1 : 0;
         }
     }
-    return inside > 0 ? static_cast<double>(changed) / inside : 0.0;
+    return inside > 0 ? static_cast<double>(hits) / inside : 0.0;
 }
 
-/// Pixels of `image` within the annulus [r0, r1] about `c` that are dark (HSL lightness below
-/// 180 of 255): the ink of a line, not the background or a pale halo.
+/// Pixels within the annulus that differ from the background.
+double changedFraction(const QImage &image, QPointF c, double r0, double r1)
+{
+    return annulusFraction(image, c, r0, r1, [](const QColor &colour) { return colour != kBackground; });
+}
+
+/// Pixels within the annulus that are dark (HSL lightness below 180 of 255): the ink of a
+/// line, not the background or a pale halo.
 double darkFraction(const QImage &image, QPointF c, double r0, double r1)
 {
-    int inside = 0;
-    int dark = 0;
-    for (int y = static_cast<int>(c.y() - r1) - 1; y <= static_cast<int>(c.y() + r1) + 1; ++y) {
-        for (int x = static_cast<int>(c.x() - r1) - 1; x <= static_cast<int>(c.x() + r1) + 1; ++x) {
-            const double d = std::hypot(x + 0.5 - c.x(), y + 0.5 - c.y());
-            if (d < r0 || d > r1 || !image.rect().contains(x, y))
-                continue;
-            ++inside;
-            dark += image.pixelColor(x, y).lightness() < 180 ? 1 : 0;
-        }
-    }
-    return inside > 0 ? static_cast<double>(dark) / inside : 0.0;
+    return annulusFraction(image, c, r0, r1, [](const QColor &colour) { return colour.lightness() < 180; });
 }
 
 World twoMarbles()
