@@ -46,6 +46,11 @@ private:
     MarbleState m_before;
     MarbleState m_after;
     std::optional<CommandId> m_mergeId;
+    // The scene's scripted pushes before and after the move (filled on the first redo), so
+    // that undo puts the click points back bit for bit.
+    bool m_pushesKept = false;
+    std::vector<Push> m_pushesBefore;
+    std::vector<Push> m_pushesAfter;
 };
 
 /// Adds a marble at the end of the scene order.

@@ -53,6 +53,7 @@ private Q_SLOTS:
     void paramEditsMergeAndInvalidIsRefused();
     void heldMarbleStaysStill();
     void dropOntoMarbleFindsFreeSpot();
+    void scriptedPushesMoveWithTheirMarble();
     void dropWithNoRoomIsRefused();
     void nonFiniteStateStopsWithMessage();
     void saveThenOpenRoundTrips();
@@ -246,6 +247,45 @@ void TestSceneDocument::dropOntoMarbleFindsFreeSpot()
     QCOMPARE_GE(d, w.radius[1] + w.radius[2]);
     QCOMPARE_LE(d, w.radius[1] + w.radius[2] + 2.5);
     QCOMPARE(doc.undoStack()->count(), 1);
+}
+
+void TestSceneDocument::scriptedPushesMoveWithTheirMarble()
+{
+    // The four-marbles preset pushes marble 0 at frame 0 from a click beside it. Moved before
+    // the run, marble 0 must get the same push (same offset from its centre), not one from afar.
+    const World original = preset("four-marbles");
+    int scripted = -1;
+    for (std::size_t k = 0; k < original.pushes.size(); ++k)
+        if (original.pushes[k].marble == 0 && original.pushes[k].frame == 0)
+            scripted = static_cast<int>(k);
+    QVERIFY(scripted >= 0);
+    SceneDocument doc;
+    doc.resetScene(original);
+    const Vec2 start = original.position[0];
+    const Vec2 target{start.x + 8.0, start.y + 150.0};
+    QVERIFY(isFreeSpot(doc.world(), target, original.radius[0], BodyKind::Marble, 0));
+    doc.beginHold(0);
+    doc.moveHeld(target);
+    QVERIFY(doc.endHold(target).isEmpty());
+    const Push moved = doc.world().pushes[static_cast<std::size_t>(scripted)];
+    const Push before = original.pushes[static_cast<std::size_t>(scripted)];
+    QCOMPARE(moved.at.x - target.x, before.at.x - start.x);
+    QCOMPARE(moved.at.y - target.y, before.at.y - start.y);
+
+    // One frame on, the moved marble has the velocity the original one gets.
+    World reference = original;
+    reference.step();
+    doc.advance(1);
+    QCOMPARE_LE(std::abs(doc.world().velocity[0].x - reference.velocity[0].x), 1e-12);
+    QCOMPARE_LE(std::abs(doc.world().velocity[0].y - reference.velocity[0].y), 1e-12);
+
+    // Undo puts the marble and its clicks back exactly.
+    doc.rewind();
+    doc.undoStack()->undo();
+    QVERIFY(doc.world().pushes == original.pushes);
+    QCOMPARE(doc.world().position[0], start);
+    doc.undoStack()->redo();
+    QVERIFY(doc.world().pushes[static_cast<std::size_t>(scripted)] == moved);
 }
 
 void TestSceneDocument::dropWithNoRoomIsRefused()
