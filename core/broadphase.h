@@ -26,6 +26,8 @@ public:
 
     /// Cell side, px.
     double cellSize() const { return m_cellSize; }
+    /// 1 / cellSize, px^-1 (coord(x) is floor(x * inverseCellSize()) before clamping).
+    double inverseCellSize() const { return m_invCellSize; }
     /// Buckets along x and y (each >= 3, so a 3 x 3 neighbourhood has 9 distinct buckets).
     int bucketsX() const { return m_nx; }
     int bucketsY() const { return m_ny; }

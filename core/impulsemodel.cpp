@@ -16,7 +16,152 @@ Vec2 unitOrZero(Vec2 u)
     return {u.x / len, u.y / len};
 }
 
+/// The bucket of the cell holding (x, y): the same as geometry.bucket(coord(x), coord(y)), with
+/// the common case (a cell on the unfolded lattice) done without 64-bit integers or division.
+int bucketAt(const GridGeometry &geometry, double x, double y)
+{
+    const double kx = std::floor(x * geometry.inverseCellSize());
+    const double ky = std::floor(y * geometry.inverseCellSize());
+    if (kx >= 0.0 && kx < geometry.bucketsX() && ky >= 0.0 && ky < geometry.bucketsY())
+        return static_cast<int>(kx) + static_cast<int>(ky) * geometry.bucketsX();
+    return geometry.bucket(geometry.coord(x), geometry.coord(y));
+}
+
+/// A run of consecutive slots [begin, end).
+struct SlotRange {
+    int begin;
+    int end;
+};
+
+/// The slots of the 3 x 3 buckets around bucket b, row by row, as at most 9 runs. Buckets that
+/// follow each other in a row (no fold at the lattice edge) are stored next to each other, so
+/// their runs merge into one per row.
+int neighbourRuns(const GridGeometry &geometry, const std::vector<int> &start, int b, SlotRange out[9])
+{
+    int buckets[9];
+    geometry.bucketNeighbourhood(b, buckets);
+    int count = 0;
+    for (int k = 0; k < 9; ++k) {
+        const int lo = start[buckets[k]];
+        const int hi = start[buckets[k] + 1];
+        if (k % 3 != 0 && buckets[k] == buckets[k - 1] + 1 && count > 0 && out[count - 1].end == lo)
+            out[count - 1].end = hi;
+        else if (lo < hi)
+            out[count++] = {lo, hi};
+    }
+    return count;
+}
+
 } // namespace
+
+void ImpulseModel::sortIntoBuckets(const World &world)
+{
+    // Counting sort, stable: each bucket lists its marbles in ascending scene order.
+    const int n = world.marbleCount();
+    const int buckets = m_geometry.bucketCount();
+    m_start.assign(static_cast<std::size_t>(buckets) + 1, 0);
+    m_bucketOf.resize(static_cast<std::size_t>(n));
+    m_slotOf.resize(static_cast<std::size_t>(n));
+    m_bodies.resize(static_cast<std::size_t>(n));
+    m_motions.resize(static_cast<std::size_t>(n));
+    const double inv = m_geometry.inverseCellSize();
+    const int nx = m_geometry.bucketsX();
+    const int ny = m_geometry.bucketsY();
+    for (int i = 0; i < n; ++i) {
+        const double x = world.position[i].x;
+        const double y = world.position[i].y;
+        const double kx = std::floor(x * inv);
+        const double ky = std::floor(y * inv);
+        int b;
+        if (kx >= 1.0 && kx < nx - 1 && ky >= 1.0 && ky < ny - 1) {
+            // An interior cell of the unfolded lattice: coord() and bucket() would give this too.
+            b = static_cast<int>(kx) + static_cast<int>(ky) * nx;
+            m_bucketOf[i] = b;
+        } else {
+            b = bucketAt(m_geometry, x, y);
+            m_bucketOf[i] = -1 - b; // marks a neighbourhood that may fold
+        }
+        ++m_start[b + 1];
+    }
+    for (int b = 0; b < buckets; ++b)
+        m_start[b + 1] += m_start[b];
+    // Place with a running cursor per bucket (m_start shifted by one), then shift it back.
+    for (int i = 0; i < n; ++i) {
+        const int b = m_bucketOf[i];
+        const int slot = m_start[b >= 0 ? b : -1 - b]++;
+        m_slotOf[i] = slot;
+        m_bodies[slot] = {world.position[i].x, world.position[i].y, world.radius[i], i};
+        m_motions[slot] = {world.velocity[i].x, world.velocity[i].y, 1.0 / world.mass[i]};
+    }
+    for (int b = buckets; b > 0; --b)
+        m_start[b] = m_start[b - 1];
+    m_start[0] = 0;
+}
+
+void ImpulseModel::resolvePairs(World &world, double e, std::int64_t hitFrame)
+{
+    // Marble pairs, each once (j > i), in a fixed order: i ascending, then the 3 x 3 buckets
+    // row by row, then j ascending. Positions are corrected as we go.
+    const int n = world.marbleCount();
+    for (int i = 0; i < n; ++i) {
+        const int s = m_slotOf[i];
+        SlotRange runs[9];
+        int runCount = 3;
+        const int b = m_bucketOf[i];
+        if (b >= 0) {
+            // Interior: each row of three buckets is one run of slots.
+            const int nx = m_geometry.bucketsX();
+            runs[0] = {m_start[b - nx - 1], m_start[b - nx + 2]};
+            runs[1] = {m_start[b - 1], m_start[b + 2]};
+            runs[2] = {m_start[b + nx - 1], m_start[b + nx + 2]};
+        } else {
+            runCount = neighbourRuns(m_geometry, m_start, -1 - b, runs);
+        }
+        Body &bi = m_bodies[s];
+        Motion &mi = m_motions[s];
+        for (int run = 0; run < runCount; ++run) {
+            for (int t = runs[run].begin; t < runs[run].end; ++t) {
+                Body &bj = m_bodies[t];
+                const double reach = bi.r + bj.r;
+                const Vec2 d{bj.x - bi.x, bj.y - bi.y};
+                const double d2 = d.x * d.x + d.y * d.y;
+                // One branch for both tests (j > i, overlapping): most candidates fail one.
+                if (!((bj.id > i) & (d2 < reach * reach)))
+                    continue;
+                const double dist = std::sqrt(d2);
+                if (!(dist > 0.0))
+                    continue; // coincident centres: no normal to push along
+                Motion &mj = m_motions[t];
+                const Vec2 nrm{d.x / dist, d.y / dist};
+                const double wi = mi.invMass;
+                const double wj = mj.invMass;
+                const double approach = (mi.vx - mj.vx) * nrm.x + (mi.vy - mj.vy) * nrm.y;
+                if (approach > 0.0) {
+                    // The exact model's impulse: J = (1 + e) approach / (1/m_i + 1/m_j).
+                    const double impulse = (1.0 + e) * approach / (wi + wj);
+                    const Vec2 inI{mi.vx, mi.vy};
+                    const Vec2 inJ{mj.vx, mj.vy};
+                    mi.vx -= impulse * wi * nrm.x;
+                    mi.vy -= impulse * wi * nrm.y;
+                    mj.vx += impulse * wj * nrm.x;
+                    mj.vy += impulse * wj * nrm.y;
+                    world.lastHit[i] = {hitFrame, unitOrZero(inI), nrm, unitOrZero({mi.vx, mi.vy})};
+                    world.lastHit[bj.id] = {hitFrame, unitOrZero(inJ), {-nrm.x, -nrm.y},
+                                            unitOrZero({mj.vx, mj.vy})};
+                }
+                // Positional correction: separate to touching, in inverse-mass proportion,
+                // which leaves the centre of mass where it was.
+                const double overlap = reach - dist;
+                const double si = overlap * wi / (wi + wj);
+                const double sj = overlap * wj / (wi + wj);
+                bi.x -= nrm.x * si;
+                bi.y -= nrm.y * si;
+                bj.x += nrm.x * sj;
+                bj.y += nrm.y * sj;
+            }
+        }
+    }
+}
 
 void ImpulseModel::step(World &world)
 {
@@ -52,8 +197,9 @@ void ImpulseModel::step(World &world)
     double rMax = 0.0;
     for (int i = 0; i < n; ++i)
         rMax = std::max(rMax, world.radius[i]);
-    const GridGeometry geometry = GridGeometry::fit(2.0 * rMax, stage.width, stage.height, n + pinCount);
-    m_pinGrid.build(geometry, world.pins.data(), pinCount);
+    m_geometry = GridGeometry::fit(2.0 * rMax, stage.width, stage.height, n + pinCount);
+    if (pinCount > 0)
+        m_pinGrid.build(m_geometry, world.pins.data(), pinCount);
 
     for (int s = 0; s < substeps; ++s) {
         // Semi-implicit Euler: the new velocity moves the marble.
@@ -64,65 +210,22 @@ void ImpulseModel::step(World &world)
             p[i].y += v[i].y * h;
         }
 
-        // Marble pairs, each once (j > i), in a fixed order: i ascending, then the 3 x 3
-        // buckets row by row, then j ascending. Positions are corrected as we go.
-        m_marbleGrid.build(geometry, p.data(), n);
-        for (int i = 0; i < n; ++i) {
-            int buckets[9];
-            geometry.neighbourhood(m_marbleGrid.cellX(i), m_marbleGrid.cellY(i), buckets);
-            for (int b : buckets) {
-                for (int it = m_marbleGrid.begin(b); it < m_marbleGrid.end(b); ++it) {
-                    const int j = m_marbleGrid.items()[it];
-                    if (j <= i)
-                        continue;
-                    const double reach = world.radius[i] + world.radius[j];
-                    const Vec2 d{p[j].x - p[i].x, p[j].y - p[i].y};
-                    const double d2 = d.x * d.x + d.y * d.y;
-                    if (!(d2 < reach * reach))
-                        continue;
-                    const double dist = std::sqrt(d2);
-                    if (!(dist > 0.0))
-                        continue; // coincident centres: no normal to push along
-                    const Vec2 nrm{d.x / dist, d.y / dist};
-                    const double wi = 1.0 / world.mass[i];
-                    const double wj = 1.0 / world.mass[j];
-                    const double approach = (v[i].x - v[j].x) * nrm.x + (v[i].y - v[j].y) * nrm.y;
-                    if (approach > 0.0) {
-                        // The exact model's impulse: J = (1 + e) approach / (1/m_i + 1/m_j).
-                        const double impulse = (1.0 + e) * approach / (wi + wj);
-                        const Vec2 inI = v[i];
-                        const Vec2 inJ = v[j];
-                        v[i].x -= impulse * wi * nrm.x;
-                        v[i].y -= impulse * wi * nrm.y;
-                        v[j].x += impulse * wj * nrm.x;
-                        v[j].y += impulse * wj * nrm.y;
-                        world.lastHit[i] = {hitFrame, unitOrZero(inI), nrm, unitOrZero(v[i])};
-                        world.lastHit[j] = {hitFrame, unitOrZero(inJ), {-nrm.x, -nrm.y}, unitOrZero(v[j])};
-                    }
-                    // Positional correction: separate to touching, in inverse-mass proportion,
-                    // which leaves the centre of mass where it was.
-                    const double overlap = reach - dist;
-                    const double si = overlap * wi / (wi + wj);
-                    const double sj = overlap * wj / (wi + wj);
-                    p[i].x -= nrm.x * si;
-                    p[i].y -= nrm.y * si;
-                    p[j].x += nrm.x * sj;
-                    p[j].y += nrm.y * sj;
-                }
-            }
-        }
+        sortIntoBuckets(world);
+        resolvePairs(world, e, hitFrame);
 
-        // Pins: immovable points; the marble is moved out to touching and reflected if approaching.
-        if (pinCount > 0) {
-            for (int i = 0; i < n; ++i) {
+        // Pins and walls act on each marble alone, so they run in bucket order.
+        for (int slot = 0; slot < n; ++slot) {
+            Body &b = m_bodies[slot];
+            Motion &m = m_motions[slot];
+            const double r = b.r;
+            // Pins: immovable points; the marble is moved out to touching and reflected if approaching.
+            if (pinCount > 0) {
                 int buckets[9];
-                geometry.neighbourhood(geometry.coord(p[i].x), geometry.coord(p[i].y), buckets);
-                for (int b : buckets) {
-                    for (int it = m_pinGrid.begin(b); it < m_pinGrid.end(b); ++it) {
-                        const int pin = m_pinGrid.items()[it];
-                        const Vec2 q = world.pins[pin];
-                        const double r = world.radius[i];
-                        const Vec2 d{q.x - p[i].x, q.y - p[i].y};
+                m_geometry.neighbourhood(m_geometry.coord(b.x), m_geometry.coord(b.y), buckets);
+                for (int bucket : buckets) {
+                    for (int it = m_pinGrid.begin(bucket); it < m_pinGrid.end(bucket); ++it) {
+                        const Vec2 q = world.pins[m_pinGrid.items()[it]];
+                        const Vec2 d{q.x - b.x, q.y - b.y};
                         const double d2 = d.x * d.x + d.y * d.y;
                         if (!(d2 < r * r))
                             continue;
@@ -130,55 +233,54 @@ void ImpulseModel::step(World &world)
                         if (!(dist > 0.0))
                             continue;
                         const Vec2 nrm{d.x / dist, d.y / dist};
-                        const double approach = v[i].x * nrm.x + v[i].y * nrm.y;
+                        const double approach = m.vx * nrm.x + m.vy * nrm.y;
                         if (approach > 0.0) {
-                            const Vec2 in = v[i];
-                            v[i].x -= (1.0 + e) * approach * nrm.x;
-                            v[i].y -= (1.0 + e) * approach * nrm.y;
-                            world.lastHit[i] = {hitFrame, unitOrZero(in), nrm, unitOrZero(v[i])};
+                            const Vec2 in{m.vx, m.vy};
+                            m.vx -= (1.0 + e) * approach * nrm.x;
+                            m.vy -= (1.0 + e) * approach * nrm.y;
+                            world.lastHit[b.id] = {hitFrame, unitOrZero(in), nrm, unitOrZero({m.vx, m.vy})};
                         }
-                        p[i].x -= nrm.x * (r - dist);
-                        p[i].y -= nrm.y * (r - dist);
+                        b.x -= nrm.x * (r - dist);
+                        b.y -= nrm.y * (r - dist);
                     }
                 }
             }
-        }
 
-        // Walls: clamp inside, and reflect the normal component with e when moving outward.
-        if (stage.walls) {
-            for (int i = 0; i < n; ++i) {
-                const double r = world.radius[i];
-                const Vec2 in = v[i];
+            // Walls: clamp inside, and reflect the normal component with e when moving outward.
+            if (stage.walls) {
+                const Vec2 in{m.vx, m.vy};
                 Vec2 nrm{};
-                if (p[i].x - r < 0.0) {
-                    p[i].x = r;
-                    if (v[i].x < 0.0) {
-                        v[i].x = -e * v[i].x;
+                if (b.x - r < 0.0) {
+                    b.x = r;
+                    if (m.vx < 0.0) {
+                        m.vx = -e * m.vx;
                         nrm = {-1.0, 0.0};
                     }
-                } else if (p[i].x + r > stage.width) {
-                    p[i].x = stage.width - r;
-                    if (v[i].x > 0.0) {
-                        v[i].x = -e * v[i].x;
+                } else if (b.x + r > stage.width) {
+                    b.x = stage.width - r;
+                    if (m.vx > 0.0) {
+                        m.vx = -e * m.vx;
                         nrm = {1.0, 0.0};
                     }
                 }
-                if (p[i].y - r < 0.0) {
-                    p[i].y = r;
-                    if (v[i].y < 0.0) {
-                        v[i].y = -e * v[i].y;
+                if (b.y - r < 0.0) {
+                    b.y = r;
+                    if (m.vy < 0.0) {
+                        m.vy = -e * m.vy;
                         nrm = {0.0, -1.0};
                     }
-                } else if (p[i].y + r > stage.height) {
-                    p[i].y = stage.height - r;
-                    if (v[i].y > 0.0) {
-                        v[i].y = -e * v[i].y;
+                } else if (b.y + r > stage.height) {
+                    b.y = stage.height - r;
+                    if (m.vy > 0.0) {
+                        m.vy = -e * m.vy;
                         nrm = {0.0, 1.0};
                     }
                 }
                 if (nrm.x != 0.0 || nrm.y != 0.0)
-                    world.lastHit[i] = {hitFrame, unitOrZero(in), nrm, unitOrZero(v[i])};
+                    world.lastHit[b.id] = {hitFrame, unitOrZero(in), nrm, unitOrZero({m.vx, m.vy})};
             }
+            p[b.id] = {b.x, b.y};
+            v[b.id] = {m.vx, m.vy};
         }
     }
 

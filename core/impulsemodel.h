@@ -3,6 +3,9 @@
 #include "core/broadphase.h"
 #include "core/world.h"
 
+#include <cstdint>
+#include <vector>
+
 namespace marbles {
 
 /// The "impulse" model of PHYSICS.md, what games do: fixed sub-steps of h = 1/substeps frame,
@@ -10,6 +13,12 @@ namespace marbles {
 /// position), followed by one pass that finds overlaps on a uniform grid and resolves each with
 /// the exact model's momentum-conserving impulse plus a positional correction.
 /// Its error against the exact model shrinks in proportion to h (first order).
+///
+/// Pairs are resolved one after another (each sees the corrections of the ones before), in a
+/// fixed order: marble i ascending, then the 3 x 3 buckets around i row by row, then j
+/// ascending. For speed, each sub-step copies the marbles into bucket order (a counting sort),
+/// so that the candidates of a neighbourhood row lie side by side in memory; the order in which
+/// pairs are resolved, and so every result bit, does not depend on that copy.
 class ImpulseModel final : public Stepper {
 public:
     /// Advances `world` one frame. Consumes pending pushes as an instant velocity change;
@@ -17,8 +26,30 @@ public:
     void step(World &world) override;
 
 private:
-    UniformGrid m_marbleGrid; // rebuilt every sub-step; buffers reused
-    UniformGrid m_pinGrid;    // rebuilt every frame
+    /// A marble's shape and place, in bucket order (what the distance test reads).
+    struct Body {
+        double x;
+        double y;
+        double r;
+        int id; ///< index in the world (scene order)
+    };
+    /// A marble's velocity and inverse mass, in bucket order (read only for overlapping pairs).
+    struct Motion {
+        double vx;
+        double vy;
+        double invMass;
+    };
+
+    void sortIntoBuckets(const World &world);
+    void resolvePairs(World &world, double e, std::int64_t hitFrame);
+
+    GridGeometry m_geometry;
+    UniformGrid m_pinGrid;          // rebuilt every frame
+    std::vector<int> m_bucketOf;    // per marble (scene order): its bucket this sub-step
+    std::vector<int> m_slotOf;      // per marble: its place in m_bodies / m_motions
+    std::vector<int> m_start;       // per bucket: first slot; m_start[bucketCount] = n
+    std::vector<Body> m_bodies;     // per slot
+    std::vector<Motion> m_motions;  // per slot
 };
 
 } // namespace marbles
