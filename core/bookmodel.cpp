@@ -18,12 +18,34 @@ bool isNegativeZero(double x)
     return x == 0.0 && std::signbit(x);
 }
 
+// Same bits (so +0 and -0 differ, and a NaN equals itself): the grid's copy of a position is
+// valid only when it is the position.
+bool sameBits(Vec2 a, Vec2 b)
+{
+    return std::bit_cast<std::uint64_t>(a.x) == std::bit_cast<std::uint64_t>(b.x)
+        && std::bit_cast<std::uint64_t>(a.y) == std::bit_cast<std::uint64_t>(b.y);
+}
+
 // True when sqrt(d2) >= reach is certain: d2 > 1.0000001 reach^2 means d > reach (1 + 4e-8),
 // far beyond rounding. Only used while reach^2 is a normal number (no underflow).
 bool isClearMiss(double d2, double reach)
 {
     const double reach2 = reach * reach;
     return reach2 > 1e-290 && d2 > 1.0000001 * reach2;
+}
+
+// Hit test exactly as the book: sqrt(dx^2 + dy^2) < r_i + r_j. The squared distance first rules
+// out clear misses (d^2 > 1.0000001 R^2 implies d > R even after rounding), which skips the square
+// root without changing any result.
+bool touches(Vec2 p, double r, Vec2 q, double rq)
+{
+    const double reach = r + rq;
+    const double dx = p.x - q.x;
+    const double dy = p.y - q.y;
+    const double d2 = dx * dx + dy * dy;
+    if (isClearMiss(d2, reach))
+        return false;
+    return std::sqrt(d2) < reach;
 }
 
 // Insertion sort: candidate lists hold a handful of indices, where it beats std::sort.
@@ -256,18 +278,6 @@ void BookModel::step(World &world)
         // 7. Other marbles, in scene order: closer than the sum of the radii is a hit.
         //    Marbles before i have already moved this frame, marbles after i have not.
         if (!(hit && shortCircuit)) {
-            auto touches = [&](int j) {
-                // Hit test exactly as the book: sqrt(dx^2 + dy^2) < r_i + r_j. The squared
-                // distance first rules out clear misses (d^2 > 1.0000001 R^2 implies d > R even
-                // after rounding), which skips the square root without changing any result.
-                const double reach = r + world.radius[j];
-                const double dx = p.x - pos[j].x;
-                const double dy = p.y - pos[j].y;
-                const double d2 = dx * dx + dy * dy;
-                if (isClearMiss(d2, reach))
-                    return false;
-                return std::sqrt(d2) < reach;
-            };
             auto collide = [&](int j) {
                 p = old;
                 hit = true;
@@ -279,40 +289,43 @@ void BookModel::step(World &world)
             };
             if (!m_useMarbleGrid) {
                 for (int j = 0; j < n; ++j) {
-                    if (j != i && touches(j)) {
+                    if (j != i && touches(p, r, pos[j], world.radius[j])) {
                         collide(j);
                         if (shortCircuit)
                             break;
                     }
                 }
             } else {
-                // Candidates around where the tests start. After the first hit the marble is
-                // back at `old`: partners near `old` that come later in scene order join the
-                // remaining list, which is kept sorted, so the order is the all-pairs order.
-                m_candidates.clear();
-                m_marbleGrid.gather(i, p, m_candidates);
-                sortSmall(m_candidates.begin(), m_candidates.end());
-                bool widened = p == old;
-                for (std::size_t c = 0; c < m_candidates.size(); ++c) {
-                    const int j = m_candidates[c];
-                    if (!touches(j))
-                        continue;
+                // Which marbles the all-pairs loop hits, without walking all pairs. A hit test
+                // depends on positions only, and a hit changes velocities only, so:
+                // - until its first hit, marble i is tested at p: the first hit is the smallest
+                //   j touching p;
+                // - from then on it is tested at old (p = old at every hit): the later hits are
+                //   every j > first touching old, in ascending order.
+                // (When a wall or pin has already put it back, p = old throughout.) The grid lists
+                // every marble that can touch a point, so these are exactly the all-pairs hits.
+                auto touchersOf = [&](Vec2 at, int after) {
+                    m_hits.clear();
+                    m_marbleGrid.forEachNear(at, [&](int j) {
+                        const Body &b = m_bodies[static_cast<std::size_t>(j)];
+                        if (j > after && j != i && touches(at, r, b.p, b.r))
+                            m_hits.push_back(j);
+                    });
+                    sortSmall(m_hits.begin(), m_hits.end());
+                };
+                touchersOf(p, -1);
+                if (!m_hits.empty() && !(p == old)) {
+                    const int first = m_hits.front();
+                    collide(first);
+                    if (shortCircuit)
+                        m_hits.clear();
+                    else
+                        touchersOf(old, first);
+                }
+                for (int j : m_hits) {
                     collide(j);
                     if (shortCircuit)
                         break;
-                    if (!widened) {
-                        widened = true;
-                        m_widened.clear();
-                        m_marbleGrid.gather(i, old, m_widened);
-                        // Iterators are taken afresh for each k: push_back may reallocate.
-                        const auto tail = static_cast<std::ptrdiff_t>(c) + 1;
-                        const auto keep = static_cast<std::ptrdiff_t>(m_candidates.size());
-                        for (int k : m_widened) {
-                            if (k > j && !std::binary_search(m_candidates.begin() + tail, m_candidates.begin() + keep, k))
-                                m_candidates.push_back(k);
-                        }
-                        sortSmall(m_candidates.begin() + static_cast<std::ptrdiff_t>(c) + 1, m_candidates.end());
-                    }
                 }
             }
         }
@@ -321,13 +334,10 @@ void BookModel::step(World &world)
         a.x = 0;
         a.y = 0;
 
-        if (m_useMarbleGrid)
+        if (m_useMarbleGrid && !sameBits(p, m_bodies[static_cast<std::size_t>(i)].p)) {
+            m_bodies[static_cast<std::size_t>(i)].p = p;
             m_marbleGrid.update(i, p);
-    }
-
-    if (m_useMarbleGrid) {
-        m_gridPositions = pos;
-        m_gridRadii = world.radius;
+        }
     }
 }
 
@@ -364,9 +374,17 @@ void BookModel::prepare(const World &world)
     if (m_useMarbleGrid) {
         // The marble grid is a cache kept from the last frame. It is still valid only if no
         // marble moved or changed since (an edit, an undo or a jump back in time rebuilds it).
-        if (m_marbleGrid.size() != n || m_gridPositions != world.position || m_gridRadii != world.radius) {
+        bool valid = m_marbleGrid.size() == n && m_bodies.size() == static_cast<std::size_t>(n);
+        for (std::size_t i = 0; valid && i < m_bodies.size(); ++i) {
+            valid = sameBits(m_bodies[i].p, world.position[i])
+                && std::bit_cast<std::uint64_t>(m_bodies[i].r) == std::bit_cast<std::uint64_t>(world.radius[i]);
+        }
+        if (!valid) {
             m_marbleGrid.build(GridGeometry::fit(contact, world.stage.width, world.stage.height, n),
                                world.position.data(), n);
+            m_bodies.resize(static_cast<std::size_t>(n));
+            for (std::size_t i = 0; i < m_bodies.size(); ++i)
+                m_bodies[i] = {world.position[i], world.radius[i], 0.0};
         }
     }
 }
@@ -463,43 +481,6 @@ void MovingGrid::update(int i, Vec2 to)
     remove(i, current);
     insert(i, b);
     current = b;
-}
-
-void MovingGrid::gather(int self, Vec2 at, std::vector<int> &out) const
-{
-    auto take = [&](int b) {
-        const Bucket &bucket = m_buckets[static_cast<std::size_t>(b)];
-        const int inlineCount = std::min(bucket.count, inlineCapacity);
-        for (int k = 0; k < inlineCount; ++k) {
-            if (bucket.items[k] != self)
-                out.push_back(bucket.items[k]);
-        }
-        if (bucket.count > inlineCapacity) {
-            for (int j : m_overflow[static_cast<std::size_t>(b)]) {
-                if (j != self)
-                    out.push_back(j);
-            }
-        }
-    };
-    // The 9 buckets of a neighbourhood are distinct (the lattice has >= 3 buckets a side), so
-    // every body is listed once. Inside the lattice (the common case) the neighbourhood is
-    // three runs of three adjacent buckets and needs no wrap-around arithmetic.
-    const std::int64_t kx = m_geometry.coord(at.x);
-    const std::int64_t ky = m_geometry.coord(at.y);
-    const int nx = m_geometry.bucketsX();
-    if (kx >= 1 && ky >= 1 && kx < nx - 1 && ky < m_geometry.bucketsY() - 1) {
-        const int centre = static_cast<int>(kx + ky * nx);
-        for (int row : {centre - nx, centre, centre + nx}) {
-            take(row - 1);
-            take(row);
-            take(row + 1);
-        }
-        return;
-    }
-    int buckets[9];
-    m_geometry.neighbourhood(kx, ky, buckets);
-    for (int b : buckets)
-        take(b);
 }
 
 } // namespace marbles

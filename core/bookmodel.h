@@ -21,9 +21,10 @@ public:
     int size() const { return static_cast<int>(m_bucketOf.size()); }
     /// Moves body i to the bucket of `to` (no-op when the bucket is unchanged).
     void update(int i, Vec2 to);
-    /// Appends to `out` every body except `self` in the 3 x 3 cells around `at`, each once,
-    /// in no particular order.
-    void gather(int self, Vec2 at, std::vector<int> &out) const;
+    /// Calls `visit(j)` for every body j (self included) in the 3 x 3 cells around `at`, each
+    /// once, in no particular order. `visit` must not move bodies.
+    template<typename Visit>
+    void forEachNear(Vec2 at, Visit &&visit) const;
 
 private:
     static constexpr int inlineCapacity = 7;
@@ -35,12 +36,51 @@ private:
     int bucketOf(Vec2 p) const;
     void insert(int i, int b);
     void remove(int i, int b);
+    template<typename Visit>
+    void forEachIn(int b, Visit &visit) const;
 
     GridGeometry m_geometry;
     std::vector<Bucket> m_buckets;
     std::vector<std::vector<int>> m_overflow; // bodies past the inline capacity, per bucket
     std::vector<int> m_bucketOf;              // bucket of each body
 };
+
+template<typename Visit>
+void MovingGrid::forEachIn(int b, Visit &visit) const
+{
+    const Bucket &bucket = m_buckets[static_cast<std::size_t>(b)];
+    const int inlineCount = bucket.count < inlineCapacity ? bucket.count : inlineCapacity;
+    for (int k = 0; k < inlineCount; ++k)
+        visit(bucket.items[k]);
+    if (bucket.count > inlineCapacity) {
+        for (int j : m_overflow[static_cast<std::size_t>(b)])
+            visit(j);
+    }
+}
+
+template<typename Visit>
+void MovingGrid::forEachNear(Vec2 at, Visit &&visit) const
+{
+    // The 9 buckets of a neighbourhood are distinct (the lattice has >= 3 buckets a side), so
+    // every body is visited once. Inside the lattice (the common case) the neighbourhood is
+    // three runs of three adjacent buckets and needs no wrap-around arithmetic.
+    const std::int64_t kx = m_geometry.coord(at.x);
+    const std::int64_t ky = m_geometry.coord(at.y);
+    const int nx = m_geometry.bucketsX();
+    if (kx >= 1 && ky >= 1 && kx < nx - 1 && ky < m_geometry.bucketsY() - 1) {
+        const int centre = static_cast<int>(kx + ky * nx);
+        for (int row : {centre - nx, centre, centre + nx}) {
+            forEachIn(row - 1, visit);
+            forEachIn(row, visit);
+            forEachIn(row + 1, visit);
+        }
+        return;
+    }
+    int buckets[9];
+    m_geometry.neighbourhood(kx, ky, buckets);
+    for (int b : buckets)
+        forEachIn(b, visit);
+}
 
 /// The chapter's updateMarbles(), verbatim (PHYSICS.md, model "book"): one explicit update per
 /// frame, marbles processed in scene order and in place, with the book's arithmetic, flaws included.
@@ -69,11 +109,17 @@ private:
     bool m_usePinGrid = false;
     MovingGrid m_marbleGrid;
     UniformGrid m_pinGrid;
-    std::vector<Vec2> m_gridPositions; // positions the marble grid was left with
-    std::vector<double> m_gridRadii;
-    std::vector<int> m_allPins;    // 0..pins-1
+    // What the marble tests read of each marble, packed in one cache line's half: the position
+    // the grid holds it at (kept equal to the world's, bit for bit) and the radius.
+    struct alignas(32) Body {
+        Vec2 p;
+        double r;
+        double unused;
+    };
+    std::vector<Body> m_bodies;
+    std::vector<int> m_allPins; // 0..pins-1
     std::vector<int> m_candidates;
-    std::vector<int> m_widened;
+    std::vector<int> m_hits;
     std::vector<std::uint64_t> m_pinMark;
     std::uint64_t m_stamp = 0;
 };
