@@ -33,23 +33,16 @@ struct SlotRange {
     int end;
 };
 
-/// The slots of the 3 x 3 buckets around bucket b, row by row, as at most 9 runs. Buckets that
-/// follow each other in a row (no fold at the lattice edge) are stored next to each other, so
-/// their runs merge into one per row.
-int neighbourRuns(const GridGeometry &geometry, const std::vector<int> &start, int b, SlotRange out[9])
+/// Appends the slots of buckets `first`, then `first + 1`, ... as runs, merging a run with the
+/// one before when their slots follow each other.
+void appendRun(SlotRange out[], int &count, int lo, int hi)
 {
-    int buckets[9];
-    geometry.bucketNeighbourhood(b, buckets);
-    int count = 0;
-    for (int k = 0; k < 9; ++k) {
-        const int lo = start[buckets[k]];
-        const int hi = start[buckets[k] + 1];
-        if (k % 3 != 0 && buckets[k] == buckets[k - 1] + 1 && count > 0 && out[count - 1].end == lo)
-            out[count - 1].end = hi;
-        else if (lo < hi)
-            out[count++] = {lo, hi};
-    }
-    return count;
+    if (lo >= hi)
+        return;
+    if (count > 0 && out[count - 1].end == lo)
+        out[count - 1].end = hi;
+    else
+        out[count++] = {lo, hi};
 }
 
 } // namespace
@@ -61,35 +54,18 @@ void ImpulseModel::sortIntoBuckets(const World &world)
     const int buckets = m_geometry.bucketCount();
     m_start.assign(static_cast<std::size_t>(buckets) + 1, 0);
     m_bucketOf.resize(static_cast<std::size_t>(n));
-    m_slotOf.resize(static_cast<std::size_t>(n));
     m_bodies.resize(static_cast<std::size_t>(n));
     m_motions.resize(static_cast<std::size_t>(n));
-    const double inv = m_geometry.inverseCellSize();
-    const int nx = m_geometry.bucketsX();
-    const int ny = m_geometry.bucketsY();
     for (int i = 0; i < n; ++i) {
-        const double x = world.position[i].x;
-        const double y = world.position[i].y;
-        const double kx = std::floor(x * inv);
-        const double ky = std::floor(y * inv);
-        int b;
-        if (kx >= 1.0 && kx < nx - 1 && ky >= 1.0 && ky < ny - 1) {
-            // An interior cell of the unfolded lattice: coord() and bucket() would give this too.
-            b = static_cast<int>(kx) + static_cast<int>(ky) * nx;
-            m_bucketOf[i] = b;
-        } else {
-            b = bucketAt(m_geometry, x, y);
-            m_bucketOf[i] = -1 - b; // marks a neighbourhood that may fold
-        }
+        const int b = bucketAt(m_geometry, world.position[i].x, world.position[i].y);
+        m_bucketOf[i] = b;
         ++m_start[b + 1];
     }
     for (int b = 0; b < buckets; ++b)
         m_start[b + 1] += m_start[b];
     // Place with a running cursor per bucket (m_start shifted by one), then shift it back.
     for (int i = 0; i < n; ++i) {
-        const int b = m_bucketOf[i];
-        const int slot = m_start[b >= 0 ? b : -1 - b]++;
-        m_slotOf[i] = slot;
+        const int slot = m_start[m_bucketOf[i]]++;
         m_bodies[slot] = {world.position[i].x, world.position[i].y, world.radius[i], i};
         m_motions[slot] = {world.velocity[i].x, world.velocity[i].y, 1.0 / world.mass[i]};
     }
@@ -100,64 +76,83 @@ void ImpulseModel::sortIntoBuckets(const World &world)
 
 void ImpulseModel::resolvePairs(World &world, double e, std::int64_t hitFrame)
 {
-    // Marble pairs, each once (j > i), in a fixed order: i ascending, then the 3 x 3 buckets
-    // row by row, then j ascending. Positions are corrected as we go.
-    const int n = world.marbleCount();
-    for (int i = 0; i < n; ++i) {
-        const int s = m_slotOf[i];
-        SlotRange runs[9];
-        int runCount = 3;
-        const int b = m_bucketOf[i];
-        if (b >= 0) {
-            // Interior: each row of three buckets is one run of slots.
-            const int nx = m_geometry.bucketsX();
-            runs[0] = {m_start[b - nx - 1], m_start[b - nx + 2]};
-            runs[1] = {m_start[b - 1], m_start[b + 2]};
-            runs[2] = {m_start[b + nx - 1], m_start[b + nx + 2]};
-        } else {
-            runCount = neighbourRuns(m_geometry, m_start, -1 - b, runs);
-        }
-        Body &bi = m_bodies[s];
-        Motion &mi = m_motions[s];
-        for (int run = 0; run < runCount; ++run) {
-            for (int t = runs[run].begin; t < runs[run].end; ++t) {
-                Body &bj = m_bodies[t];
-                const double reach = bi.r + bj.r;
-                const Vec2 d{bj.x - bi.x, bj.y - bi.y};
-                const double d2 = d.x * d.x + d.y * d.y;
-                // One branch for both tests (j > i, overlapping): most candidates fail one.
-                if (!((bj.id > i) & (d2 < reach * reach)))
-                    continue;
-                const double dist = std::sqrt(d2);
-                if (!(dist > 0.0))
-                    continue; // coincident centres: no normal to push along
-                Motion &mj = m_motions[t];
-                const Vec2 nrm{d.x / dist, d.y / dist};
-                const double wi = mi.invMass;
-                const double wj = mj.invMass;
-                const double approach = (mi.vx - mj.vx) * nrm.x + (mi.vy - mj.vy) * nrm.y;
-                if (approach > 0.0) {
-                    // The exact model's impulse: J = (1 + e) approach / (1/m_i + 1/m_j).
-                    const double impulse = (1.0 + e) * approach / (wi + wj);
-                    const Vec2 inI{mi.vx, mi.vy};
-                    const Vec2 inJ{mj.vx, mj.vy};
-                    mi.vx -= impulse * wi * nrm.x;
-                    mi.vy -= impulse * wi * nrm.y;
-                    mj.vx += impulse * wj * nrm.x;
-                    mj.vy += impulse * wj * nrm.y;
-                    world.lastHit[i] = {hitFrame, unitOrZero(inI), nrm, unitOrZero({mi.vx, mi.vy})};
-                    world.lastHit[bj.id] = {hitFrame, unitOrZero(inJ), {-nrm.x, -nrm.y},
-                                            unitOrZero({mj.vx, mj.vy})};
+    // Marble pairs, each once, in a fixed order: buckets in row-major order; in a bucket its
+    // marbles in scene order, each paired with the marbles after it in the same bucket, then
+    // with the forward half of its neighbourhood: the bucket to the right, then the three
+    // below (left to right). Each pair of neighbouring buckets is thus visited from one side
+    // only (a lattice of at least 3 x 3 buckets has no bucket that is both ahead and behind).
+    // Positions are corrected as we go, so later pairs see earlier corrections.
+    const int nx = m_geometry.bucketsX();
+    const int ny = m_geometry.bucketsY();
+    for (int by = 0; by < ny; ++by) {
+        const int below = (by + 1 < ny ? by + 1 : 0) * nx; // folded: the last row's next is row 0
+        for (int bx = 0; bx < nx; ++bx) {
+            const int b = bx + by * nx;
+            const int lo = m_start[b];
+            const int hi = m_start[b + 1];
+            if (lo == hi)
+                continue;
+            // Slots after the marble in its own bucket, followed directly by the right-hand
+            // bucket when that is the next bucket in storage (no fold).
+            SlotRange runs[4];
+            int runCount = 0;
+            int sameEnd = hi;
+            if (bx + 1 < nx)
+                sameEnd = m_start[b + 2];
+            else
+                appendRun(runs, runCount, m_start[by * nx], m_start[by * nx + 1]);
+            if (bx >= 1 && bx + 1 < nx) {
+                appendRun(runs, runCount, m_start[below + bx - 1], m_start[below + bx + 2]);
+            } else {
+                const int xs[3] = {bx == 0 ? nx - 1 : bx - 1, bx, bx + 1 < nx ? bx + 1 : 0};
+                for (int x : xs)
+                    appendRun(runs, runCount, m_start[below + x], m_start[below + x + 1]);
+            }
+            for (int si = lo; si < hi; ++si) {
+                Body &bi = m_bodies[si];
+                Motion &mi = m_motions[si];
+                for (int run = -1; run < runCount; ++run) {
+                    const int first = run < 0 ? si + 1 : runs[run].begin;
+                    const int last = run < 0 ? sameEnd : runs[run].end;
+                    for (int t = first; t < last; ++t) {
+                        Body &bj = m_bodies[t];
+                        const double reach = bi.r + bj.r;
+                        const Vec2 d{bj.x - bi.x, bj.y - bi.y};
+                        const double d2 = d.x * d.x + d.y * d.y;
+                        if (!(d2 < reach * reach))
+                            continue;
+                        const double dist = std::sqrt(d2);
+                        if (!(dist > 0.0))
+                            continue; // coincident centres: no normal to push along
+                        Motion &mj = m_motions[t];
+                        const Vec2 nrm{d.x / dist, d.y / dist};
+                        const double wi = mi.invMass;
+                        const double wj = mj.invMass;
+                        const double approach = (mi.vx - mj.vx) * nrm.x + (mi.vy - mj.vy) * nrm.y;
+                        if (approach > 0.0) {
+                            // The exact model's impulse: J = (1 + e) approach / (1/m_i + 1/m_j).
+                            const double impulse = (1.0 + e) * approach / (wi + wj);
+                            const Vec2 inI{mi.vx, mi.vy};
+                            const Vec2 inJ{mj.vx, mj.vy};
+                            mi.vx -= impulse * wi * nrm.x;
+                            mi.vy -= impulse * wi * nrm.y;
+                            mj.vx += impulse * wj * nrm.x;
+                            mj.vy += impulse * wj * nrm.y;
+                            world.lastHit[bi.id] = {hitFrame, unitOrZero(inI), nrm, unitOrZero({mi.vx, mi.vy})};
+                            world.lastHit[bj.id] = {hitFrame, unitOrZero(inJ), {-nrm.x, -nrm.y},
+                                                    unitOrZero({mj.vx, mj.vy})};
+                        }
+                        // Positional correction: separate to touching, in inverse-mass proportion,
+                        // which leaves the centre of mass where it was.
+                        const double overlap = reach - dist;
+                        const double sI = overlap * wi / (wi + wj);
+                        const double sJ = overlap * wj / (wi + wj);
+                        bi.x -= nrm.x * sI;
+                        bi.y -= nrm.y * sI;
+                        bj.x += nrm.x * sJ;
+                        bj.y += nrm.y * sJ;
+                    }
                 }
-                // Positional correction: separate to touching, in inverse-mass proportion,
-                // which leaves the centre of mass where it was.
-                const double overlap = reach - dist;
-                const double si = overlap * wi / (wi + wj);
-                const double sj = overlap * wj / (wi + wj);
-                bi.x -= nrm.x * si;
-                bi.y -= nrm.y * si;
-                bj.x += nrm.x * sj;
-                bj.y += nrm.y * sj;
             }
         }
     }

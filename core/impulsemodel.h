@@ -14,11 +14,11 @@ namespace marbles {
 /// the exact model's momentum-conserving impulse plus a positional correction.
 /// Its error against the exact model shrinks in proportion to h (first order).
 ///
-/// Pairs are resolved one after another (each sees the corrections of the ones before), in a
-/// fixed order: marble i ascending, then the 3 x 3 buckets around i row by row, then j
-/// ascending. For speed, each sub-step copies the marbles into bucket order (a counting sort),
-/// so that the candidates of a neighbourhood row lie side by side in memory; the order in which
-/// pairs are resolved, and so every result bit, does not depend on that copy.
+/// Pairs are resolved one after another (each sees the corrections of the ones before). Each
+/// sub-step copies the marbles into bucket order (a stable counting sort), and pairs are taken
+/// in that order: bucket by bucket in row-major order, each marble with the later marbles of
+/// its bucket and then with the forward half of its neighbourhood. Neighbours are thus side by
+/// side in memory, and every candidate is examined once.
 class ImpulseModel final : public Stepper {
 public:
     /// Advances `world` one frame. Consumes pending pushes as an instant velocity change;
@@ -46,7 +46,6 @@ private:
     GridGeometry m_geometry;
     UniformGrid m_pinGrid;          // rebuilt every frame
     std::vector<int> m_bucketOf;    // per marble (scene order): its bucket this sub-step
-    std::vector<int> m_slotOf;      // per marble: its place in m_bodies / m_motions
     std::vector<int> m_start;       // per bucket: first slot; m_start[bucketCount] = n
     std::vector<Body> m_bodies;     // per slot
     std::vector<Motion> m_motions;  // per slot
