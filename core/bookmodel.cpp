@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <limits>
 #include <numeric>
 
 namespace marbles {
@@ -307,9 +308,20 @@ void BookModel::step(World &world)
                 auto touchersOf = [&](Vec2 at, int after) {
                     m_hits.clear();
                     m_marbleGrid.forEachNear(at, [&](int j) {
+                        // One well-predicted branch per candidate: the clear-miss test of
+                        // touches() evaluated without short-circuits. Only marble i itself, the
+                        // empty slots' record (at infinity, when `at` is too) and near
+                        // neighbours get past it.
                         const Body &b = m_bodies[static_cast<std::size_t>(j)];
-                        if (j > after && j != i && touches(at, r, b.p, b.r))
-                            m_hits.push_back(j);
+                        const double reach = r + b.r;
+                        const double dx = at.x - b.p.x;
+                        const double dy = at.y - b.p.y;
+                        const double d2 = dx * dx + dy * dy;
+                        const double reach2 = reach * reach;
+                        if (!(d2 > 1.0000001 * reach2) | !(reach2 > 1e-290)) [[unlikely]] {
+                            if (j > after && j != i && j < n && touches(at, r, b.p, b.r))
+                                m_hits.push_back(j);
+                        }
                     });
                     sortSmall(m_hits.begin(), m_hits.end());
                 };
@@ -374,17 +386,21 @@ void BookModel::prepare(const World &world)
     if (m_useMarbleGrid) {
         // The marble grid is a cache kept from the last frame. It is still valid only if no
         // marble moved or changed since (an edit, an undo or a jump back in time rebuilds it).
-        bool valid = m_marbleGrid.size() == n && m_bodies.size() == static_cast<std::size_t>(n);
-        for (std::size_t i = 0; valid && i < m_bodies.size(); ++i) {
+        bool valid = m_marbleGrid.size() == n && m_bodies.size() == static_cast<std::size_t>(n) + 1;
+        for (std::size_t i = 0; valid && i < static_cast<std::size_t>(n); ++i) {
             valid = sameBits(m_bodies[i].p, world.position[i])
                 && std::bit_cast<std::uint64_t>(m_bodies[i].r) == std::bit_cast<std::uint64_t>(world.radius[i]);
         }
         if (!valid) {
             m_marbleGrid.build(GridGeometry::fit(contact, world.stage.width, world.stage.height, n),
                                world.position.data(), n);
-            m_bodies.resize(static_cast<std::size_t>(n));
-            for (std::size_t i = 0; i < m_bodies.size(); ++i)
+            // One record past the end stands for the grid's empty slots: at infinity with no
+            // radius, every distance to it is infinite (or NaN), never a hit.
+            m_bodies.resize(static_cast<std::size_t>(n) + 1);
+            for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i)
                 m_bodies[i] = {world.position[i], world.radius[i], 0.0};
+            constexpr double far = std::numeric_limits<double>::infinity();
+            m_bodies.back() = {Vec2{far, far}, 0.0, 0.0};
         }
     }
 }
@@ -418,8 +434,11 @@ std::span<const int> BookModel::pinCandidates(Vec2 oldPosition, Vec2 newPosition
 void MovingGrid::build(const GridGeometry &geometry, const Vec2 *points, int count)
 {
     m_geometry = geometry;
+    m_invCellSize = 1.0 / geometry.cellSize();
     const auto buckets = static_cast<std::size_t>(geometry.bucketCount());
-    m_buckets.assign(buckets, Bucket{});
+    Bucket empty;
+    std::fill(std::begin(empty.items), std::end(empty.items), count);
+    m_buckets.assign(buckets, empty);
     if (m_overflow.size() != buckets)
         m_overflow.resize(buckets);
     for (std::vector<int> &spill : m_overflow)
@@ -434,7 +453,7 @@ void MovingGrid::build(const GridGeometry &geometry, const Vec2 *points, int cou
 
 int MovingGrid::bucketOf(Vec2 p) const
 {
-    return m_geometry.bucket(m_geometry.coord(p.x), m_geometry.coord(p.y));
+    return m_geometry.bucket(coord(p.x), coord(p.y));
 }
 
 void MovingGrid::insert(int i, int b)
@@ -470,6 +489,8 @@ void MovingGrid::remove(int i, int b)
     if (bucket.count > inlineCapacity)
         spill.pop_back();
     --bucket.count;
+    if (bucket.count < inlineCapacity)
+        bucket.items[bucket.count] = size(); // the slot is empty again
 }
 
 void MovingGrid::update(int i, Vec2 to)

@@ -3,6 +3,7 @@
 #include "core/broadphase.h"
 #include "core/world.h"
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -22,17 +23,23 @@ public:
     /// Moves body i to the bucket of `to` (no-op when the bucket is unchanged).
     void update(int i, Vec2 to);
     /// Calls `visit(j)` for every body j (self included) in the 3 x 3 cells around `at`, each
-    /// once, in no particular order. `visit` must not move bodies.
+    /// once, in no particular order; also calls `visit(size())` for some empty slots, which the
+    /// caller must treat as a sure miss. `visit` must not move bodies.
     template<typename Visit>
     void forEachNear(Vec2 at, Visit &&visit) const;
 
 private:
+    // A bucket is half a cache line. Its first `scannedSlots` slots are always read, empty ones
+    // holding the index size(): in the usual sparse grid this replaces a loop whose length
+    // changes from bucket to bucket (and defeats branch prediction) by straight-line code.
     static constexpr int inlineCapacity = 7;
+    static constexpr int scannedSlots = 2;
     struct Bucket {
         std::int32_t count = 0;
         std::int32_t items[inlineCapacity];
     };
 
+    std::int64_t coord(double x) const;
     int bucketOf(Vec2 p) const;
     void insert(int i, int b);
     void remove(int i, int b);
@@ -40,21 +47,36 @@ private:
     void forEachIn(int b, Visit &visit) const;
 
     GridGeometry m_geometry;
+    double m_invCellSize = 1.0; // as GridGeometry::coord computes it, for an inlined copy
     std::vector<Bucket> m_buckets;
     std::vector<std::vector<int>> m_overflow; // bodies past the inline capacity, per bucket
     std::vector<int> m_bucketOf;              // bucket of each body
 };
 
+inline std::int64_t MovingGrid::coord(double x) const
+{
+    // GridGeometry::coord, inlined for the hot loop: floor(x / cellSize), clamped, NaN to 0.
+    const double k = std::floor(x * m_invCellSize);
+    constexpr double limit = static_cast<double>(GridGeometry::coordLimit);
+    if (k > -limit && k < limit) [[likely]]
+        return static_cast<std::int64_t>(k);
+    return m_geometry.coord(x);
+}
+
 template<typename Visit>
 void MovingGrid::forEachIn(int b, Visit &visit) const
 {
     const Bucket &bucket = m_buckets[static_cast<std::size_t>(b)];
-    const int inlineCount = bucket.count < inlineCapacity ? bucket.count : inlineCapacity;
-    for (int k = 0; k < inlineCount; ++k)
+    for (int k = 0; k < scannedSlots; ++k)
         visit(bucket.items[k]);
-    if (bucket.count > inlineCapacity) {
-        for (int j : m_overflow[static_cast<std::size_t>(b)])
-            visit(j);
+    if (bucket.count > scannedSlots) [[unlikely]] {
+        const int inlineCount = bucket.count < inlineCapacity ? bucket.count : inlineCapacity;
+        for (int k = scannedSlots; k < inlineCount; ++k)
+            visit(bucket.items[k]);
+        if (bucket.count > inlineCapacity) {
+            for (int j : m_overflow[static_cast<std::size_t>(b)])
+                visit(j);
+        }
     }
 }
 
@@ -64,10 +86,10 @@ void MovingGrid::forEachNear(Vec2 at, Visit &&visit) const
     // The 9 buckets of a neighbourhood are distinct (the lattice has >= 3 buckets a side), so
     // every body is visited once. Inside the lattice (the common case) the neighbourhood is
     // three runs of three adjacent buckets and needs no wrap-around arithmetic.
-    const std::int64_t kx = m_geometry.coord(at.x);
-    const std::int64_t ky = m_geometry.coord(at.y);
+    const std::int64_t kx = coord(at.x);
+    const std::int64_t ky = coord(at.y);
     const int nx = m_geometry.bucketsX();
-    if (kx >= 1 && ky >= 1 && kx < nx - 1 && ky < m_geometry.bucketsY() - 1) {
+    if (kx >= 1 && ky >= 1 && kx < nx - 1 && ky < m_geometry.bucketsY() - 1) [[likely]] {
         const int centre = static_cast<int>(kx + ky * nx);
         for (int row : {centre - nx, centre, centre + nx}) {
             forEachIn(row - 1, visit);
