@@ -1,6 +1,7 @@
 #include "core/impulsemodel.h"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 
@@ -47,7 +48,7 @@ void appendRun(SlotRange out[], int &count, int lo, int hi)
 
 } // namespace
 
-void ImpulseModel::sortIntoBuckets(const World &world)
+void ImpulseModel::sortIntoBuckets(const World &world, int awake)
 {
     // Counting sort, stable: each bucket lists its marbles in ascending scene order.
     const int n = world.marbleCount();
@@ -66,12 +67,87 @@ void ImpulseModel::sortIntoBuckets(const World &world)
     // Place with a running cursor per bucket (m_start shifted by one), then shift it back.
     for (int i = 0; i < n; ++i) {
         const int slot = m_start[m_bucketOf[i]]++;
-        m_bodies[slot] = {world.position[i].x, world.position[i].y, world.radius[i], i};
+        m_bodies[slot] = {world.position[i].x, world.position[i].y, world.radius[i], i,
+                          m_sleepy[i] == 1 ? asleep : 0};
         m_motions[slot] = {world.velocity[i].x, world.velocity[i].y, 1.0 / world.mass[i]};
     }
     for (int b = buckets; b > 0; --b)
         m_start[b] = m_start[b - 1];
     m_start[0] = 0;
+
+    // A bucket's pairs can do something only if it or a forward neighbour holds a marble that
+    // is awake: mark, for each awake marble, its bucket and the buckets that have it ahead.
+    // With most marbles awake, every bucket is visited and the marks are not kept.
+    m_allActive = awake > n / 4;
+    if (!m_allActive) {
+        m_active.assign((static_cast<std::size_t>(buckets) + 63) / 64, 0);
+        for (int i = 0; i < n; ++i) {
+            if (m_sleepy[i] != 1)
+                markActive(m_bucketOf[i]);
+        }
+    }
+}
+
+void ImpulseModel::markActive(int bucket)
+{
+    // The bucket itself and its backward half (left, and the three above): the buckets whose
+    // forward half holds it.
+    if (m_allActive)
+        return;
+    const int nx = m_geometry.bucketsX();
+    const int ny = m_geometry.bucketsY();
+    const int bx = bucket % nx;
+    const int by = bucket / nx;
+    const int left = bx == 0 ? nx - 1 : bx - 1;
+    const int right = bx + 1 < nx ? bx + 1 : 0;
+    const int above = (by == 0 ? ny - 1 : by - 1) * nx;
+    for (int b : {bucket, left + by * nx, left + above, bx + above, right + above})
+        m_active[static_cast<std::size_t>(b) >> 6] |= std::uint64_t(1) << (b & 63);
+}
+
+int ImpulseModel::nextActive(int bucket) const
+{
+    const int buckets = m_geometry.bucketCount();
+    if (bucket >= buckets)
+        return buckets;
+    std::size_t w = static_cast<std::size_t>(bucket) >> 6;
+    std::uint64_t bits = m_active[w] & (~std::uint64_t(0) << (bucket & 63));
+    while (bits == 0) {
+        if (++w >= m_active.size())
+            return buckets;
+        bits = m_active[w];
+    }
+    return std::min(buckets, static_cast<int>(w * 64) + std::countr_zero(bits));
+}
+
+void ImpulseModel::wakeSleepers(const World &world)
+{
+    // Sleepers stay asleep only if nothing about them changed since the last frame: the same
+    // position and radius, still at rest (+0, so that skipping the Euler step changes no bit),
+    // and the same pins and stage around them. Anything else wakes them (or all of them).
+    const int n = world.marbleCount();
+    const Vec2 g = world.params.gravity;
+    const bool valid = static_cast<int>(m_sleepy.size()) == n && g.x == 0.0 && g.y == 0.0
+                       && world.stage == m_sleepStage && world.pins == m_sleepPins;
+    if (!valid) {
+        m_sleepy.assign(static_cast<std::size_t>(n), 0);
+        m_sleepPosition.resize(static_cast<std::size_t>(n));
+        m_sleepRadius.resize(static_cast<std::size_t>(n));
+        return;
+    }
+    if (m_sleeperCount == 0)
+        return;
+    for (int i = 0; i < n; ++i) {
+        if (m_sleepy[i] != 1)
+            continue;
+        const Vec2 p = world.position[i];
+        const Vec2 v = world.velocity[i];
+        const bool same = p.x == m_sleepPosition[i].x && p.y == m_sleepPosition[i].y
+                          && world.radius[i] == m_sleepRadius[i] && std::bit_cast<std::uint64_t>(v.x) == 0
+                          && std::bit_cast<std::uint64_t>(v.y) == 0;
+        if (!same)
+            m_sleepy[i] = 0;
+    }
 }
 
 void ImpulseModel::resolvePairs(World &world, double e, std::int64_t hitFrame)
@@ -84,14 +160,16 @@ void ImpulseModel::resolvePairs(World &world, double e, std::int64_t hitFrame)
     // Positions are corrected as we go, so later pairs see earlier corrections.
     const int nx = m_geometry.bucketsX();
     const int ny = m_geometry.bucketsY();
-    for (int by = 0; by < ny; ++by) {
+    // Visit every bucket, or only the marked ones, keeping the column and row at hand.
+    const int bucketCount = m_geometry.bucketCount();
+    int b = m_allActive ? 0 : nextActive(0);
+    int bx = b % nx;
+    int by = b / nx;
+    for (; b < bucketCount;) {
         const int below = (by + 1 < ny ? by + 1 : 0) * nx; // folded: the last row's next is row 0
-        for (int bx = 0; bx < nx; ++bx) {
-            const int b = bx + by * nx;
-            const int lo = m_start[b];
-            const int hi = m_start[b + 1];
-            if (lo == hi)
-                continue;
+        const int lo = m_start[b];
+        const int hi = m_start[b + 1];
+        if (lo < hi) {
             // Slots after the marble in its own bucket, followed directly by the right-hand
             // bucket when that is the next bucket in storage (no fold).
             SlotRange runs[4];
@@ -121,6 +199,14 @@ void ImpulseModel::resolvePairs(World &world, double e, std::int64_t hitFrame)
                         const double d2 = d.x * d.x + d.y * d.y;
                         if (!(d2 < reach * reach))
                             continue;
+                        // Overlap: both are awake from now on, and a sleeper that wakes makes
+                        // the buckets that have it ahead worth visiting.
+                        if (bi.flags == asleep)
+                            markActive(b);
+                        if (bj.flags == asleep)
+                            markActive(m_bucketOf[bj.id]);
+                        bi.flags |= touched;
+                        bj.flags |= touched;
                         const double dist = std::sqrt(d2);
                         if (!(dist > 0.0))
                             continue; // coincident centres: no normal to push along
@@ -155,6 +241,17 @@ void ImpulseModel::resolvePairs(World &world, double e, std::int64_t hitFrame)
                 }
             }
         }
+        const int next = m_allActive ? b + 1 : nextActive(b + 1);
+        if (next == b + 1) {
+            if (++bx == nx) {
+                bx = 0;
+                ++by;
+            }
+        } else {
+            bx = next % nx;
+            by = next / nx;
+        }
+        b = next;
     }
 }
 
@@ -163,10 +260,12 @@ void ImpulseModel::step(World &world)
     const int n = world.marbleCount();
     const int pinCount = static_cast<int>(world.pins.size());
     // Pushes act at the frame boundary: an instant velocity change.
+    double rMax = 0.0;
     for (int i = 0; i < n; ++i) {
         world.velocity[i].x += world.acceleration[i].x;
         world.velocity[i].y += world.acceleration[i].y;
         world.acceleration[i] = {};
+        rMax = std::max(rMax, world.radius[i]);
     }
     if (n == 0)
         return;
@@ -189,30 +288,51 @@ void ImpulseModel::step(World &world)
     std::vector<Vec2> &v = world.velocity;
     const std::int64_t hitFrame = world.frame + 1;
 
-    double rMax = 0.0;
-    for (int i = 0; i < n; ++i)
-        rMax = std::max(rMax, world.radius[i]);
     m_geometry = GridGeometry::fit(2.0 * rMax, stage.width, stage.height, n + pinCount);
     if (pinCount > 0)
         m_pinGrid.build(m_geometry, world.pins.data(), pinCount);
+    // Without gravity a marble at rest stays at rest unless something touches it: only then can
+    // marbles sleep.
+    const bool canSleep = g.x == 0.0 && g.y == 0.0;
+    wakeSleepers(world);
 
     for (int s = 0; s < substeps; ++s) {
-        // Semi-implicit Euler: the new velocity moves the marble.
+        // Semi-implicit Euler: the new velocity moves the marble. A sleeper's step would be
+        // v = 0 * damping + 0 = +0 and p += 0: nothing, so it is skipped. A marble that starts
+        // the sub-step at rest is noted (m_sleepy 2): it may fall asleep at the end.
+        int awake = 0;
+        int resting = 0;
         for (int i = 0; i < n; ++i) {
+            if (m_sleepy[i] == 1)
+                continue;
+            ++awake;
+            const bool rest = canSleep && std::bit_cast<std::uint64_t>(v[i].x) == 0
+                              && std::bit_cast<std::uint64_t>(v[i].y) == 0;
+            resting += rest;
+            m_sleepy[i] = rest ? 2 : 0;
             v[i].x = v[i].x * damping + g.x * h;
             v[i].y = v[i].y * damping + g.y * h;
             p[i].x += v[i].x * h;
             p[i].y += v[i].y * h;
         }
 
-        sortIntoBuckets(world);
+        sortIntoBuckets(world, awake);
         resolvePairs(world, e, hitFrame);
 
-        // Pins and walls act on each marble alone, so they run in bucket order.
+        // Pins and walls act on each marble alone, so they run in bucket order. A sleeper that
+        // nothing touched is known to clear every pin and wall: it stays as it is. With no
+        // sleeper and no marble at rest, no marble can be asleep after this sub-step.
+        const bool trackSleep = resting > 0 || awake < n;
+        m_sleeperCount = 0;
         for (int slot = 0; slot < n; ++slot) {
             Body &b = m_bodies[slot];
+            if (b.flags == asleep) {
+                ++m_sleeperCount;
+                continue;
+            }
             Motion &m = m_motions[slot];
             const double r = b.r;
+            bool clear = (b.flags & touched) == 0; // overlapped nothing in this sub-step
             // Pins: immovable points; the marble is moved out to touching and reflected if approaching.
             if (pinCount > 0) {
                 int buckets[9];
@@ -224,6 +344,7 @@ void ImpulseModel::step(World &world)
                         const double d2 = d.x * d.x + d.y * d.y;
                         if (!(d2 < r * r))
                             continue;
+                        clear = false;
                         const double dist = std::sqrt(d2);
                         if (!(dist > 0.0))
                             continue;
@@ -245,6 +366,8 @@ void ImpulseModel::step(World &world)
             if (stage.walls) {
                 const Vec2 in{m.vx, m.vy};
                 Vec2 nrm{};
+                if (trackSleep && (b.x - r < 0.0 || b.x + r > stage.width || b.y - r < 0.0 || b.y + r > stage.height))
+                    clear = false;
                 if (b.x - r < 0.0) {
                     b.x = r;
                     if (m.vx < 0.0) {
@@ -276,8 +399,25 @@ void ImpulseModel::step(World &world)
             }
             p[b.id] = {b.x, b.y};
             v[b.id] = {m.vx, m.vy};
+            // Asleep for the next sub-step: at rest all through this one (so the Euler step did
+            // not move it) and clear of everything. A zero coordinate could be -0, which the
+            // skipped "p += 0" would have turned into +0: such a marble stays awake.
+            if (!trackSleep)
+                continue;
+            const bool sleepy = m_sleepy[b.id] == 2 && clear && b.x != 0.0 && b.y != 0.0;
+            m_sleepy[b.id] = sleepy ? 1 : 0;
+            if (sleepy) {
+                m_sleepPosition[b.id] = {b.x, b.y};
+                m_sleepRadius[b.id] = r;
+                ++m_sleeperCount;
+            }
         }
     }
+
+    if (!(m_sleepStage == stage))
+        m_sleepStage = stage;
+    if (m_sleepPins != world.pins)
+        m_sleepPins = world.pins;
 
     // The zero threshold acts at the frame boundary.
     const double z = world.params.zeroThreshold;

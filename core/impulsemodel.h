@@ -19,6 +19,13 @@ namespace marbles {
 /// in that order: bucket by bucket in row-major order, each marble with the later marbles of
 /// its bucket and then with the forward half of its neighbourhood. Neighbours are thus side by
 /// side in memory, and every candidate is examined once.
+///
+/// Sleeping: a marble at rest (velocity exactly 0, no gravity) that overlapped nothing in the
+/// last sub-step is asleep. Two sleeping marbles did not overlap then and have not moved since,
+/// so their pair test must fail again: buckets whose pairs would all be between sleepers are
+/// skipped, and sleepers are neither moved nor tested against pins and walls. Results are bit
+/// for bit those of testing everything; a sleeper wakes as soon as anything touches it, and
+/// any change to it between frames (position, radius, velocity, pins, stage) wakes it too.
 class ImpulseModel final : public Stepper {
 public:
     /// Advances `world` one frame. Consumes pending pushes as an instant velocity change;
@@ -31,7 +38,8 @@ private:
         double x;
         double y;
         double r;
-        int id; ///< index in the world (scene order)
+        int id;    ///< index in the world (scene order)
+        int flags; ///< asleep, touched (below)
     };
     /// A marble's velocity and inverse mass, in bucket order (read only for overlapping pairs).
     struct Motion {
@@ -40,7 +48,13 @@ private:
         double invMass;
     };
 
-    void sortIntoBuckets(const World &world);
+    static constexpr int asleep = 1;  ///< at rest and touching nothing since the last sub-step
+    static constexpr int touched = 2; ///< overlapped a marble in this sub-step's pair pass
+
+    void wakeSleepers(const World &world);
+    void sortIntoBuckets(const World &world, int awake);
+    void markActive(int bucket);
+    int nextActive(int bucket) const;
     void resolvePairs(World &world, double e, std::int64_t hitFrame);
 
     GridGeometry m_geometry;
@@ -49,6 +63,17 @@ private:
     std::vector<int> m_start;       // per bucket: first slot; m_start[bucketCount] = n
     std::vector<Body> m_bodies;     // per slot
     std::vector<Motion> m_motions;  // per slot
+    std::vector<std::uint64_t> m_active; // per bucket, one bit: has pairs that may do something
+    bool m_allActive = true;             // every bucket is visited (m_active unused)
+
+    // Sleeping (see step()): per marble, whether it ended the last sub-step asleep, and the
+    // position and radius it was asleep with; plus the pins and stage it was checked against.
+    std::vector<unsigned char> m_sleepy;
+    int m_sleeperCount = 0;
+    std::vector<Vec2> m_sleepPosition;
+    std::vector<double> m_sleepRadius;
+    std::vector<Vec2> m_sleepPins;
+    Stage m_sleepStage;
 };
 
 } // namespace marbles
