@@ -279,11 +279,11 @@ void BookModel::step(World &world)
         // 7. Other marbles, in scene order: closer than the sum of the radii is a hit.
         //    Marbles before i have already moved this frame, marbles after i have not.
         if (!(hit && shortCircuit)) {
-            auto collide = [&](int j) {
+            auto collide = [&](int j, Vec2 pj, double mj) {
                 p = old;
                 hit = true;
                 HitRecord record;
-                if (bookShareCollision(p, v, world.mass[i], pos[j], vel[j], world.mass[j], &record)) {
+                if (bookShareCollision(p, v, world.mass[i], pj, vel[j], mj, &record)) {
                     record.frame = producedFrame;
                     world.lastHit[i] = record;
                 }
@@ -291,7 +291,7 @@ void BookModel::step(World &world)
             if (!m_useMarbleGrid) {
                 for (int j = 0; j < n; ++j) {
                     if (j != i && touches(p, r, pos[j], world.radius[j])) {
-                        collide(j);
+                        collide(j, pos[j], world.mass[j]);
                         if (shortCircuit)
                             break;
                     }
@@ -328,14 +328,14 @@ void BookModel::step(World &world)
                 touchersOf(p, -1);
                 if (!m_hits.empty() && !(p == old)) {
                     const int first = m_hits.front();
-                    collide(first);
+                    collide(first, m_bodies[static_cast<std::size_t>(first)].p, m_bodies[static_cast<std::size_t>(first)].m);
                     if (shortCircuit)
                         m_hits.clear();
                     else
                         touchersOf(old, first);
                 }
                 for (int j : m_hits) {
-                    collide(j);
+                    collide(j, m_bodies[static_cast<std::size_t>(j)].p, m_bodies[static_cast<std::size_t>(j)].m);
                     if (shortCircuit)
                         break;
                 }
@@ -389,7 +389,8 @@ void BookModel::prepare(const World &world)
         bool valid = m_marbleGrid.size() == n && m_bodies.size() == static_cast<std::size_t>(n) + 1;
         for (std::size_t i = 0; valid && i < static_cast<std::size_t>(n); ++i) {
             valid = sameBits(m_bodies[i].p, world.position[i])
-                && std::bit_cast<std::uint64_t>(m_bodies[i].r) == std::bit_cast<std::uint64_t>(world.radius[i]);
+                && std::bit_cast<std::uint64_t>(m_bodies[i].r) == std::bit_cast<std::uint64_t>(world.radius[i])
+                && std::bit_cast<std::uint64_t>(m_bodies[i].m) == std::bit_cast<std::uint64_t>(world.mass[i]);
         }
         if (!valid) {
             m_marbleGrid.build(GridGeometry::fit(contact, world.stage.width, world.stage.height, n),
@@ -398,7 +399,7 @@ void BookModel::prepare(const World &world)
             // radius, every distance to it is infinite (or NaN), never a hit.
             m_bodies.resize(static_cast<std::size_t>(n) + 1);
             for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i)
-                m_bodies[i] = {world.position[i], world.radius[i], 0.0};
+                m_bodies[i] = {world.position[i], world.radius[i], world.mass[i]};
             constexpr double far = std::numeric_limits<double>::infinity();
             m_bodies.back() = {Vec2{far, far}, 0.0, 0.0};
         }

@@ -132,11 +132,11 @@ private:
     MovingGrid m_marbleGrid;
     UniformGrid m_pinGrid;
     // What the marble tests read of each marble, packed in one cache line's half: the position
-    // the grid holds it at (kept equal to the world's, bit for bit) and the radius.
+    // the grid holds it at, the radius and the mass (kept equal to the world's, bit for bit).
     struct alignas(32) Body {
         Vec2 p;
         double r;
-        double unused;
+        double m;
     };
     std::vector<Body> m_bodies;
     std::vector<int> m_allPins; // 0..pins-1
