@@ -21,10 +21,11 @@ Vec2 unitOrZero(Vec2 u)
 /// the common case (a cell on the unfolded lattice) done without 64-bit integers or division.
 int bucketAt(const GridGeometry &geometry, double x, double y)
 {
-    const double kx = std::floor(x * geometry.inverseCellSize());
-    const double ky = std::floor(y * geometry.inverseCellSize());
-    if (kx >= 0.0 && kx < geometry.bucketsX() && ky >= 0.0 && ky < geometry.bucketsY())
-        return static_cast<int>(kx) + static_cast<int>(ky) * geometry.bucketsX();
+    // For t >= 0, floor(t) lies in [0, n) exactly when t does, and truncation is floor.
+    const double tx = x * geometry.inverseCellSize();
+    const double ty = y * geometry.inverseCellSize();
+    if (tx >= 0.0 && tx < geometry.bucketsX() && ty >= 0.0 && ty < geometry.bucketsY())
+        return static_cast<int>(tx) + static_cast<int>(ty) * geometry.bucketsX();
     return geometry.bucket(geometry.coord(x), geometry.coord(y));
 }
 
@@ -162,14 +163,15 @@ void ImpulseModel::resolvePairs(World &world, double e, std::int64_t hitFrame)
     const int ny = m_geometry.bucketsY();
     // Visit every bucket, or only the marked ones, keeping the column and row at hand.
     const int bucketCount = m_geometry.bucketCount();
-    int b = m_allActive ? 0 : nextActive(0);
+    const bool allActive = m_allActive;
+    int b = allActive ? 0 : nextActive(0);
     int bx = b % nx;
     int by = b / nx;
     for (; b < bucketCount;) {
-        const int below = (by + 1 < ny ? by + 1 : 0) * nx; // folded: the last row's next is row 0
         const int lo = m_start[b];
         const int hi = m_start[b + 1];
         if (lo < hi) {
+            const int below = (by + 1 < ny ? by + 1 : 0) * nx; // folded: the last row's next is row 0
             // Slots after the marble in its own bucket, followed directly by the right-hand
             // bucket when that is the next bucket in storage (no fold).
             SlotRange runs[4];
@@ -241,7 +243,7 @@ void ImpulseModel::resolvePairs(World &world, double e, std::int64_t hitFrame)
                 }
             }
         }
-        const int next = m_allActive ? b + 1 : nextActive(b + 1);
+        const int next = allActive ? b + 1 : nextActive(b + 1);
         if (next == b + 1) {
             if (++bx == nx) {
                 bx = 0;
@@ -287,6 +289,7 @@ void ImpulseModel::step(World &world)
     std::vector<Vec2> &p = world.position;
     std::vector<Vec2> &v = world.velocity;
     const std::int64_t hitFrame = world.frame + 1;
+    const double z = world.params.zeroThreshold;
 
     m_geometry = GridGeometry::fit(2.0 * rMax, stage.width, stage.height, n + pinCount);
     if (pinCount > 0)
@@ -397,6 +400,13 @@ void ImpulseModel::step(World &world)
                 if (nrm.x != 0.0 || nrm.y != 0.0)
                     world.lastHit[b.id] = {hitFrame, unitOrZero(in), nrm, unitOrZero({m.vx, m.vy})};
             }
+            // The zero threshold acts at the frame boundary (after the last sub-step).
+            if (s + 1 == substeps) {
+                if (std::abs(m.vx) <= z)
+                    m.vx = 0.0;
+                if (std::abs(m.vy) <= z)
+                    m.vy = 0.0;
+            }
             p[b.id] = {b.x, b.y};
             v[b.id] = {m.vx, m.vy};
             // Asleep for the next sub-step: at rest all through this one (so the Euler step did
@@ -418,15 +428,6 @@ void ImpulseModel::step(World &world)
         m_sleepStage = stage;
     if (m_sleepPins != world.pins)
         m_sleepPins = world.pins;
-
-    // The zero threshold acts at the frame boundary.
-    const double z = world.params.zeroThreshold;
-    for (int i = 0; i < n; ++i) {
-        if (std::abs(v[i].x) <= z)
-            v[i].x = 0.0;
-        if (std::abs(v[i].y) <= z)
-            v[i].y = 0.0;
-    }
 }
 
 } // namespace marbles
