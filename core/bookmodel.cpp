@@ -372,9 +372,30 @@ void BookModel::prepare(const World &world)
     if (!m_useMarbleGrid && !m_usePinGrid)
         return;
 
-    double rMax = 0.0;
-    for (double r : world.radius)
-        rMax = std::max(rMax, r);
+    // The marble grid is a cache kept from the last frame. It is still valid only if no marble
+    // moved or changed since (an edit, an undo or a jump back in time rebuilds it). This check
+    // reads every marble once per frame: World's fields are public, so nothing cheaper can tell
+    // that none was edited. It runs without early exit so that it compiles to straight-line
+    // (vectorizable) code; the bits are compared, so -0 differs from +0 and a NaN equals itself.
+    bool valid = false;
+    if (m_useMarbleGrid && m_marbleGrid.size() == n && m_bodies.size() == static_cast<std::size_t>(n) + 1) {
+        std::uint64_t differ = 0;
+        for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
+            const Body &b = m_bodies[i];
+            differ |= (std::bit_cast<std::uint64_t>(b.p.x) ^ std::bit_cast<std::uint64_t>(world.position[i].x))
+                | (std::bit_cast<std::uint64_t>(b.p.y) ^ std::bit_cast<std::uint64_t>(world.position[i].y))
+                | (std::bit_cast<std::uint64_t>(b.r) ^ std::bit_cast<std::uint64_t>(world.radius[i]))
+                | (std::bit_cast<std::uint64_t>(b.m) ^ std::bit_cast<std::uint64_t>(world.mass[i]));
+        }
+        valid = differ == 0;
+    }
+    // Same radii as at the last build: same largest radius.
+    double rMax = m_gridRMax;
+    if (!valid) {
+        rMax = 0.0;
+        for (double r : world.radius)
+            rMax = std::max(rMax, r);
+    }
     const double contact = std::max(2.0 * rMax, 1e-6);
 
     if (m_usePinGrid) {
@@ -383,26 +404,17 @@ void BookModel::prepare(const World &world)
                         world.pins.data(), pinCount);
         m_pinMark.assign(static_cast<std::size_t>(pinCount), 0);
     }
-    if (m_useMarbleGrid) {
-        // The marble grid is a cache kept from the last frame. It is still valid only if no
-        // marble moved or changed since (an edit, an undo or a jump back in time rebuilds it).
-        bool valid = m_marbleGrid.size() == n && m_bodies.size() == static_cast<std::size_t>(n) + 1;
-        for (std::size_t i = 0; valid && i < static_cast<std::size_t>(n); ++i) {
-            valid = sameBits(m_bodies[i].p, world.position[i])
-                && std::bit_cast<std::uint64_t>(m_bodies[i].r) == std::bit_cast<std::uint64_t>(world.radius[i])
-                && std::bit_cast<std::uint64_t>(m_bodies[i].m) == std::bit_cast<std::uint64_t>(world.mass[i]);
-        }
-        if (!valid) {
-            m_marbleGrid.build(GridGeometry::fit(contact, world.stage.width, world.stage.height, n),
-                               world.position.data(), n);
-            // One record past the end stands for the grid's empty slots: at infinity with no
-            // radius, every distance to it is infinite (or NaN), never a hit.
-            m_bodies.resize(static_cast<std::size_t>(n) + 1);
-            for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i)
-                m_bodies[i] = {world.position[i], world.radius[i], world.mass[i]};
-            constexpr double far = std::numeric_limits<double>::infinity();
-            m_bodies.back() = {Vec2{far, far}, 0.0, 0.0};
-        }
+    if (m_useMarbleGrid && !valid) {
+        m_marbleGrid.build(GridGeometry::fit(contact, world.stage.width, world.stage.height, n),
+                           world.position.data(), n);
+        // One record past the end stands for the grid's empty slots: at infinity with no
+        // radius, every distance to it is infinite (or NaN), never a hit.
+        m_bodies.resize(static_cast<std::size_t>(n) + 1);
+        for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i)
+            m_bodies[i] = {world.position[i], world.radius[i], world.mass[i]};
+        constexpr double far = std::numeric_limits<double>::infinity();
+        m_bodies.back() = {Vec2{far, far}, 0.0, 0.0};
+        m_gridRMax = rMax;
     }
 }
 

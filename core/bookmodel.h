@@ -139,6 +139,7 @@ private:
         double m;
     };
     std::vector<Body> m_bodies;
+    double m_gridRMax = 0.0; // largest radius, px, when the marble grid was built
     std::vector<int> m_allPins; // 0..pins-1
     std::vector<int> m_candidates;
     std::vector<int> m_hits;
