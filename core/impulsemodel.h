@@ -32,6 +32,9 @@ public:
     /// leaves acceleration zero; does not touch world.frame.
     void step(World &world) override;
 
+    /// Marbles asleep after the last step (they cost next to nothing in the next one).
+    int sleepingCount() const { return m_sleeperCount; }
+
 private:
     /// A marble's shape and place, in bucket order (what the distance test reads).
     struct Body {

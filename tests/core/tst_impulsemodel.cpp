@@ -50,6 +50,8 @@ private slots:
     void pinPushesOutAndReflects();
     void convergesToExactAtFirstOrder_data();
     void convergesToExactAtFirstOrder();
+    void sleepingChangesNoBit_data();
+    void sleepingChangesNoBit();
 };
 
 void TestImpulseModel::momentumKeptInFreeSpace_data()
@@ -195,6 +197,107 @@ void TestImpulseModel::convergesToExactAtFirstOrder()
     }
     // Over six doublings a first-order method gains a factor 64; ask for at least 30.
     QCOMPARE_GE(first / previous, 30.0);
+}
+
+void TestImpulseModel::sleepingChangesNoBit_data()
+{
+    QTest::addColumn<QString>("scene");
+    QTest::addColumn<int>("substeps");
+    QTest::addColumn<double>("friction");
+    QTest::addColumn<bool>("withPins");
+    QTest::addColumn<bool>("walls");
+    QTest::addRow("crowd, 1 substep") << "crowd" << 1 << 0.0 << false << true;
+    QTest::addRow("crowd, 3 substeps, pins") << "crowd" << 3 << 0.0 << true << true;
+    QTest::addRow("crowd, friction, threshold, pins") << "crowd" << 1 << 0.05 << true << true;
+    QTest::addRow("crowd, no walls, 2 substeps") << "crowd" << 2 << 0.02 << false << false;
+    QTest::addRow("resting, 1 substep, pin") << "resting" << 1 << 0.05 << true << true;
+    QTest::addRow("resting, 3 substeps, pin") << "resting" << 3 << 0.05 << true << true;
+    QTest::addRow("rows, 1 substep") << "rows" << 1 << 0.0 << false << true;
+    QTest::addRow("rows, 4 substeps") << "rows" << 4 << 0.0 << false << true;
+}
+
+void TestImpulseModel::sleepingChangesNoBit()
+{
+    QFETCH(QString, scene);
+    QFETCH(int, substeps);
+    QFETCH(double, friction);
+    QFETCH(bool, withPins);
+    QFETCH(bool, walls);
+    World slept;
+    if (scene == "crowd") {
+        // A crowd mostly at rest: the few movers wake the marbles they hit.
+        slept = makeCrowd(2500, 11, 0.03);
+    } else if (scene == "resting") {
+        // All at rest: everything sleeps until the edits below.
+        slept = makeCrowd(2500, 11, 0.0);
+    } else {
+        // Rows of resting marbles 0.001 px apart, each hit end-on by a fast marble: the
+        // positional correction shoves a sleeper into the next one within the same sub-step.
+        slept.stage = {1200, 600, true};
+        for (int row = 0; row < 5; ++row) {
+            const double y = 60.0 + 100.0 * row;
+            for (int k = 0; k < 30; ++k)
+                slept.addMarble({200.0 + 20.001 * k, y}, 10.0);
+            slept.addMarble({100.0, y}, 10.0, {9.0 + row, 0.0});
+        }
+    }
+    slept.params.model = ModelKind::Impulse;
+    slept.params.substeps = substeps;
+    slept.params.friction = friction;
+    slept.params.zeroThreshold = friction > 0.0 ? 0.05 : 0.0;
+    slept.params.restitution = 1.0;
+    slept.stage.walls = walls;
+    if (withPins && scene == "resting") {
+        slept.addPin({-50.0, -50.0}); // touches nothing until it is moved
+    } else if (withPins) {
+        SplitMix64 rng(3);
+        for (int j = 0; j < 150; ++j)
+            slept.addPin({rng.uniform(0.0, slept.stage.width), rng.uniform(0.0, slept.stage.height)});
+    }
+    // One model is kept for the whole run, so its sleepers carry over from frame to frame; the
+    // other is made afresh every frame, so nothing sleeps across frames (with one sub-step,
+    // nothing sleeps at all).
+    World awake = slept;
+    ImpulseModel kept;
+    int mostAsleep = 0;
+    const bool crowd = scene != "rows";
+    const bool pushes = scene == "crowd";
+    for (int f = 0; f < 300; ++f) {
+        // Pushes and edits between frames, each making an overlap where marbles slept, must wake
+        // the marbles they change.
+        for (World *w : {&slept, &awake}) {
+            if (pushes && f % 37 == 5) {
+                const int i = (f * 131) % w->marbleCount();
+                w->push(i, {w->position[i].x + 2.0, w->position[i].y + 1.0});
+            }
+            if (crowd && f == 100)
+                w->position[17] = {w->position[18].x + 1.0, w->position[18].y};
+            if (crowd && f == 150)
+                w->setRadius(33, 60.0);
+            if (f == 180 && withPins)
+                w->pins[0] = {w->position[70].x + 2.0, w->position[70].y};
+            if (f == 210)
+                w->stage.width -= 20.0;
+            if (f == 240)
+                w->removeMarble(50);
+            if (f == 260)
+                w->params.gravity = {0.0, 0.1};
+            if (f == 270)
+                w->params.gravity = {};
+        }
+        kept.step(slept);
+        ImpulseModel fresh;
+        fresh.step(awake);
+        ++slept.frame;
+        ++awake.frame;
+        mostAsleep = std::max(mostAsleep, kept.sleepingCount());
+        // Frame by frame: a late wake-up could end in the same state.
+        QVERIFY2(slept.position == awake.position, qPrintable(QString("frame %1").arg(f)));
+        QVERIFY2(slept.velocity == awake.velocity, qPrintable(QString("frame %1").arg(f)));
+        QVERIFY2(slept.lastHit == awake.lastHit, qPrintable(QString("frame %1").arg(f)));
+    }
+    // Sleeping really happened.
+    QCOMPARE_GE(mostAsleep, slept.marbleCount() / 2);
 }
 
 QTEST_APPLESS_MAIN(TestImpulseModel)
