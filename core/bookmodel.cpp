@@ -482,25 +482,34 @@ void MovingGrid::insert(int i, int b)
 void MovingGrid::remove(int i, int b)
 {
     Bucket &bucket = m_buckets[static_cast<std::size_t>(b)];
-    std::vector<int> &spill = m_overflow[static_cast<std::size_t>(b)];
-    // The last body of the bucket fills the hole that i leaves.
-    const int last = bucket.count > inlineCapacity ? spill.back() : bucket.items[bucket.count - 1];
     const int inlineCount = std::min(bucket.count, inlineCapacity);
-    bool found = false;
-    for (int k = 0; k < inlineCount && !found; ++k) {
-        if (bucket.items[k] == i) {
-            bucket.items[k] = last;
-            found = true;
+    if (bucket.count <= inlineCapacity) {
+        // The common case: no overflow list to touch. The last body fills the hole i leaves.
+        const int last = bucket.items[inlineCount - 1];
+        for (int k = 0; k < inlineCount; ++k) {
+            if (bucket.items[k] == i) {
+                bucket.items[k] = last;
+                break;
+            }
         }
-    }
-    for (std::size_t k = 0; k < spill.size() && !found; ++k) {
-        if (spill[k] == i) {
-            spill[k] = last;
-            found = true;
+    } else {
+        std::vector<int> &spill = m_overflow[static_cast<std::size_t>(b)];
+        const int last = spill.back();
+        bool found = false;
+        for (int k = 0; k < inlineCount && !found; ++k) {
+            if (bucket.items[k] == i) {
+                bucket.items[k] = last;
+                found = true;
+            }
         }
-    }
-    if (bucket.count > inlineCapacity)
+        for (std::size_t k = 0; k < spill.size() && !found; ++k) {
+            if (spill[k] == i) {
+                spill[k] = last;
+                found = true;
+            }
+        }
         spill.pop_back();
+    }
     --bucket.count;
     if (bucket.count < inlineCapacity)
         bucket.items[bucket.count] = size(); // the slot is empty again

@@ -64,7 +64,7 @@ inline std::int64_t MovingGrid::coord(double x) const
 }
 
 template<typename Visit>
-void MovingGrid::forEachIn(int b, Visit &visit) const
+[[gnu::always_inline]] inline void MovingGrid::forEachIn(int b, Visit &visit) const
 {
     const Bucket &bucket = m_buckets[static_cast<std::size_t>(b)];
     for (int k = 0; k < scannedSlots; ++k)
