@@ -35,8 +35,8 @@ struct SlotRange {
     int end;
 };
 
-/// Appends the slots of buckets `first`, then `first + 1`, ... as runs, merging a run with the
-/// one before when their slots follow each other.
+/// Appends the slots [lo, hi) (one bucket's, or several adjacent buckets') to the runs, merged
+/// into the last run when they continue it.
 void appendRun(SlotRange out[], int &count, int lo, int hi)
 {
     if (lo >= hi)
@@ -167,7 +167,7 @@ void ImpulseModel::resolvePairs(World &world, double e, std::int64_t hitFrame)
     int b = allActive ? 0 : nextActive(0);
     int bx = b % nx;
     int by = b / nx;
-    for (; b < bucketCount;) {
+    while (b < bucketCount) {
         const int lo = m_start[b];
         const int hi = m_start[b + 1];
         if (lo < hi) {
