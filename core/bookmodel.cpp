@@ -355,9 +355,9 @@ void BookModel::step(World &world)
 
 // The broad phase. A hit needs distance < r_i + r_j <= 2 rMax (marbles) or <= r_i <= rMax
 // (pins), so with cells of side >= 2 rMax every partner of a point lies in the 3 x 3 cells
-// around it. Marble i is tested at its new position and, after a first hit, at its old one:
-// the candidates are the union of both neighbourhoods, sorted, so that the hits are tested in
-// the same (scene) order as the all-pairs loop and the results are bit-identical to it.
+// around it. Marble i is tested at its new position and, after a first hit, at its old one;
+// pins are tested in sorted order and marble hits are collided in scene order (see step 7), so
+// the results are bit-identical to the all-pairs loop.
 void BookModel::prepare(const World &world)
 {
     const int n = world.marbleCount();

@@ -106,7 +106,7 @@ void MovingGrid::forEachNear(Vec2 at, Visit &&visit) const
 
 /// The chapter's updateMarbles(), verbatim (PHYSICS.md, model "book"): one explicit update per
 /// frame, marbles processed in scene order and in place, with the book's arithmetic, flaws included.
-/// Large scenes use a uniform grid for the pin and marble tests; its candidates are tested in
+/// Large scenes use a uniform grid for the pin and marble tests; hits are resolved in
 /// scene order, so the results are bit-identical to the all-pairs loop (tested).
 class BookModel final : public Stepper {
 public:
