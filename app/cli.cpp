@@ -107,6 +107,15 @@ void writeFileAtomically(const std::string &path, const std::string &text)
     }
 }
 
+std::string formatNumber(double x, const char *spec, const char *missing)
+{
+    if (std::isnan(x))
+        return missing;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, spec, x);
+    return buf;
+}
+
 namespace {
 
 constexpr const char *usageText =
@@ -273,6 +282,17 @@ int checkCommand(const std::vector<std::string> &args)
     return ExitOk;
 }
 
+
+// A scene file to --out (written atomically) or, without it, to standard output.
+void writeScene(const Options &o, const World &w)
+{
+    const std::string json = sceneToJson(w);
+    if (const std::string *out = o.last("--out"))
+        writeFileAtomically(*out, json);
+    else
+        std::cout << json;
+}
+
 int presetCommand(const std::vector<std::string> &args)
 {
     const Options o = parseOptions(args, {"--out"});
@@ -284,11 +304,7 @@ int presetCommand(const std::vector<std::string> &args)
         return ExitOk;
     }
     const World w = loadWorld("preset:" + o.positional.front(), {});
-    const std::string json = sceneToJson(w);
-    if (const std::string *out = o.last("--out"))
-        writeFileAtomically(*out, json);
-    else
-        std::cout << json;
+    writeScene(o, w);
     return ExitOk;
 }
 
@@ -310,11 +326,7 @@ int genCommand(const std::vector<std::string> &args)
             throw InvalidInput{"--moving: must be in [0, 1], got " + *m};
     }
     const World w = makeCrowd(static_cast<int>(n), static_cast<std::uint64_t>(seed), moving);
-    const std::string json = sceneToJson(w);
-    if (const std::string *out = o.last("--out"))
-        writeFileAtomically(*out, json);
-    else
-        std::cout << json;
+    writeScene(o, w);
     return ExitOk;
 }
 

@@ -225,23 +225,6 @@ struct Row {
     int escapes = 0;
 };
 
-std::string fmt(double x, const char *spec = "%.3g")
-{
-    if (std::isnan(x))
-        return "n/a";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, spec, x);
-    return buf;
-}
-
-std::string csvNumber(double x)
-{
-    if (std::isnan(x))
-        return "";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", x);
-    return buf;
-}
 
 void printTable(const std::vector<Row> &rows, bool withEscapes)
 {
@@ -249,8 +232,8 @@ void printTable(const std::vector<Row> &rows, bool withEscapes)
                 "pos err px", "energy err", "momentum err", "overlap px", withEscapes ? "      escapes" : "");
     for (const Row &r : rows) {
         std::printf("%-16s %-8s %-12s %12s %12s %12s %12s %12s", r.scene.c_str(), r.model.c_str(), r.setting.c_str(),
-                    fmt(r.ms, "%.4g").c_str(), fmt(r.positionError).c_str(), fmt(r.energyError).c_str(),
-                    fmt(r.momentumError).c_str(), fmt(r.overlap).c_str());
+                    formatNumber(r.ms, "%.4g").c_str(), formatNumber(r.positionError).c_str(), formatNumber(r.energyError).c_str(),
+                    formatNumber(r.momentumError).c_str(), formatNumber(r.overlap).c_str());
         if (withEscapes)
             std::printf(" %12d", r.escapes);
         std::printf("\n");
@@ -261,9 +244,11 @@ void printTable(const std::vector<Row> &rows, bool withEscapes)
 std::string rowsToCsv(const std::vector<Row> &rows)
 {
     std::string csv = "scene,model,setting,ms_per_frame,position_error_px,energy_error,momentum_error,max_overlap_px,escapes\n";
+    // Six significant digits; a figure that does not apply is an empty field.
+    const auto cell = [](double x) { return formatNumber(x, "%.6g", ""); };
     for (const Row &r : rows) {
-        csv += r.scene + "," + r.model + "," + r.setting + "," + csvNumber(r.ms) + "," + csvNumber(r.positionError)
-               + "," + csvNumber(r.energyError) + "," + csvNumber(r.momentumError) + "," + csvNumber(r.overlap) + ","
+        csv += r.scene + "," + r.model + "," + r.setting + "," + cell(r.ms) + "," + cell(r.positionError) + ","
+               + cell(r.energyError) + "," + cell(r.momentumError) + "," + cell(r.overlap) + ","
                + std::to_string(r.escapes) + "\n";
     }
     return csv;
@@ -415,8 +400,8 @@ void printScaleSummary(const std::vector<Row> &rows)
         const Row *small = find("crowd-1000", model);
         const Row *large = find("crowd-100000", model);
         const Row *sparse = find("crowd-100000-1%", model);
-        std::printf("%-8s %22s %26s\n", model, small && large ? fmt(large->ms / small->ms, "%.1f").c_str() : "n/a",
-                    large && sparse ? fmt(large->ms / sparse->ms, "%.1f").c_str() : "n/a");
+        std::printf("%-8s %22s %26s\n", model, small && large ? formatNumber(large->ms / small->ms, "%.1f").c_str() : "n/a",
+                    large && sparse ? formatNumber(large->ms / sparse->ms, "%.1f").c_str() : "n/a");
     }
 }
 

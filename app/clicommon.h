@@ -35,6 +35,8 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
 
 /// Writes `text` to `path` atomically (temporary file, then rename); throws InvalidInput on failure.
 void writeFileAtomically(const std::string &path, const std::string &text);
+/// `x` printed with the printf `spec`, or `missing` when x is NaN (a figure that does not apply).
+std::string formatNumber(double x, const char *spec = "%.3g", const char *missing = "n/a");
 
 /// `marbles-cli bench ...`: run time against error, or --scale; returns an exit code.
 int benchCommand(const std::vector<std::string> &args);

@@ -320,14 +320,6 @@ Outcome runRow(const StressRow &row)
     return o;
 }
 
-std::string num(double x)
-{
-    if (std::isnan(x))
-        return "n/a";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g", x);
-    return buf;
-}
 
 } // namespace
 
@@ -362,12 +354,12 @@ int stressCommand(const std::vector<std::string> &args)
         failures += o.verdict.rfind("FAIL", 0) == 0;
         const std::string model(modelName(row.model));
         std::printf("%-44s %-8s %9lld %8d %10s %12s %12s %12s  %s\n", row.name.c_str(), model.c_str(), o.framesRun,
-                    o.escapes, num(o.overlap).c_str(), num(o.energyDrift).c_str(), num(o.momentumDrift).c_str(),
-                    num(o.framesPerSecond).c_str(), o.verdict.c_str());
+                    o.escapes, formatNumber(o.overlap).c_str(), formatNumber(o.energyDrift).c_str(), formatNumber(o.momentumDrift).c_str(),
+                    formatNumber(o.framesPerSecond).c_str(), o.verdict.c_str());
         std::fflush(stdout);
         csv += "\"" + row.name + "\"," + model + "," + std::to_string(o.framesRun) + "," + std::to_string(o.blewUpAt)
-               + "," + std::to_string(o.escapes) + "," + num(o.overlap) + "," + num(o.energyDrift) + ","
-               + num(o.momentumDrift) + "," + num(o.framesPerSecond) + ",\"" + o.verdict + "\"\n";
+               + "," + std::to_string(o.escapes) + "," + formatNumber(o.overlap) + "," + formatNumber(o.energyDrift) + ","
+               + formatNumber(o.momentumDrift) + "," + formatNumber(o.framesPerSecond) + ",\"" + o.verdict + "\"\n";
     }
     if (!csvPath.empty())
         writeFileAtomically(csvPath, csv);
