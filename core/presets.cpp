@@ -93,9 +93,14 @@ void pachinko(World &w)
             w.addPin({x, y});
     }
     SplitMix64 rng(11);
-    for (int k = 0; k < 8; ++k)
-        w.addMarble({120 + k * 80 + rng.uniform(-10, 10), 40 + rng.uniform(0, 40)}, 9,
-                    {rng.uniform(-1, 1), 0});
+    for (int k = 0; k < 8; ++k) {
+        // One draw per statement: the order of a call's arguments is unspecified in C++, and the
+        // scene must be the same whichever compiler built it (PHYSICS.md, Determinism).
+        const double vx = rng.uniform(-1, 1);
+        const double x = 120 + k * 80 + rng.uniform(-10, 10);
+        const double y = 40 + rng.uniform(0, 40);
+        w.addMarble({x, y}, 9, {vx, 0});
+    }
     w.params.gravity = {0, 0.15};
     w.params.friction = 0.01;
     w.params.restitution = 0.8;

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs the dependencies, builds Marbles and runs every test:
 #   1. the Qt Test suites (core, CLI and UI on the offscreen platform) in a RelWithDebInfo build;
-#   2. the same suites under AddressSanitizer and UndefinedBehaviorSanitizer;
-#   3. the libFuzzer target for the scene loader, for MARBLES_FUZZ_SECONDS (default 60) seconds.
+#   2. the golden-hash determinism suite built with clang, so gcc and clang must agree bit for bit;
+#   3. the same suites under AddressSanitizer and UndefinedBehaviorSanitizer;
+#   4. the libFuzzer target for the scene loader, for MARBLES_FUZZ_SECONDS (default 60) seconds.
 # Set MARBLES_SKIP_SANITIZERS=1 or MARBLES_FUZZ_SECONDS=0 to skip a stage while developing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,6 +28,11 @@ section "marbles-cli bench (writes build/bench.csv and build/bench.png) and stre
 ./build/app/marbles-cli bench --csv build/bench.csv --plot build/bench.png | tail -n 3
 test -s build/bench.csv && test -s build/bench.png
 ./build/app/marbles-cli stress --quick | tail -n 3
+
+section "determinism across compilers: the golden hashes with a clang build of the core"
+CC=clang CXX=clang++ cmake -S . -B build-clang -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMARBLES_BUILD_UI=OFF
+cmake --build build-clang -j "$jobs" --target tst_determinism_core
+./build-clang/tests/tst_determinism_core | tail -n 2
 
 if [ "${MARBLES_SKIP_SANITIZERS:-0}" != "1" ]; then
     section "tests under AddressSanitizer + UndefinedBehaviorSanitizer"

@@ -40,9 +40,11 @@ World randomScene(const SceneShape &s, std::uint64_t seed)
         const bool resting = rng.uniform() < s.restingFraction;
         const double speed = resting ? 0.0 : rng.uniform(0.0, s.maxSpeed);
         const double angle = rng.uniform(0.0, 6.283185307179586);
-        w.addMarble({rng.uniform(r, 600 - r), rng.uniform(r, 400 - r)}, r,
-                    {speed * std::cos(angle), speed * std::sin(angle)},
-                    rng.uniform() < 0.2 ? rng.uniform(0.5, 50.0) : 0.0);
+        // One draw per statement: a call's arguments are evaluated in no specified order.
+        const double extra = rng.uniform() < 0.2 ? rng.uniform(0.5, 50.0) : 0.0;
+        const double x = rng.uniform(r, 600 - r);
+        const double y = rng.uniform(r, 400 - r);
+        w.addMarble({x, y}, r, {speed * std::cos(angle), speed * std::sin(angle)}, extra);
     }
     for (int j = 0; j < s.pins; ++j)
         w.addPin({rng.uniform(0, 600), rng.uniform(0, 400)});
