@@ -307,7 +307,7 @@ void BookModel::step(World &world)
                 // every marble that can touch a point, so these are exactly the all-pairs hits.
                 auto touchersOf = [&](Vec2 at, int after) {
                     m_hits.clear();
-                    m_marbleGrid.forEachNear(at, [&](int j) {
+                    m_marbleGrid.forEachNear(at, [&](int j) __attribute__((always_inline)) {
                         // One well-predicted branch per candidate: the clear-miss test of
                         // touches() evaluated without short-circuits. Only marble i itself, the
                         // empty slots' record (at infinity, when `at` is too) and near
