@@ -108,6 +108,7 @@ private slots:
     void checkPrintsSummary();
     void presetsRoundTripThroughFiles();
     void genCrowdIsDeterministic();
+    void benchScaleReportsCostAndMovingShare();
 };
 
 void TestCli::runPrintsCsvMatchingTheCore_data()
@@ -340,6 +341,58 @@ void TestCli::genCrowdIsDeterministic()
     QCOMPARE(w.params.friction, 0.0);
     QCOMPARE(w.params.restitution, 1.0);
     QVERIFY(w.stage.walls);
+}
+
+void TestCli::benchScaleReportsCostAndMovingShare()
+{
+    // The smallest scale run: the 1k crowd, all moving and 1 % moving, in each model.
+    QTemporaryDir dir;
+    const QString csvPath = dir.filePath("scale.csv");
+    constexpr int frames = 20;
+    const CliResult r = runCli({"bench", "--scale", "--frames", QString::number(frames), "--repeat", "1", "--max-n",
+                                "1000", "--csv", csvPath});
+    QCOMPARE(r.exitCode, 0);
+    QVERIFY(r.out.contains("moving in the 1% run, mean"));
+    QFile file(csvPath);
+    QVERIFY(file.open(QIODevice::ReadOnly));
+    const QList<QByteArray> lines = file.readAll().trimmed().split('\n');
+    QCOMPARE(lines.value(0), QByteArray("scene,model,setting,ms_per_frame,position_error_px,energy_error,momentum_error,"
+                                        "max_overlap_px,escapes,moving_share"));
+    QCOMPARE(lines.size(), 7);
+
+    // The moving share the core gives for the 1 % crowd in the exact model, frame by frame.
+    World w = makeCrowd(1000, 1, 0.01);
+    w.params.model = ModelKind::Exact;
+    double share = 0.0;
+    for (int f = 0; f < frames; ++f) {
+        w.step();
+        int moving = 0;
+        for (const Vec2 v : w.velocity)
+            moving += v.x != 0.0 || v.y != 0.0;
+        share += moving / 1000.0;
+    }
+    share /= frames;
+    QVERIFY(share > 0.01 && share < 0.1);
+
+    for (qsizetype k = 1; k < lines.size(); ++k) {
+        const QList<QByteArray> f = lines[k].split(',');
+        QCOMPARE(f.size(), 10);
+        const QByteArray scene = f[0];
+        const QByteArray model = f[1];
+        QVERIFY2(f[3].toDouble() > 0.0, lines[k].constData());
+        QCOMPARE(f[8].toInt(), 0); // escapes
+        const double moving = f[9].toDouble();
+        if (scene == "crowd-1000")
+            QVERIFY2(moving > 0.99 && moving <= 1.0, lines[k].constData());
+        else
+            QCOMPARE(scene, QByteArray("crowd-1000-1%"));
+        if (model == "exact") {
+            QVERIFY2(f[7].toDouble() <= 1e-9, lines[k].constData()); // overlap, px
+            QVERIFY2(f[5].toDouble() <= 1e-12, lines[k].constData()); // energy drift
+            if (scene == "crowd-1000-1%")
+                QVERIFY2(std::abs(moving - share) <= 1e-5, lines[k].constData()); // CSV keeps 6 digits
+        }
+    }
 }
 
 QTEST_GUILESS_MAIN(TestCli)
