@@ -38,6 +38,10 @@ constexpr qsizetype kMaxPointsPerLine = 2000;
 /// short sample line shows two dashes.
 const QList<qreal> kCompareDashes{2.5, 2.0};
 
+/// Colours of the two totals' lines (the comparison model's in the same colour, dashed).
+const QColor kKineticColour(0x33, 0x33, 0x33);
+const QColor kMomentumColour(0xc0, 0x5a, 0x00);
+
 /// Marbles without a colour of their own are drawn blue on the stage; their lines use shades
 /// of blue, different enough to tell apart.
 QColor defaultMarbleColor(int marble)
@@ -114,6 +118,8 @@ PlotDock::PlotDock(QWidget *parent)
     , m_frames(kDefaultCapacity)
     , m_kinetic(kDefaultCapacity)
     , m_momentum(kDefaultCapacity)
+    , m_compareKinetic(kDefaultCapacity)
+    , m_compareMomentum(kDefaultCapacity)
 {
     setObjectName(QStringLiteral("plotDock"));
 
@@ -174,25 +180,9 @@ PlotDock::PlotDock(QWidget *parent)
     m_chart->addAxis(m_axisSpeed, Qt::AlignLeft);
     m_chart->addAxis(m_axisTotals, Qt::AlignRight);
 
-    auto addTotalSeries = [this](const QString &name, QColor colour, Qt::PenStyle style) {
-        auto *series = new QLineSeries;
-        series->setName(name);
-        QPen pen(colour, 2.0, style);
-        series->setPen(pen);
-        m_chart->addSeries(series);
-        series->attachAxis(m_axisX);
-        series->attachAxis(m_axisTotals);
-        series->setVisible(false);
-        const auto markers = m_chart->legend()->markers(series);
-        for (QLegendMarker *marker : markers)
-            marker->setVisible(false);
-        connect(series, &QLineSeries::hovered, this,
-                [this, series](const QPointF &point, bool state) { onHovered(series, point, state); });
-        return series;
-    };
-    m_kineticSeries = addTotalSeries(tr("kinetic energy"), QColor(0x33, 0x33, 0x33), Qt::DashLine);
-    m_momentumSeries = addTotalSeries(tr("|momentum|"), QColor(0xc0, 0x5a, 0x00), Qt::DashDotLine);
-
+    m_kineticSeries = addTotalSeries(kKineticColour);
+    m_momentumSeries = addTotalSeries(kMomentumColour);
+    styleSeries();
 
     m_chartView = new QChartView(m_chart, page);
     m_chartView->setObjectName(QStringLiteral("plotChartView"));
@@ -235,6 +225,8 @@ void PlotDock::reset(const World &world)
     m_frames.clear();
     m_kinetic.clear();
     m_momentum.clear();
+    m_compareKinetic.clear();
+    m_compareMomentum.clear();
     for (Track &t : m_tracks) {
         t.speed.clear();
         t.compareSpeed.clear();
@@ -282,6 +274,8 @@ void PlotDock::appendFrame(const World &world, const World *compare)
             const auto i = static_cast<std::size_t>(t.marble);
             t.compareSpeed.push(compare && i < compare->velocity.size() ? length(compare->velocity[i]) : kNaN);
         }
+        m_compareKinetic.push(compare ? compare->kineticEnergy() : kNaN);
+        m_compareMomentum.push(compare ? length(compare->momentum()) : kNaN);
     }
     m_dirty = true;
 }
@@ -316,6 +310,8 @@ void PlotDock::setCapacity(qsizetype samples)
     m_frames.setCapacity(m_capacity);
     m_kinetic.setCapacity(m_capacity);
     m_momentum.setCapacity(m_capacity);
+    m_compareKinetic.setCapacity(m_capacity);
+    m_compareMomentum.setCapacity(m_capacity);
     for (Track &t : m_tracks) {
         t.speed.setCapacity(m_capacity);
         t.compareSpeed.setCapacity(m_capacity);
@@ -354,12 +350,23 @@ QLineSeries *PlotDock::compareSeries(int marble) const
     return t ? t->compareSeries : nullptr;
 }
 
+double PlotDock::sampleCompareKineticEnergy(qsizetype i) const
+{
+    return m_compareKineticSeries ? m_compareKinetic.at(static_cast<std::size_t>(i)) : kNaN;
+}
+
+double PlotDock::sampleCompareMomentum(qsizetype i) const
+{
+    return m_compareMomentumSeries ? m_compareMomentum.at(static_cast<std::size_t>(i)) : kNaN;
+}
+
 void PlotDock::setCompareModel(const QString &model)
 {
     if (model == m_compareModel)
         return;
     for (Track &t : m_tracks)
         removeCompareTrack(t);
+    removeCompareTotals();
     m_compareModel = model;
     // While comparing, the legend names the two models once, as a solid and a dashed grey line,
     // instead of listing every marble twice; these two series never hold points.
@@ -387,6 +394,16 @@ void PlotDock::setCompareModel(const QString &model)
         };
         m_modelKey = addKeySeries(Qt::SolidLine);
         m_compareKey = addKeySeries(Qt::CustomDashLine);
+        // The comparison starts now: no comparison totals for the samples already held.
+        for (RingBuffer<double> *totals : {&m_compareKinetic, &m_compareMomentum}) {
+            totals->setCapacity(m_capacity);
+            for (std::size_t i = 0; i < m_frames.size(); ++i)
+                totals->push(kNaN);
+        }
+        m_compareKineticSeries = addTotalSeries(kKineticColour);
+        m_compareMomentumSeries = addTotalSeries(kMomentumColour);
+        showTotal(m_compareKineticSeries, m_showKinetic->isChecked());
+        showTotal(m_compareMomentumSeries, m_showMomentum->isChecked());
     }
     styleSeries();
     m_dirty = true;
@@ -411,9 +428,8 @@ void PlotDock::setKineticEnergyShown(bool shown)
 {
     if (m_showKinetic->isChecked() != shown)
         m_showKinetic->setChecked(shown); // comes back here through toggled()
-    m_kineticSeries->setVisible(shown);
-    for (QLegendMarker *marker : m_chart->legend()->markers(m_kineticSeries))
-        marker->setVisible(shown);
+    showTotal(m_kineticSeries, shown);
+    showTotal(m_compareKineticSeries, shown);
     m_axisTotals->setVisible(m_showKinetic->isChecked() || m_showMomentum->isChecked());
     m_dirty = true;
 }
@@ -422,9 +438,8 @@ void PlotDock::setMomentumShown(bool shown)
 {
     if (m_showMomentum->isChecked() != shown)
         m_showMomentum->setChecked(shown);
-    m_momentumSeries->setVisible(shown);
-    for (QLegendMarker *marker : m_chart->legend()->markers(m_momentumSeries))
-        marker->setVisible(shown);
+    showTotal(m_momentumSeries, shown);
+    showTotal(m_compareMomentumSeries, shown);
     m_axisTotals->setVisible(m_showKinetic->isChecked() || m_showMomentum->isChecked());
     m_dirty = true;
 }
@@ -477,6 +492,10 @@ void PlotDock::refreshChart()
     };
     refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked());
     refreshTotal(m_momentumSeries, m_momentum, m_showMomentum->isChecked());
+    if (m_compareKineticSeries)
+        refreshTotal(m_compareKineticSeries, m_compareKinetic, m_showKinetic->isChecked());
+    if (m_compareMomentumSeries)
+        refreshTotal(m_compareMomentumSeries, m_compareMomentum, m_showMomentum->isChecked());
 
     // Speeds and the totals are never negative: both axes start at zero.
     if (n > 0)
@@ -520,10 +539,14 @@ QString PlotDock::describePoint(const QLineSeries *series, QPointF point) const
 
     const std::int64_t f = m_frames.at(lo);
     const QString when = tr("frame %1 (%2 s)").arg(f).arg(QString::number(secondsAt(f), 'g', 6));
-    if (series == m_kineticSeries)
-        return tr("%1: kinetic energy %2").arg(when, QString::number(m_kinetic.at(lo), 'g', 6));
-    if (series == m_momentumSeries)
-        return tr("%1: |momentum| %2").arg(when, QString::number(m_momentum.at(lo), 'g', 6));
+    if (series == m_kineticSeries || series == m_momentumSeries || (series && series == m_compareKineticSeries)
+        || (series && series == m_compareMomentumSeries)) {
+        const RingBuffer<double> &values = series == m_kineticSeries          ? m_kinetic
+                                           : series == m_momentumSeries       ? m_momentum
+                                           : series == m_compareKineticSeries ? m_compareKinetic
+                                                                              : m_compareMomentum;
+        return tr("%1: %2 %3").arg(when, series->name(), QString::number(values.at(lo), 'g', 6));
+    }
     for (const Track &t : m_tracks) {
         if (t.series == series)
             return tr("%1: %2, speed %3 px/frame")
@@ -555,6 +578,8 @@ QString PlotDock::exportCsv(const QString &path) const
         if (t.compareSeries)
             text += ",speed_" + QByteArray::number(t.marble) + compareSuffix;
     }
+    if (m_compareKineticSeries)
+        text += ",kinetic" + compareSuffix + ",momentum" + compareSuffix;
     text += '\n';
     for (std::size_t i = 0; i < m_frames.size(); ++i) {
         const std::int64_t f = m_frames.at(i);
@@ -565,6 +590,10 @@ QString PlotDock::exportCsv(const QString &path) const
         for (const Track &t : m_tracks) {
             if (t.compareSeries)
                 row += QLatin1Char(',') + csvNumber(t.compareSpeed.at(i));
+        }
+        if (m_compareKineticSeries) {
+            row += QLatin1Char(',') + csvNumber(m_compareKinetic.at(i)) + QLatin1Char(',')
+                   + csvNumber(m_compareMomentum.at(i));
         }
         text += row.toLatin1() + '\n';
     }
@@ -659,6 +688,44 @@ void PlotDock::removeCompareTrack(Track &t)
     t.compareSeries = nullptr;
 }
 
+QLineSeries *PlotDock::addTotalSeries(QColor colour)
+{
+    // Hidden, legend entry included, until its checkbox is ticked; named and dashed by styleSeries().
+    auto *series = new QLineSeries;
+    series->setPen(QPen(colour, 2.0));
+    m_chart->addSeries(series);
+    series->attachAxis(m_axisX);
+    series->attachAxis(m_axisTotals);
+    showTotal(series, false);
+    connect(series, &QLineSeries::hovered, this,
+            [this, series](const QPointF &point, bool state) { onHovered(series, point, state); });
+    return series;
+}
+
+void PlotDock::removeCompareTotals()
+{
+    m_compareKinetic.clear();
+    m_compareMomentum.clear();
+    for (QLineSeries **series : {&m_compareKineticSeries, &m_compareMomentumSeries}) {
+        if (*series) {
+            m_chart->removeSeries(*series);
+            delete *series;
+            *series = nullptr;
+        }
+    }
+}
+
+void PlotDock::showTotal(QLineSeries *series, bool shown)
+{
+    if (!series)
+        return;
+    series->setVisible(shown);
+    // The comparison model's totals stay out of the legend: its "(dashed)" entry stands for them.
+    const bool listed = series == m_kineticSeries || series == m_momentumSeries;
+    for (QLegendMarker *marker : m_chart->legend()->markers(series))
+        marker->setVisible(shown && listed);
+}
+
 void PlotDock::styleSeries()
 {
     // While comparing, a marble's two lines share its colour: solid for the scene's model, dashed
@@ -681,6 +748,27 @@ void PlotDock::styleSeries()
     if (m_modelKey && m_compareKey) {
         m_modelKey->setName(tr("%1 (solid)").arg(m_model));
         m_compareKey->setName(tr("%1 (dashed)").arg(m_compareModel));
+    }
+
+    // The totals: dashed (energy) and dash-dotted (momentum) apart from the solid speed lines;
+    // while comparing, the document's are solid and the comparison model's dashed, as for speeds,
+    // whose legend entries ("book (solid)", "exact (dashed)") stand for the totals too.
+    const bool comparing = m_compareKineticSeries != nullptr;
+    auto styleTotal = [&](QLineSeries *series, const QString &what, QColor colour, Qt::PenStyle alone) {
+        series->setPen(QPen(colour, 2.0, comparing ? Qt::SolidLine : alone));
+        series->setName(what);
+    };
+    styleTotal(m_kineticSeries, tr("kinetic energy"), kKineticColour, Qt::DashLine);
+    styleTotal(m_momentumSeries, tr("|momentum|"), kMomentumColour, Qt::DashDotLine);
+    if (comparing) {
+        for (QLineSeries *series : {m_compareKineticSeries, m_compareMomentumSeries}) {
+            QPen dashed(series == m_compareKineticSeries ? kKineticColour : kMomentumColour, 2.0, Qt::CustomDashLine);
+            dashed.setCapStyle(Qt::FlatCap);
+            dashed.setDashPattern(kCompareDashes);
+            series->setPen(dashed);
+        }
+        m_compareKineticSeries->setName(tr("kinetic energy, %1").arg(m_compareModel));
+        m_compareMomentumSeries->setName(tr("|momentum|, %1").arg(m_compareModel));
     }
 }
 

@@ -30,7 +30,9 @@ namespace marbles {
 ///
 /// While a second model runs beside the document's (CompareRun), each plotted marble gets a
 /// second, dashed line in the same colour: its speed in the comparison model, labelled with
-/// that model's name.
+/// that model's name. The totals get one too (kinetic energy and momentum in the comparison
+/// model, dashed, the document's drawn solid meanwhile): the book model's energy climbing
+/// beside the exact model's flat line is one of the things a class compares.
 class PlotDock : public QDockWidget {
     Q_OBJECT
 
@@ -86,6 +88,19 @@ public:
     double sampleCompareSpeed(qsizetype i, int marble) const;
     /// The dashed comparison line of `marble`, or nullptr when it is not plotted or nothing is compared.
     QLineSeries *compareSeries(int marble) const;
+    /// Total kinetic energy in the comparison model at sample `i`; NaN when there was no
+    /// comparison sample then (or nothing is compared).
+    double sampleCompareKineticEnergy(qsizetype i) const;
+    /// Magnitude of the total momentum in the comparison model at sample `i`; NaN likewise.
+    double sampleCompareMomentum(qsizetype i) const;
+    /// The comparison model's kinetic energy line, or nullptr when nothing is compared.
+    QLineSeries *compareKineticSeries() const { return m_compareKineticSeries; }
+    /// The comparison model's momentum line, or nullptr when nothing is compared.
+    QLineSeries *compareMomentumSeries() const { return m_compareMomentumSeries; }
+    /// The document's kinetic energy line (hidden until setKineticEnergyShown(true)).
+    QLineSeries *kineticSeries() const { return m_kineticSeries; }
+    /// The document's momentum line (hidden until setMomentumShown(true)).
+    QLineSeries *momentumSeries() const { return m_momentumSeries; }
 
     /// Shows total kinetic energy (on the right-hand axis).
     void setKineticEnergyShown(bool shown);
@@ -108,8 +123,9 @@ public:
     QString hoverText() const;
 
     /// Writes every held sample as CSV: frame,time_s,speed_<i>...,kinetic,momentum (17 significant
-    /// digits; an empty field where a marble was not plotted), then speed_<i>_<model>... while a
-    /// comparison model is plotted. Returns "" or a message naming the file.
+    /// digits; an empty field where a marble was not plotted), then speed_<i>_<model>...,
+    /// kinetic_<model>,momentum_<model> while a comparison model is plotted. Returns "" or a
+    /// message naming the file.
     QString exportCsv(const QString &path) const;
     /// Saves the chart as a PNG of the chart view's size. Returns "" or a message naming the file.
     QString exportPng(const QString &path);
@@ -129,6 +145,9 @@ private:
     QLineSeries *addSpeedSeries();
     void addCompareTrack(Track &t);
     void removeCompareTrack(Track &t);
+    QLineSeries *addTotalSeries(QColor colour);
+    void removeCompareTotals();
+    void showTotal(QLineSeries *series, bool shown);
     void styleSeries();
     QList<int> wantedMarbles() const;
     QColor marbleColor(int marble) const;
@@ -144,6 +163,8 @@ private:
     RingBuffer<std::int64_t> m_frames;
     RingBuffer<double> m_kinetic;
     RingBuffer<double> m_momentum;
+    RingBuffer<double> m_compareKinetic;  ///< while comparing, aligned with m_frames
+    RingBuffer<double> m_compareMomentum; ///< while comparing, aligned with m_frames
     std::vector<Track> m_tracks;
 
     QList<int> m_selected;
@@ -163,6 +184,8 @@ private:
     QValueAxis *m_axisTotals = nullptr;
     QLineSeries *m_kineticSeries = nullptr;
     QLineSeries *m_momentumSeries = nullptr;
+    QLineSeries *m_compareKineticSeries = nullptr;  ///< while comparing
+    QLineSeries *m_compareMomentumSeries = nullptr; ///< while comparing
     QLineSeries *m_modelKey = nullptr;   ///< legend entry only, while comparing: "book (solid)"
     QLineSeries *m_compareKey = nullptr; ///< legend entry only, while comparing: "exact (dashed)"
     QCheckBox *m_showKinetic = nullptr;

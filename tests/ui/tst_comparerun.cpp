@@ -18,6 +18,10 @@
 #include <QFile>
 #include <QGraphicsScene>
 #include <QLabel>
+#include <QChart>
+#include <QChartView>
+#include <QLegend>
+#include <QLegendMarker>
 #include <QLineSeries>
 #include <QMenu>
 #include <QSettings>
@@ -531,9 +535,47 @@ void TestCompareRun::plotGetsCompareSeries()
     plot.refreshChart();
     QCOMPARE(plot.compareSeries(0)->count(), 50);
 
+    // The totals of both models: the comparison's dashed in the same colour, the document's solid
+    // meanwhile; both follow the checkboxes.
+    QLineSeries *kinetic = plot.compareKineticSeries();
+    QLineSeries *momentum = plot.compareMomentumSeries();
+    QVERIFY(kinetic && momentum);
+    QVERIFY(std::isnan(plot.sampleCompareKineticEnergy(9)));
+    QVERIFY(plot.sampleCompareKineticEnergy(59) == compare.world()->kineticEnergy());
+    QVERIFY(plot.sampleCompareMomentum(59) == length(compare.world()->momentum()));
+    QVERIFY(plot.sampleKineticEnergy(59) == doc.world().kineticEnergy());
+    QCOMPARE(kinetic->pen().style(), Qt::CustomDashLine);
+    QCOMPARE(kinetic->pen().color(), plot.kineticSeries()->pen().color());
+    QCOMPARE(plot.kineticSeries()->pen().style(), Qt::SolidLine);
+    QCOMPARE(kinetic->name(), QStringLiteral("kinetic energy, exact"));
+    QCOMPARE(plot.kineticSeries()->name(), QStringLiteral("kinetic energy"));
+    QVERIFY(!kinetic->isVisible());
+    QCOMPARE(kinetic->count(), 0);
+    plot.setKineticEnergyShown(true);
+    plot.refreshChart();
+    QVERIFY(kinetic->isVisible() && plot.kineticSeries()->isVisible());
+    QVERIFY(!momentum->isVisible());
+    // The legend lists the totals once: the "exact (dashed)" entry stands for the dashed ones.
+    plot.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&plot));
+    for (QLegendMarker *marker : plot.chartView()->chart()->legend()->markers(kinetic))
+        QVERIFY(!marker->isVisible());
+    for (QLegendMarker *marker : plot.chartView()->chart()->legend()->markers(plot.kineticSeries()))
+        QVERIFY(marker->isVisible());
+    QCOMPARE(kinetic->count(), 50); // the frames since the comparison started
+    QCOMPARE(plot.kineticSeries()->count(), 60);
+    plot.setMomentumShown(true);
+    plot.refreshChart();
+    QVERIFY(momentum->isVisible());
+    QCOMPARE(momentum->count(), 50);
+
     compare.stop();
     plot.setCompareModel(QString());
     QVERIFY(plot.compareSeries(0) == nullptr);
+    QVERIFY(plot.compareKineticSeries() == nullptr && plot.compareMomentumSeries() == nullptr);
+    QVERIFY(std::isnan(plot.sampleCompareKineticEnergy(59)));
+    QCOMPARE(plot.kineticSeries()->pen().style(), Qt::DashLine);
+    QCOMPARE(plot.kineticSeries()->name(), QStringLiteral("kinetic energy"));
     QVERIFY(plot.speedSeries(0));
 }
 
@@ -562,11 +604,17 @@ void TestCompareRun::plotExportsAndDescribesCompareLines()
     QVERIFY(file.open(QIODevice::ReadOnly | QIODevice::Text));
     const QStringList lines = QString::fromUtf8(file.readAll()).split(QLatin1Char('\n'));
     QCOMPARE(lines.size(), 5);
-    QCOMPARE(lines[0], QStringLiteral("frame,time_s,speed_0,speed_1,kinetic,momentum,speed_0_impulse,speed_1_impulse"));
-    QVERIFY2(lines[1].startsWith(QStringLiteral("1,0.02,5,2,")) && lines[1].endsWith(QStringLiteral(",,")),
+    QCOMPARE(lines[0], QStringLiteral("frame,time_s,speed_0,speed_1,kinetic,momentum,speed_0_impulse,speed_1_impulse,"
+                                      "kinetic_impulse,momentum_impulse"));
+    QVERIFY2(lines[1].startsWith(QStringLiteral("1,0.02,5,2,")) && lines[1].endsWith(QStringLiteral(",,,,")),
              qPrintable(lines[1]));
-    QVERIFY2(lines[2].endsWith(QStringLiteral(",0.5,2.5")), qPrintable(lines[2]));
-    QVERIFY2(lines[3].endsWith(QStringLiteral(",,")), qPrintable(lines[3]));
+    const QStringList second = lines[2].split(QLatin1Char(','));
+    QCOMPARE(second.size(), 10);
+    QCOMPARE(second.mid(6, 2), QStringList({QStringLiteral("0.5"), QStringLiteral("2.5")}));
+    // Shortest round-trip text: the totals read back as the same doubles.
+    QVERIFY(second[8].toDouble() == other.kineticEnergy());
+    QVERIFY(second[9].toDouble() == length(other.momentum()));
+    QVERIFY2(lines[3].endsWith(QStringLiteral(",,,,")), qPrintable(lines[3]));
 
     // The legend lists the marbles once and the two models once; the dashed line names its model.
     plot.refreshChart();
@@ -579,6 +627,10 @@ void TestCompareRun::plotExportsAndDescribesCompareLines()
     QVERIFY2(hover.contains(QStringLiteral("frame 2")) && hover.contains(QStringLiteral("impulse"))
                  && hover.contains(QStringLiteral("speed 2.5 px/frame")),
              qPrintable(hover));
+    const QString energyHover = plot.describePoint(plot.compareKineticSeries(), QPointF(2.0, 0.0));
+    QVERIFY2(energyHover.contains(QStringLiteral("frame 2")) && energyHover.contains(QStringLiteral("kinetic energy, impulse"))
+                 && energyHover.contains(QString::number(other.kineticEnergy(), 'g', 6)),
+             qPrintable(energyHover));
 }
 
 std::unique_ptr<MainWindow> TestCompareRun::makeWindow()
