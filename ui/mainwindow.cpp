@@ -247,6 +247,10 @@ void MainWindow::createActions()
 
     m_fitAction = new QAction(QIcon::fromTheme(QStringLiteral("zoom-fit-best")), tr("&Fit to Stage"), this);
     m_fitAction->setObjectName(QStringLiteral("actionFit"));
+    // Short toolbar labels (the menus keep the full names), so that every tool stays on the
+    // toolbar of a 1400 px wide window instead of moving into its overflow menu.
+    m_fitAction->setIconText(tr("Fit"));
+    m_fitAction->setToolTip(tr("Fit to Stage: zoom so that the whole stage shows"));
     m_fitAction->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_0));
     connect(m_fitAction, &QAction::triggered, m_view, &StageView::fitToStage);
     m_zoomInAction = new QAction(QIcon::fromTheme(QStringLiteral("zoom-in")), tr("Zoom &In"), this);
@@ -260,6 +264,8 @@ void MainWindow::createActions()
 
     m_vectorsAction = new QAction(tr("Collision &Vectors"), this);
     m_vectorsAction->setObjectName(QStringLiteral("actionVectors"));
+    m_vectorsAction->setIconText(tr("Vectors"));
+    m_vectorsAction->setToolTip(tr("Collision vectors at each marble's last collision (Figure 11.12)"));
     m_vectorsAction->setCheckable(true);
     m_vectorsAction->setChecked(m_view->vectorsVisible());
     m_vectorsAction->setShortcut(QKeySequence(Qt::Key_V));

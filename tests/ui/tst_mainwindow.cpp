@@ -20,6 +20,7 @@
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QToolBar>
 
 #include <cmath>
 #include <memory>
@@ -88,6 +89,7 @@ private Q_SLOTS:
     void runKeepsRealTimeAndStopsOnNonFinite();
     void autosaveIsRecoveredAfterCrash();
     void layoutIsRestored();
+    void toolbarsFitTheWindow();
 
 private:
     void makeWindow();
@@ -484,6 +486,25 @@ void TestMainWindow::layoutIsRestored()
     QVERIFY(!m_window->plotDock()->isVisible());
     QVERIFY(m_window->parametersDock()->isVisible());
     QVERIFY(m_window->stageView()->trailsVisible());
+}
+
+void TestMainWindow::toolbarsFitTheWindow()
+{
+    // At the 1400 px the suite uses, no action of any toolbar is pushed into an overflow menu.
+    m_window->resize(1400, 900);
+    QCoreApplication::processEvents();
+    const QList<QToolBar *> bars = m_window->findChildren<QToolBar *>();
+    QVERIFY(bars.size() >= 3);
+    for (QToolBar *bar : bars) {
+        for (QAction *action : bar->actions()) {
+            if (action->isSeparator())
+                continue;
+            QWidget *widget = bar->widgetForAction(action);
+            QVERIFY2(widget && widget->isVisible(),
+                     qPrintable(QStringLiteral("%1: '%2' is not on the toolbar").arg(bar->windowTitle(), action->iconText())));
+        }
+    }
+    QCOMPARE(m_window->findChild<QAction *>(QStringLiteral("actionFit"))->iconText(), QStringLiteral("Fit"));
 }
 
 QTEST_MAIN(TestMainWindow)
