@@ -647,6 +647,16 @@ void PlotDock::rebuildTracks()
         removeCompareTrack(t);
     }
     m_tracks = std::move(tracks);
+    // Lines of newly plotted marbles were added after the two models' legend entries: put those
+    // back at the end, so that the legend lists the marbles first, then "book (solid)", "exact (dashed)".
+    for (QLineSeries *key : {m_modelKey, m_compareKey}) {
+        if (!key)
+            continue;
+        m_chart->removeSeries(key);
+        m_chart->addSeries(key);
+        key->attachAxis(m_axisX);
+        key->attachAxis(m_axisSpeed);
+    }
     styleSeries();
 
     const int plotted = static_cast<int>(m_tracks.size());

@@ -131,6 +131,7 @@ private Q_SLOTS:
     void ghostsFollowTheComparison();
     void ghostsSurviveStageDestroyedFirst();
     void plotGetsCompareSeries();
+    void plotLegendListsMarblesThenModels();
     void plotExportsAndDescribesCompareLines();
 
     void boxOffersTheOtherModels_data();
@@ -577,6 +578,36 @@ void TestCompareRun::plotGetsCompareSeries()
     QCOMPARE(plot.kineticSeries()->pen().style(), Qt::DashLine);
     QCOMPARE(plot.kineticSeries()->name(), QStringLiteral("kinetic energy"));
     QVERIFY(plot.speedSeries(0));
+}
+
+void TestCompareRun::plotLegendListsMarblesThenModels()
+{
+    // Comparing, then a scene with more marbles (a preset opened): the new marbles' lines come
+    // before the two models' entries in the legend, as on the first scene.
+    PlotDock plot;
+    World small = presetWorld("four-marbles", ModelKind::Book);
+    plot.reset(small);
+    plot.setCompareModel(QStringLiteral("exact"));
+    plot.reset(presetWorld("pachinko", ModelKind::Book));
+    QCOMPARE(plot.plottedMarbles().size(), 8);
+    const QList<QAbstractSeries *> series = plot.chartView()->chart()->series();
+    qsizetype lastMarble = -1;
+    qsizetype firstKey = series.size();
+    for (qsizetype k = 0; k < series.size(); ++k) {
+        const QString name = series[k]->name();
+        if (name == QStringLiteral("book (solid)") || name == QStringLiteral("exact (dashed)"))
+            firstKey = std::min(firstKey, k);
+        else if (name.startsWith(QStringLiteral("marble ")))
+            lastMarble = k;
+    }
+    QVERIFY(lastMarble >= 0);
+    QVERIFY2(lastMarble < firstKey && firstKey < series.size(),
+             qPrintable(QStringLiteral("last marble line at %1, first model entry at %2").arg(lastMarble).arg(firstKey)));
+    // The keys still draw against the axes (a series without axes would not be plotted).
+    for (QAbstractSeries *s : series) {
+        if (s->name() == QStringLiteral("exact (dashed)"))
+            QCOMPARE(s->attachedAxes().size(), 2);
+    }
 }
 
 void TestCompareRun::plotExportsAndDescribesCompareLines()
