@@ -89,32 +89,57 @@ bool scaleToMagnitude(Vec2 &u, double currentMag, double targetMag)
 
 } // namespace
 
-// Reflection of a velocity against a collision vector (the chapter's "hocus pocus"):
-// with unit v and unit c, the part of v along c is (v.c) c; subtracting it twice turns it
-// round and keeps the part across c:  v' = v - 2 (v.c) c.  |v'| = |v| = 1 in exact
-// arithmetic; the book still measures it (cur) and rescales v' to the old speed.
+namespace {
+
+// Reflection of a velocity against a collision vector (the chapter's "hocus pocus"), the step
+// both responses share: with unit v and unit c (from the marble towards what it hit), the part
+// of v along c is (v.c) c; subtracting it twice turns it round and keeps the part across c:
+// v' = v - 2 (v.c) c.  |v'| = |v| = 1 in exact arithmetic; the book still measures it (cur)
+// before rescaling v'.
+struct Reflection {
+    Vec2 unitIn;  // v / |v|
+    Vec2 c;       // unit collision vector
+    double d;     // v.c, with unit v
+    Vec2 w;       // v - 2 d c
+    double cur;   // |w| as measured
+};
+
+bool reflectUnit(Vec2 from, Vec2 towards, Vec2 v, Reflection &r)
+{
+    r.c = {towards.x - from.x, towards.y - from.y};
+    r.w = v;
+    if (!normalize(r.w) || !normalize(r.c))
+        return false;
+    r.unitIn = r.w;
+    r.d = dot(r.w, r.c);
+    r.w.x -= 2 * r.d * r.c.x;
+    r.w.y -= 2 * r.d * r.c.y;
+    r.cur = length(r.w);
+    return r.cur != 0.0;
+}
+
+// Figure 11.12's three vectors for the collision vectors overlay.
+void recordReflection(const Reflection &r, HitRecord *record)
+{
+    if (!record)
+        return;
+    record->velocityIn = r.unitIn;
+    record->normal = r.c;
+    record->velocityOut = {r.w.x / r.cur, r.w.y / r.cur};
+}
+
+} // namespace
+
+// Off a pin: the reflected velocity rescaled to the old speed.
 bool bookReflectOffPin(Vec2 p, Vec2 pin, Vec2 &v, HitRecord *record)
 {
     const double oldMag = length(v);
-    Vec2 c{pin.x - p.x, pin.y - p.y};
-    Vec2 w = v;
-    if (!normalize(w) || !normalize(c))
+    Reflection r;
+    if (!reflectUnit(p, pin, v, r))
         return false;
-    const Vec2 unitIn = w;
-    const double d = dot(w, c);
-    w.x -= 2 * d * c.x;
-    w.y -= 2 * d * c.y;
-    const double cur = length(w);
-    if (cur == 0.0)
-        return false;
-    const Vec2 unitOut{w.x / cur, w.y / cur};
-    scaleToMagnitude(w, cur, oldMag);
-    v = w;
-    if (record) {
-        record->velocityIn = unitIn;
-        record->normal = c;
-        record->velocityOut = unitOut;
-    }
+    recordReflection(r, record);
+    scaleToMagnitude(r.w, r.cur, oldMag);
+    v = r.w;
     return true;
 }
 
@@ -128,34 +153,22 @@ bool bookReflectOffPin(Vec2 p, Vec2 pin, Vec2 &v, HitRecord *record)
 bool bookShareCollision(Vec2 pi, Vec2 &vi, double mi, Vec2 pj, Vec2 &vj, double mj, HitRecord *record)
 {
     const double oldMag = length(vi);
-    Vec2 c{pj.x - pi.x, pj.y - pi.y};
-    Vec2 wi = vi;
-    if (!normalize(wi) || !normalize(c))
+    Reflection r;
+    if (!reflectUnit(pi, pj, vi, r))
         return false;
-    const Vec2 unitIn = wi;
-    const double d = dot(wi, c);
-    wi.x -= 2 * d * c.x;
-    wi.y -= 2 * d * c.y;
-    const double curI = length(wi);
-    if (curI == 0.0)
-        return false;
-    const Vec2 unitOut{wi.x / curI, wi.y / curI};
     const double newI = (mj / mi) * (oldMag / 2);
     const double newJ = (mi / mj) * (oldMag / 2);
-    scaleToMagnitude(wi, curI, newI);
+    Vec2 wi = r.w;
+    scaleToMagnitude(wi, r.cur, newI);
     Vec2 wj = vj;
-    wj.x += 2 * d * c.x;
-    wj.y += 2 * d * c.y;
+    wj.x += 2 * r.d * r.c.x;
+    wj.y += 2 * r.d * r.c.y;
     const double curJ = length(wj);
     if (!scaleToMagnitude(wj, curJ, newJ))
         return false;
     vi = wi;
     vj = wj;
-    if (record) {
-        record->velocityIn = unitIn;
-        record->normal = c;
-        record->velocityOut = unitOut;
-    }
+    recordReflection(r, record);
     return true;
 }
 
