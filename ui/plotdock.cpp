@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace marbles {
 
@@ -539,13 +540,15 @@ QString PlotDock::describePoint(const QLineSeries *series, QPointF point) const
 
     const std::int64_t f = m_frames.at(lo);
     const QString when = tr("frame %1 (%2 s)").arg(f).arg(QString::number(secondsAt(f), 'g', 6));
-    if (series == m_kineticSeries || series == m_momentumSeries || (series && series == m_compareKineticSeries)
-        || (series && series == m_compareMomentumSeries)) {
-        const RingBuffer<double> &values = series == m_kineticSeries          ? m_kinetic
-                                           : series == m_momentumSeries       ? m_momentum
-                                           : series == m_compareKineticSeries ? m_compareKinetic
-                                                                              : m_compareMomentum;
-        return tr("%1: %2 %3").arg(when, series->name(), QString::number(values.at(lo), 'g', 6));
+    const std::pair<const QLineSeries *, const RingBuffer<double> *> totals[] = {
+        {m_kineticSeries, &m_kinetic},
+        {m_momentumSeries, &m_momentum},
+        {m_compareKineticSeries, &m_compareKinetic},
+        {m_compareMomentumSeries, &m_compareMomentum},
+    };
+    for (const auto &[line, values] : totals) {
+        if (line && line == series)
+            return tr("%1: %2 %3").arg(when, line->name(), QString::number(values->at(lo), 'g', 6));
     }
     for (const Track &t : m_tracks) {
         if (t.series == series)
