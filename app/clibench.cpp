@@ -377,18 +377,33 @@ struct ScaleCase {
     double moving;
 };
 
+constexpr int kScaleSizes[] = {1000, 10000, 100000};
+
+// The largest crowd size of the scale run (--max-n is at least 1000).
+int largestCrowd(int maxN)
+{
+    int largest = kScaleSizes[0];
+    for (int n : kScaleSizes) {
+        if (n <= maxN)
+            largest = n;
+    }
+    return largest;
+}
+
+std::string crowdName(int n)
+{
+    return "crowd-" + std::to_string(n);
+}
+
 std::vector<Row> scaleBench(int frames, int repeats, int maxN)
 {
     std::vector<ScaleCase> cases;
-    int largest = 0;
-    for (int n : {1000, 10000, 100000}) {
-        if (n <= maxN) {
-            cases.push_back({"crowd-" + std::to_string(n), n, 1.0});
-            largest = n;
-        }
+    for (int n : kScaleSizes) {
+        if (n <= largestCrowd(maxN))
+            cases.push_back({crowdName(n), n, 1.0});
     }
     // The largest crowd again with 1 % of its marbles moving.
-    cases.push_back({"crowd-" + std::to_string(largest) + "-1%", largest, 0.01});
+    cases.push_back({crowdName(largestCrowd(maxN)) + "-1%", largestCrowd(maxN), 0.01});
 
     std::vector<Row> rows;
     for (const ScaleCase &c : cases) {
@@ -410,7 +425,7 @@ std::vector<Row> scaleBench(int frames, int repeats, int maxN)
     return rows;
 }
 
-void printScaleSummary(const std::vector<Row> &rows)
+void printScaleSummary(const std::vector<Row> &rows, int maxN)
 {
     auto find = [&](const std::string &scene, const std::string &model) -> const Row * {
         for (const Row &r : rows) {
@@ -422,8 +437,8 @@ void printScaleSummary(const std::vector<Row> &rows)
     // The 1%-moving crowd does not stay at 1 %: a marble that is hit starts to move, and without
     // friction nothing stops again. Its mean moving share tells how far below the all-moving
     // cost a run can go when cost follows the moving marbles.
-    const std::string largest = rows.empty() ? std::string("crowd-1000") : rows.back().scene.substr(0, rows.back().scene.size() - 3);
-    const std::string size = largest.substr(6) == "100000" ? "100k" : largest.substr(6) == "10000" ? "10k" : "1k";
+    const std::string largest = crowdName(largestCrowd(maxN));
+    const std::string size = std::to_string(largestCrowd(maxN) / 1000) + "k";
     std::printf("\n%-8s %16s %28s %30s\n", "model", (size + " / 1k cost").c_str(),
                 (size + " all / " + size + " 1% moving").c_str(), "moving in the 1% run, mean");
     for (const char *model : {"book", "impulse", "exact"}) {
@@ -479,7 +494,7 @@ int benchCommand(const std::vector<std::string> &args)
         std::printf("marbles-cli bench --scale: crowd scene, %d frames, one core\n", frames);
         rows = scaleBench(frames, repeats, maxN);
         printTable(rows, true);
-        printScaleSummary(rows);
+        printScaleSummary(rows, maxN);
     } else {
         std::printf("marbles-cli bench: run time against error (median of %d runs; errors against the closed form, "
                     "else against exact)\n",
