@@ -175,7 +175,6 @@ PlotDock::PlotDock(QWidget *parent)
     m_axisSpeed->setTitleText(tr("speed (px/frame)"));
     m_axisTotals = new QValueAxis(m_chart);
     m_axisTotals->setLabelFormat(QStringLiteral("%g"));
-    m_axisTotals->setTitleText(tr("energy, momentum"));
     m_axisTotals->setVisible(false);
     m_chart->addAxis(m_axisX, Qt::AlignBottom);
     m_chart->addAxis(m_axisSpeed, Qt::AlignLeft);
@@ -431,7 +430,7 @@ void PlotDock::setKineticEnergyShown(bool shown)
         m_showKinetic->setChecked(shown); // comes back here through toggled()
     showTotal(m_kineticSeries, shown);
     showTotal(m_compareKineticSeries, shown);
-    m_axisTotals->setVisible(m_showKinetic->isChecked() || m_showMomentum->isChecked());
+    updateTotalsAxis();
     m_dirty = true;
 }
 
@@ -441,7 +440,7 @@ void PlotDock::setMomentumShown(bool shown)
         m_showMomentum->setChecked(shown);
     showTotal(m_momentumSeries, shown);
     showTotal(m_compareMomentumSeries, shown);
-    m_axisTotals->setVisible(m_showKinetic->isChecked() || m_showMomentum->isChecked());
+    updateTotalsAxis();
     m_dirty = true;
 }
 
@@ -844,6 +843,18 @@ void PlotDock::onHovered(const QLineSeries *series, QPointF point, bool state)
     m_hoverLabel->setText(text);
     if (!text.isEmpty())
         QToolTip::showText(QCursor::pos(), text, m_chartView);
+}
+
+void PlotDock::updateTotalsAxis()
+{
+    // Shown with either total, and titled with what it shows: a short title still fits beside
+    // the default, low plot.
+    const bool kinetic = m_showKinetic->isChecked();
+    const bool momentum = m_showMomentum->isChecked();
+    m_axisTotals->setVisible(kinetic || momentum);
+    m_axisTotals->setTitleText(kinetic && momentum ? tr("energy, momentum")
+                               : kinetic           ? tr("kinetic energy")
+                                                   : tr("|momentum|"));
 }
 
 void PlotDock::updateAxisTitles()

@@ -156,6 +156,7 @@ private:
     const Track *trackOf(int marble) const;
     void onHovered(const QLineSeries *series, QPointF point, bool state);
     void updateAxisTitles();
+    void updateTotalsAxis();
     void exportCsvInteractive();
     void exportPngInteractive();
 

@@ -422,6 +422,15 @@ void TestPlotDock::totalsOnRequest()
     const double v0 = 0.12 * 0.12;
     const double v1 = 0.12 * 0.12 + 0.25;
     QCOMPARE_LE(std::abs(kinetic->at(11).y() - 0.5 * 12.5 * (v0 + v1)), 1e-12);
+    // The right-hand axis, titled with what it shows.
+    QValueAxis *totalsAxis = nullptr;
+    for (QAbstractAxis *axis : dock.chartView()->chart()->axes(Qt::Vertical)) {
+        if (axis->alignment() == Qt::AlignRight)
+            totalsAxis = qobject_cast<QValueAxis *>(axis);
+    }
+    QVERIFY(totalsAxis);
+    QVERIFY(totalsAxis->isVisible());
+    QCOMPARE(totalsAxis->titleText(), QStringLiteral("kinetic energy"));
 
     box = dock.findChild<QCheckBox *>(QStringLiteral("momentumCheck"));
     QTest::mouseClick(box, Qt::LeftButton, {}, QPoint(box->height() / 2, box->height() / 2));
@@ -431,6 +440,11 @@ void TestPlotDock::totalsOnRequest()
     const double px = 12.5 * 0.24;
     const double py = 12.5 * -0.5;
     QCOMPARE_LE(std::abs(momentum->at(11).y() - std::sqrt(px * px + py * py)), 1e-12);
+    QCOMPARE(totalsAxis->titleText(), QStringLiteral("energy, momentum"));
+    dock.setKineticEnergyShown(false);
+    QCOMPARE(totalsAxis->titleText(), QStringLiteral("|momentum|"));
+    dock.setMomentumShown(false);
+    QVERIFY(!totalsAxis->isVisible());
 }
 
 void TestPlotDock::hoverShowsExactValues_data()
