@@ -39,6 +39,15 @@ constexpr qsizetype kMaxPointsPerLine = 2000;
 /// short sample line shows two dashes.
 const QList<qreal> kCompareDashes{2.5, 2.0};
 
+/// The pen of a comparison model's line in `colour`.
+QPen comparePen(QColor colour)
+{
+    QPen pen(colour, 2.0, Qt::CustomDashLine);
+    pen.setCapStyle(Qt::FlatCap);
+    pen.setDashPattern(kCompareDashes);
+    return pen;
+}
+
 /// Colours of the two totals' lines (the comparison model's in the same colour, dashed).
 const QColor kKineticColour(0x33, 0x33, 0x33);
 const QColor kMomentumColour(0xc0, 0x5a, 0x00);
@@ -380,26 +389,22 @@ void PlotDock::setCompareModel(const QString &model)
     if (!m_compareModel.isEmpty()) {
         for (Track &t : m_tracks)
             addCompareTrack(t);
-        auto addKeySeries = [this](Qt::PenStyle style) {
+        auto addKeySeries = [this](bool dashed) {
             auto *series = new QLineSeries;
-            QPen pen(QColor(0x55, 0x55, 0x55), 2.0, style);
+            const QColor grey(0x55, 0x55, 0x55);
+            QPen pen = dashed ? comparePen(grey) : QPen(grey, 2.0);
             pen.setCapStyle(Qt::FlatCap);
-            if (style == Qt::CustomDashLine)
-                pen.setDashPattern(kCompareDashes);
             series->setPen(pen);
             m_chart->addSeries(series);
             series->attachAxis(m_axisX);
             series->attachAxis(m_axisSpeed);
             return series;
         };
-        m_modelKey = addKeySeries(Qt::SolidLine);
-        m_compareKey = addKeySeries(Qt::CustomDashLine);
+        m_modelKey = addKeySeries(false);
+        m_compareKey = addKeySeries(true);
         // The comparison starts now: no comparison totals for the samples already held.
-        for (RingBuffer<double> *totals : {&m_compareKinetic, &m_compareMomentum}) {
-            totals->setCapacity(m_capacity);
-            for (std::size_t i = 0; i < m_frames.size(); ++i)
-                totals->push(kNaN);
-        }
+        startWithGaps(m_compareKinetic);
+        startWithGaps(m_compareMomentum);
         m_compareKineticSeries = addTotalSeries(kKineticColour);
         m_compareMomentumSeries = addTotalSeries(kMomentumColour);
         showTotal(m_compareKineticSeries, m_showKinetic->isChecked());
@@ -633,9 +638,7 @@ void PlotDock::rebuildTracks()
         // A marble plotted from now on: no speed for the samples already held.
         Track t;
         t.marble = marble;
-        t.speed.setCapacity(m_capacity);
-        for (std::size_t i = 0; i < m_frames.size(); ++i)
-            t.speed.push(kNaN);
+        startWithGaps(t.speed);
         t.series = addSpeedSeries();
         if (!m_compareModel.isEmpty())
             addCompareTrack(t);
@@ -684,10 +687,17 @@ void PlotDock::addCompareTrack(Track &t)
     if (t.compareSeries)
         return;
     // The comparison starts now: no comparison speed for the samples already held.
-    t.compareSpeed.setCapacity(m_capacity);
-    for (std::size_t i = 0; i < m_frames.size(); ++i)
-        t.compareSpeed.push(kNaN);
+    startWithGaps(t.compareSpeed);
     t.compareSeries = addSpeedSeries();
+}
+
+void PlotDock::startWithGaps(RingBuffer<double> &values) const
+{
+    // A line plotted from now on: a gap for every sample already held, so that it stays aligned
+    // sample for sample with m_frames.
+    values.setCapacity(m_capacity); // also drops what it held
+    for (std::size_t i = 0; i < m_frames.size(); ++i)
+        values.push(kNaN);
 }
 
 void PlotDock::removeCompareTrack(Track &t)
@@ -749,10 +759,7 @@ void PlotDock::styleSeries()
         t.series->setPen(QPen(colour, 2.0));
         if (t.compareSeries) {
             t.compareSeries->setName(tr("%1, %2").arg(marbleLabel(t.marble), m_compareModel));
-            QPen dashed(colour, 2.0, Qt::CustomDashLine);
-            dashed.setCapStyle(Qt::FlatCap);
-            dashed.setDashPattern(kCompareDashes);
-            t.compareSeries->setPen(dashed);
+            t.compareSeries->setPen(comparePen(colour));
             for (QLegendMarker *marker : m_chart->legend()->markers(t.compareSeries))
                 marker->setVisible(false);
         }
@@ -773,12 +780,8 @@ void PlotDock::styleSeries()
     styleTotal(m_kineticSeries, tr("kinetic energy"), kKineticColour, Qt::DashLine);
     styleTotal(m_momentumSeries, tr("|momentum|"), kMomentumColour, Qt::DashDotLine);
     if (comparing) {
-        for (QLineSeries *series : {m_compareKineticSeries, m_compareMomentumSeries}) {
-            QPen dashed(series == m_compareKineticSeries ? kKineticColour : kMomentumColour, 2.0, Qt::CustomDashLine);
-            dashed.setCapStyle(Qt::FlatCap);
-            dashed.setDashPattern(kCompareDashes);
-            series->setPen(dashed);
-        }
+        m_compareKineticSeries->setPen(comparePen(kKineticColour));
+        m_compareMomentumSeries->setPen(comparePen(kMomentumColour));
         m_compareKineticSeries->setName(tr("kinetic energy, %1").arg(m_compareModel));
         m_compareMomentumSeries->setName(tr("|momentum|, %1").arg(m_compareModel));
     }

@@ -143,6 +143,7 @@ private:
 
     void rebuildTracks();
     QLineSeries *addSpeedSeries();
+    void startWithGaps(RingBuffer<double> &values) const;
     void addCompareTrack(Track &t);
     void removeCompareTrack(Track &t);
     QLineSeries *addTotalSeries(QColor colour);
