@@ -398,12 +398,13 @@ std::string crowdName(int n)
 std::vector<Row> scaleBench(int frames, int repeats, int maxN)
 {
     std::vector<ScaleCase> cases;
+    const int largest = largestCrowd(maxN);
     for (int n : kScaleSizes) {
-        if (n <= largestCrowd(maxN))
+        if (n <= largest)
             cases.push_back({crowdName(n), n, 1.0});
     }
     // The largest crowd again with 1 % of its marbles moving.
-    cases.push_back({crowdName(largestCrowd(maxN)) + "-1%", largestCrowd(maxN), 0.01});
+    cases.push_back({crowdName(largest) + "-1%", largest, 0.01});
 
     std::vector<Row> rows;
     for (const ScaleCase &c : cases) {
@@ -437,8 +438,9 @@ void printScaleSummary(const std::vector<Row> &rows, int maxN)
     // The 1%-moving crowd does not stay at 1 %: a marble that is hit starts to move, and without
     // friction nothing stops again. Its mean moving share tells how far below the all-moving
     // cost a run can go when cost follows the moving marbles.
-    const std::string largest = crowdName(largestCrowd(maxN));
-    const std::string size = std::to_string(largestCrowd(maxN) / 1000) + "k";
+    const int largestN = largestCrowd(maxN);
+    const std::string largest = crowdName(largestN);
+    const std::string size = std::to_string(largestN / 1000) + "k";
     std::printf("\n%-8s %16s %28s %30s\n", "model", (size + " / 1k cost").c_str(),
                 (size + " all / " + size + " 1% moving").c_str(), "moving in the 1% run, mean");
     for (const char *model : {"book", "impulse", "exact"}) {
