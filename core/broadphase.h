@@ -40,6 +40,17 @@ public:
     double line(std::int64_t k) const { return static_cast<double>(k) * m_cellSize; }
     /// Bucket of cell (kx, ky).
     int bucket(std::int64_t kx, std::int64_t ky) const;
+    /// Bucket of the cell holding (x, y): bucket(coord(x), coord(y)), with the common case (a cell
+    /// on the unfolded lattice) done without 64-bit integers or division.
+    int bucketAt(double x, double y) const
+    {
+        // For t >= 0, floor(t) lies in [0, n) exactly when t does, and truncation is floor.
+        const double tx = x * m_invCellSize;
+        const double ty = y * m_invCellSize;
+        if (tx >= 0.0 && tx < m_nx && ty >= 0.0 && ty < m_ny)
+            return static_cast<int>(tx) + static_cast<int>(ty) * m_nx;
+        return bucket(coord(x), coord(y));
+    }
 
     /// The 9 buckets of the 3 x 3 neighbourhood of cell (kx, ky), row by row.
     void neighbourhood(std::int64_t kx, std::int64_t ky, int out[9]) const;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -518,7 +519,7 @@ void ExactModel::beginFrame(World &world)
     m_start.assign(static_cast<std::size_t>(buckets) + 1, 0);
     for (int w = 0; w < n; ++w) {
         const Vec2 p = world.position[w];
-        const int b = m_singleCell ? 0 : m_geometry.bucket(m_geometry.coord(p.x), m_geometry.coord(p.y));
+        const int b = m_singleCell ? 0 : m_geometry.bucketAt(p.x, p.y);
         m_sortBucket[w] = b;
         ++m_start[b + 1];
     }
@@ -528,19 +529,20 @@ void ExactModel::beginFrame(World &world)
     m_body.resize(n);
     m_rec.resize(n);
     for (int w = 0; w < n; ++w)
-        m_rec[m_cursor[m_sortBucket[w]]++].id = w;
+        m_body[m_cursor[m_sortBucket[w]]++].id = w;
     m_overflowHead.assign(buckets, -1);
     m_overflowCount = 0;
     m_heap.clear();
     m_heapPos.assign(n, -1);
     bool finite = std::isfinite(m_lambda) && isFinite(m_gravity);
     for (int i = 0; i < n; ++i) {
-        const int w = m_rec[i].id;
         Body &body = m_body[i];
+        const int w = body.id;
         // Pushes act at the frame boundary: an instant velocity change. At t = 0, a = p and b = v.
         body.a = world.position[w];
         body.b = {world.velocity[w].x + world.acceleration[w].x, world.velocity[w].y + world.acceleration[w].y};
-        world.acceleration[w] = {};
+        if (std::bit_cast<std::uint64_t>(world.acceleration[w].x) != 0 || std::bit_cast<std::uint64_t>(world.acceleration[w].y) != 0)
+            world.acceleration[w] = {}; // (written only when set: most marbles have no push)
         body.radius = world.radius[w];
         body.contactTime = noTime;
         body.bucket = m_sortBucket[w];
@@ -581,8 +583,8 @@ void ExactModel::endFrame(World &world)
             v.x = 0.0;
         if (std::abs(v.y) <= z)
             v.y = 0.0;
-        world.position[m_rec[i].id] = p;
-        world.velocity[m_rec[i].id] = v;
+        world.position[m_body[i].id] = p;
+        world.velocity[m_body[i].id] = v;
     }
     m_world = nullptr;
 }
@@ -784,7 +786,7 @@ void ExactModel::reanchor(int i)
     stateAt(m_body[i], p, v);
     m_rec[i].anchor = p;
     nextEscape(i, p, v);
-    const int bucket = m_geometry.bucket(m_geometry.coord(p.x), m_geometry.coord(p.y));
+    const int bucket = m_geometry.bucketAt(p.x, p.y);
     if (bucket == m_body[i].bucket)
         return; // the same neighbours as before: nothing new in reach
     moveToBucket(i, bucket);
@@ -1110,8 +1112,8 @@ void ExactModel::collidePair(World &world, int i, int j)
         vj.x += impulse * wj * n.x;
         vj.y += impulse * wj * n.y;
         const std::int64_t frame = world.frame + 1;
-        world.lastHit[m_rec[i].id] = {frame, unit(inI), n, unit(vi)};
-        world.lastHit[m_rec[j].id] = {frame, unit(inJ), {-n.x, -n.y}, unit(vj)};
+        world.lastHit[m_body[i].id] = {frame, unit(inI), n, unit(vi)};
+        world.lastHit[m_body[j].id] = {frame, unit(inJ), {-n.x, -n.y}, unit(vj)};
         ++m_collisionCount;
     }
     ++m_rec[i].stamp;
@@ -1149,7 +1151,7 @@ void ExactModel::collidePin(World &world, int i, int pin)
         const Vec2 in = v;
         v.x -= (1.0 + e) * approach * n.x;
         v.y -= (1.0 + e) * approach * n.y;
-        world.lastHit[m_rec[i].id] = {world.frame + 1, unit(in), n, unit(v)};
+        world.lastHit[m_body[i].id] = {world.frame + 1, unit(in), n, unit(v)};
         ++m_collisionCount;
     }
     ++m_rec[i].stamp;
@@ -1198,7 +1200,7 @@ void ExactModel::collideWall(World &world, int i, int wall)
     if (hit) {
         Vec2 n{};
         (axis == 0 ? n.x : n.y) = upper ? 1.0 : -1.0;
-        world.lastHit[m_rec[i].id] = {world.frame + 1, unit(in), n, unit(vel)};
+        world.lastHit[m_body[i].id] = {world.frame + 1, unit(in), n, unit(vel)};
     }
     ++m_rec[i].stamp;
     setState(i, p, vel);

@@ -80,10 +80,12 @@ private:
         double radius = 0.0;
         double contactTime = 0.0;    // time of its best contact (infinity: none)
         int bucket = 0;              // bucket of its anchor cell
+        int id = 0;                  // index in the World
         std::uint8_t gravityOff = 0; // bit 0: no gravity along x (held on a wall, or frozen), bit 1: y
         std::uint8_t frozen = 0;
         std::uint8_t moved = 0;      // anchored outside the bucket it was sorted into
     };
+    static_assert(sizeof(Body) == 64);
     // The collapse guard's per-frame counts of one marble.
     struct Guard {
         int pairHits = 0;
@@ -165,7 +167,6 @@ private:
         Vec2 anchor;             // where it was anchored, px
         double invMass = 0.0;    // 0 while frozen
         std::uint32_t stamp = 0; // increases with every change of velocity
-        int id = 0;              // index in the World
         int home = 0;            // the bucket it was sorted into
         int overflowNext = -1;
         int overflowPrev = -2;   // -2: in no overflow list
@@ -173,7 +174,7 @@ private:
         std::uint8_t crossSide = 0;
     };
 
-    // Marbles, in grid order: internal index i is World marble m_rec[i].id.
+    // Marbles, in grid order: internal index i is World marble m_body[i].id.
     std::vector<Body> m_body;
     std::vector<Record> m_rec;
 

@@ -17,18 +17,6 @@ Vec2 unitOrZero(Vec2 u)
     return {u.x / len, u.y / len};
 }
 
-/// The bucket of the cell holding (x, y): the same as geometry.bucket(coord(x), coord(y)), with
-/// the common case (a cell on the unfolded lattice) done without 64-bit integers or division.
-int bucketAt(const GridGeometry &geometry, double x, double y)
-{
-    // For t >= 0, floor(t) lies in [0, n) exactly when t does, and truncation is floor.
-    const double tx = x * geometry.inverseCellSize();
-    const double ty = y * geometry.inverseCellSize();
-    if (tx >= 0.0 && tx < geometry.bucketsX() && ty >= 0.0 && ty < geometry.bucketsY())
-        return static_cast<int>(tx) + static_cast<int>(ty) * geometry.bucketsX();
-    return geometry.bucket(geometry.coord(x), geometry.coord(y));
-}
-
 /// A run of consecutive slots [begin, end).
 struct SlotRange {
     int begin;
@@ -59,7 +47,7 @@ void ImpulseModel::sortIntoBuckets(const World &world, int awake)
     m_bodies.resize(static_cast<std::size_t>(n));
     m_motions.resize(static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i) {
-        const int b = bucketAt(m_geometry, world.position[i].x, world.position[i].y);
+        const int b = m_geometry.bucketAt(world.position[i].x, world.position[i].y);
         m_bucketOf[i] = b;
         ++m_start[b + 1];
     }
