@@ -383,6 +383,15 @@ ExactModel::~ExactModel() = default;
 namespace {
 
 constexpr int sides = 4;
+
+// Adds one to a guard count, stopping at the largest value its type holds.
+template <typename Count>
+Count count(Count &c)
+{
+    if (c < std::numeric_limits<Count>::max())
+        ++c;
+    return c;
+}
 constexpr double noTime = std::numeric_limits<double>::infinity();
 
 } // namespace
@@ -422,7 +431,10 @@ void ExactModel::setState(int i, Vec2 p, Vec2 v)
 
 void ExactModel::setContact(int i, const Event &e)
 {
-    m_rec[i].contact = e;
+    Record &rec = m_rec[i];
+    rec.contactKind = e.kind;
+    rec.contactOther = e.other;
+    rec.contactStamp = e.stamp;
     m_body[i].contactTime = e.time;
 }
 
@@ -550,14 +562,14 @@ void ExactModel::beginFrame(World &world)
         body.frozen = 0;
         body.moved = 0;
         Record &rec = m_rec[i];
-        rec.contact = {noTime, EventKind::None, -1, 0};
+        rec.contactKind = EventKind::None;
+        rec.contactOther = -1;
+        rec.contactStamp = 0;
         rec.crossTime = noTime;
         rec.anchor = body.a;
         rec.invMass = 1.0 / world.mass[w];
         rec.stamp = 0;
-        rec.home = body.bucket;
         rec.overflowNext = -1;
-        rec.overflowPrev = -2;
         rec.guard = Guard{};
         rec.crossSide = 0;
         finite = finite && isFinite(body.a) && isFinite(body.b) && std::isfinite(body.radius) && std::isfinite(rec.invMass);
@@ -612,9 +624,15 @@ bool ExactModel::before(int i, const Event &a, const Event &b)
     return tieOf(i, a) < tieOf(i, b);
 }
 
+ExactModel::Event ExactModel::contactOf(int i) const
+{
+    const Record &rec = m_rec[i];
+    return {m_body[i].contactTime, rec.contactKind, rec.contactOther, rec.contactStamp};
+}
+
 ExactModel::Event ExactModel::currentEvent(int i) const
 {
-    const Event &c = m_rec[i].contact;
+    const Event c = contactOf(i);
     if (m_rec[i].crossTime <= 1.0) {
         const Event x{m_rec[i].crossTime, EventKind::Cross, m_rec[i].crossSide, 0};
         if (before(i, x, c))
@@ -754,27 +772,19 @@ void ExactModel::nextEscape(int i, Vec2 p, Vec2 v)
 void ExactModel::moveToBucket(int i, int bucket)
 {
     Body &body = m_body[i];
-    if (m_rec[i].overflowPrev != -2) {
-        const int prev = m_rec[i].overflowPrev;
-        const int next = m_rec[i].overflowNext;
-        if (prev >= 0)
-            m_rec[prev].overflowNext = next;
-        else
-            m_overflowHead[body.bucket] = next;
-        if (next >= 0)
-            m_rec[next].overflowPrev = prev;
-        m_rec[i].overflowPrev = -2;
+    if (body.moved) {
+        // Leaves the overflow list of its bucket (a few marbles at most: a short walk).
+        int *link = &m_overflowHead[body.bucket];
+        while (*link != i)
+            link = &m_rec[*link].overflowNext;
+        *link = m_rec[i].overflowNext;
         --m_overflowCount;
     }
     body.bucket = bucket;
-    body.moved = bucket != m_rec[i].home;
+    body.moved = bucket != m_sortBucket[body.id]; // the bucket it was sorted into
     if (body.moved) {
         ++m_overflowCount;
-        const int head = m_overflowHead[bucket];
-        m_rec[i].overflowPrev = -1;
-        m_rec[i].overflowNext = head;
-        if (head >= 0)
-            m_rec[head].overflowPrev = i;
+        m_rec[i].overflowNext = m_overflowHead[bucket];
         m_overflowHead[bucket] = i;
     }
 }
@@ -794,7 +804,7 @@ void ExactModel::reanchor(int i)
     // has not changed); look at the new neighbourhood for earlier ones.
     int buckets[9];
     const int count = neighbourBuckets(i, buckets);
-    Event best = m_rec[i].contact;
+    Event best = contactOf(i);
     scanPins(i, p, v, buckets, count, best);
     scanMarbles(i, p, v, buckets, count, best);
     setContact(i, best);
@@ -973,7 +983,7 @@ void ExactModel::predictAll()
         // At t = 0 the state is (a, b) itself.
         const Vec2 p = m_body[i].a;
         const Vec2 v = m_body[i].b;
-        Event best = m_rec[i].contact;
+        Event best = contactOf(i);
         predictOwn(i, p, v, best);
         if (!m_world->pins.empty()) {
             int buckets[9];
@@ -1006,9 +1016,9 @@ void ExactModel::predictAll()
                 const Event ej{tau, EventKind::Pair, i, 0};
                 if (before(i, ei, best))
                     best = ei;
-                if (before(j, ej, m_rec[j].contact)) {
+                if (before(j, ej, contactOf(j))) {
                     // A resting marble has no turn of its own: it joins the calendar below.
-                    if (m_rec[j].contact.kind == EventKind::None && resting(j))
+                    if (m_rec[j].contactKind == EventKind::None && resting(j))
                         m_restingHit.push_back(j);
                     setContact(j, ej);
                 }
@@ -1055,7 +1065,7 @@ bool ExactModel::overLimit(int i) const
 
 bool ExactModel::countContact(int i)
 {
-    if (++m_rec[i].guard.recheckHits <= freezeAfterRechecks || m_body[i].frozen)
+    if (count(m_rec[i].guard.recheckHits) <= freezeAfterRechecks || m_body[i].frozen)
         return false;
     ++m_rec[i].stamp;
     freeze(i);
@@ -1093,11 +1103,11 @@ void ExactModel::collidePair(World &world, int i, int j)
     const double wj = m_rec[j].invMass;
     Guard &gi = m_rec[i].guard;
     Guard &gj = m_rec[j].guard;
-    ++gi.pairHits;
-    ++gj.pairHits;
+    count(gi.pairHits);
+    count(gj.pairHits);
     if (approach <= m_restSpeed) {
-        ++gi.restHits;
-        ++gj.restHits;
+        count(gi.restHits);
+        count(gj.restHits);
     }
     if (approach > 0.0 && wi + wj > 0.0) {
         // Impulse J along n with (v_i' - v_j').n = -e (v_i - v_j).n and m_i v_i + m_j v_j kept:
@@ -1141,9 +1151,9 @@ void ExactModel::collidePin(World &world, int i, int pin)
     const Vec2 n = unit({q.x - p.x, q.y - p.y});
     const double approach = dot(v, n);
     Guard &guard = m_rec[i].guard;
-    ++guard.pairHits;
+    count(guard.pairHits);
     if (approach <= m_restSpeed)
-        ++guard.restHits;
+        count(guard.restHits);
     if (approach > 0.0) {
         // The pin is immovable (infinite mass): v' = v - (1 + e) (v.n) n.
         const bool elastic = m_inelastic && guard.pairHits > elasticAfterCollisions;
@@ -1180,7 +1190,7 @@ void ExactModel::collideWall(World &world, int i, int wall)
     // Touching exactly: the solver stops at contact up to rounding.
     x = upper ? side - r : r;
     Guard &guard = m_rec[i].guard;
-    ++guard.wallHits;
+    count(guard.wallHits);
     const double e = m_restitution;
     // A bounce of speed w against gravity gOut rises w^2 / (2 gOut): below restHeightPx it is
     // resting contact instead.

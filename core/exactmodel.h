@@ -86,14 +86,17 @@ private:
         std::uint8_t moved = 0;      // anchored outside the bucket it was sorted into
     };
     static_assert(sizeof(Body) == 64);
-    // The collapse guard's per-frame counts of one marble.
+    // The collapse guard's per-frame counts of one marble. The counts saturate (count()) far above
+    // every limit they are compared with, so they decide exactly as unbounded counts would.
     struct Guard {
-        int pairHits = 0;
-        int restHits = 0;
-        int wallHits = 0;
-        int recheckHits = 0;
+        std::uint32_t wallHits = 0;
+        std::uint16_t pairHits = 0;
+        std::uint16_t recheckHits = 0;
+        std::uint8_t restHits = 0;
         std::uint8_t locked = 0; // bit 0: x held against a wall, bit 1: y
     };
+    static_assert(freezeAfterWallBounces < 0xffffffffu && freezeAfterCollisions < 0xffff
+                  && freezeAfterRechecks < 0xffff && freezeAfterRestingContacts < 0xff);
     // A heap entry: the marble's current event, with its tie-break packed for cheap comparison.
     struct Key {
         double time;
@@ -119,6 +122,7 @@ private:
     void offerPair(int i, int j, const Vec2 &p, const Vec2 &v, Event &best) const;
     static std::uint64_t tieOf(int i, const Event &e);
     static bool before(int i, const Event &a, const Event &b);
+    Event contactOf(int i) const;
     Event currentEvent(int i) const;
     Key keyOf(int i) const;
     static bool keyBefore(const Key &a, const Key &b);
@@ -160,19 +164,21 @@ private:
     double m_phi1End = 1.0;  // phi1(1)
     double m_sLeft = 1.0;    // >= phi1(1 - now), for quick rejections
 
-    // Everything else the calendar and the guard keep of a marble, in two adjacent cache lines.
+    // Everything else the calendar and the guard keep of a marble, in one cache line. Its best
+    // contact (see the .cpp, point 4) is split: the time in Body::contactTime, the rest here.
     struct alignas(64) Record {
-        Event contact;           // best contact (see the .cpp, point 4)
-        double crossTime = 0.0;  // next grid event (infinity: none)
         Vec2 anchor;             // where it was anchored, px
+        double crossTime = 0.0;  // next grid event (infinity: none)
         double invMass = 0.0;    // 0 while frozen
+        int contactOther = -1;
+        std::uint32_t contactStamp = 0;
         std::uint32_t stamp = 0; // increases with every change of velocity
-        int home = 0;            // the bucket it was sorted into
-        int overflowNext = -1;
-        int overflowPrev = -2;   // -2: in no overflow list
+        int overflowNext = -1;   // next in its bucket's overflow list (while Body::moved)
         Guard guard;
+        EventKind contactKind = EventKind::None;
         std::uint8_t crossSide = 0;
     };
+    static_assert(sizeof(Record) == 64);
 
     // Marbles, in grid order: internal index i is World marble m_body[i].id.
     std::vector<Body> m_body;
@@ -180,7 +186,7 @@ private:
 
     // Grid: bucket b's marbles at the start of the frame are the internal indices
     // m_start[b] .. m_start[b + 1] (those still anchored there have Body::moved == 0); marbles
-    // re-anchored into another bucket join that bucket's doubly linked overflow list.
+    // re-anchored into another bucket join that bucket's overflow list.
     std::vector<int> m_start;
     std::vector<int> m_cursor;
     std::vector<int> m_sortBucket;
