@@ -526,7 +526,10 @@ void ExactModel::beginFrame(World &world)
     const int buckets = m_singleCell ? 1 : m_geometry.bucketCount();
 
     // Renumber the marbles in bucket order (a stable counting sort), so that the marbles of a
-    // bucket, and of a row of buckets, lie side by side in memory.
+    // bucket, and of a row of buckets, lie side by side in memory. Note on the way whether any
+    // marble rests (see predictAll()).
+    const bool gravity = m_gravity.x != 0.0 || m_gravity.y != 0.0;
+    m_anyResting = false;
     m_sortBucket.resize(n);
     m_start.assign(static_cast<std::size_t>(buckets) + 1, 0);
     for (int w = 0; w < n; ++w) {
@@ -534,6 +537,11 @@ void ExactModel::beginFrame(World &world)
         const int b = m_singleCell ? 0 : m_geometry.bucketAt(p.x, p.y);
         m_sortBucket[w] = b;
         ++m_start[b + 1];
+        if (!gravity && !m_anyResting) {
+            const Vec2 v = world.velocity[w];
+            const Vec2 a = world.acceleration[w];
+            m_anyResting = v.x + a.x == 0.0 && v.y + a.y == 0.0;
+        }
     }
     for (int b = 0; b < buckets; ++b)
         m_start[b + 1] += m_start[b];
@@ -546,8 +554,19 @@ void ExactModel::beginFrame(World &world)
     m_overflowCount = 0;
     m_heap.clear();
     m_heapPos.assign(n, -1);
-    bool finite = std::isfinite(m_lambda) && isFinite(m_gravity);
-    for (int i = 0; i < n; ++i) {
+    m_finite = std::isfinite(m_lambda) && isFinite(m_gravity);
+    m_ready = 0;
+    if (!world.pins.empty())
+        m_pinGrid.build(m_geometry, world.pins.data(), static_cast<int>(world.pins.size()));
+}
+
+void ExactModel::makeReady(int end)
+{
+    // Reads marbles m_ready .. end - 1 (internal indices) from the World. The first look calls
+    // this just ahead of its pass, so that each record is still in cache when it is first read.
+    World &world = *m_world;
+    bool finite = m_finite;
+    for (int i = m_ready; i < end; ++i) {
         Body &body = m_body[i];
         const int w = body.id;
         // Pushes act at the frame boundary: an instant velocity change. At t = 0, a = p and b = v.
@@ -575,8 +594,7 @@ void ExactModel::beginFrame(World &world)
         finite = finite && isFinite(body.a) && isFinite(body.b) && std::isfinite(body.radius) && std::isfinite(rec.invMass);
     }
     m_finite = finite;
-    if (!world.pins.empty())
-        m_pinGrid.build(m_geometry, world.pins.data(), static_cast<int>(world.pins.size()));
+    m_ready = std::max(m_ready, end);
 }
 
 void ExactModel::endFrame(World &world)
@@ -968,9 +986,7 @@ void ExactModel::predictAll()
     // event, and no contact with another resting marble. The first look costs nothing for it.
     const bool gravity = m_gravity.x != 0.0 || m_gravity.y != 0.0;
     auto resting = [&](int i) { return !gravity && m_body[i].b.x == 0.0 && m_body[i].b.y == 0.0; };
-    bool anyResting = false;
-    for (int i = 0; i < n && !anyResting; ++i)
-        anyResting = resting(i);
+    const bool anyResting = m_anyResting;
     m_heap.clear();
     m_restingHit.clear();
     // One pass in grid order. For each moving marble: its own events, pins, then every pair of
@@ -978,6 +994,8 @@ void ExactModel::predictAll()
     // moving one otherwise (no marble has moved bucket yet, so each bucket's marbles are its
     // static range). A moving marble's record is final once its turn is over.
     for (int i = 0; i < n; ++i) {
+        if (i >= m_ready)
+            makeReady(i + 1);
         if (resting(i))
             continue;
         // At t = 0 the state is (a, b) itself.
@@ -992,6 +1010,10 @@ void ExactModel::predictAll()
         }
         int ranges[12];
         const int rangeCount = neighbourRanges(i, ranges);
+        for (int r = 0; r < rangeCount; ++r) {
+            if (ranges[2 * r + 1] > m_ready)
+                makeReady(ranges[2 * r + 1]);
+        }
         const double ri = m_body[i].radius;
         for (int r = 0; r < rangeCount; ++r) {
             // Partners below i only if some marbles rest (those are not looked at from their side).
@@ -1031,6 +1053,7 @@ void ExactModel::predictAll()
             m_heap.push_back(key);
         }
     }
+    makeReady(n);
     for (const int j : m_restingHit) {
         m_heapPos[j] = static_cast<int>(m_heap.size());
         m_heap.push_back(keyOf(j));
@@ -1227,14 +1250,13 @@ void ExactModel::step(World &world)
     if (n == 0)
         return;
     beginFrame(world);
-
-    // A world that already left finite numbers is only carried along (World::step reports it).
+    predictAll();
+    // A world that already left finite numbers is only carried along (World::step reports it):
+    // the first look's findings are dropped.
     if (!m_finite) {
         endFrame(world);
         return;
     }
-
-    predictAll();
     const Event none{noTime, EventKind::None, -1, 0};
     while (!m_heap.empty()) {
         const int i = m_heap[0].marble;

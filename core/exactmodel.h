@@ -105,6 +105,7 @@ private:
     };
 
     void beginFrame(World &world);
+    void makeReady(int end);
     void endFrame(World &world);
     void setNow(double t);
     Vec2 gravityOf(const Body &body) const;
@@ -154,7 +155,9 @@ private:
     double m_margin = 0.0;       // how far a marble may stray from its anchor, px
     bool m_singleCell = false;   // no grid: one bucket, no grid events
     bool m_finite = true;        // every marble's state and the parameters are finite
-    const World *m_world = nullptr;
+    bool m_anyResting = false;   // some marble is at rest (and there is no gravity)
+    int m_ready = 0;             // marbles 0 .. m_ready - 1 (internal) are read from the World
+    World *m_world = nullptr; // during step()
 
     // The clock: the current event time and phi1, phi2, e^{-lambda t} there.
     double m_now = 0.0;
