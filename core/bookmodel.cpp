@@ -479,7 +479,7 @@ void MovingGrid::build(const GridGeometry &geometry, const Vec2 *points, int cou
 
 int MovingGrid::bucketOf(Vec2 p) const
 {
-    return m_geometry.bucket(coord(p.x), coord(p.y));
+    return m_geometry.bucketAt(p.x, p.y);
 }
 
 void MovingGrid::insert(int i, int b)

@@ -86,11 +86,12 @@ void MovingGrid::forEachNear(Vec2 at, Visit &&visit) const
     // The 9 buckets of a neighbourhood are distinct (the lattice has >= 3 buckets a side), so
     // every body is visited once. Inside the lattice (the common case) the neighbourhood is
     // three runs of three adjacent buckets and needs no wrap-around arithmetic.
-    const std::int64_t kx = coord(at.x);
-    const std::int64_t ky = coord(at.y);
+    // For t >= 1, floor(t) lies in [1, n - 1) exactly when t does, and truncation is floor.
+    const double tx = at.x * m_invCellSize;
+    const double ty = at.y * m_invCellSize;
     const int nx = m_geometry.bucketsX();
-    if (kx >= 1 && ky >= 1 && kx < nx - 1 && ky < m_geometry.bucketsY() - 1) [[likely]] {
-        const int centre = static_cast<int>(kx + ky * nx);
+    if (tx >= 1.0 && ty >= 1.0 && tx < nx - 1 && ty < m_geometry.bucketsY() - 1) [[likely]] {
+        const int centre = static_cast<int>(tx) + static_cast<int>(ty) * nx;
         for (int row : {centre - nx, centre, centre + nx}) {
             forEachIn(row - 1, visit);
             forEachIn(row, visit);
@@ -99,7 +100,7 @@ void MovingGrid::forEachNear(Vec2 at, Visit &&visit) const
         return;
     }
     int buckets[9];
-    m_geometry.neighbourhood(kx, ky, buckets);
+    m_geometry.neighbourhood(coord(at.x), coord(at.y), buckets);
     for (int b : buckets)
         forEachIn(b, visit);
 }
