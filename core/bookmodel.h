@@ -31,9 +31,12 @@ public:
 private:
     // A bucket is half a cache line. Its first `scannedSlots` slots are always read, empty ones
     // holding the index size(): in the usual sparse grid this replaces a loop whose length
-    // changes from bucket to bucket (and defeats branch prediction) by straight-line code.
+    // changes from bucket to bucket (and defeats branch prediction) by straight-line code. One
+    // slot: cells are 2 rMax wide, so on the crowd (packing 0.24) a cell holds 0.64 marbles on
+    // average and 13 % hold more (measured on the 10k crowd: 1 slot 13 % faster than 2, and 0
+    // slots, a plain loop, 30 % slower).
     static constexpr int inlineCapacity = 7;
-    static constexpr int scannedSlots = 2;
+    static constexpr int scannedSlots = 1;
     struct Bucket {
         std::int32_t count = 0;
         std::int32_t items[inlineCapacity];
