@@ -383,6 +383,7 @@ ExactModel::~ExactModel() = default;
 namespace {
 
 constexpr int sides = 4;
+constexpr double noTime = std::numeric_limits<double>::infinity();
 
 // Adds one to a guard count, stopping at the largest value its type holds.
 template <typename Count>
@@ -392,7 +393,6 @@ Count count(Count &c)
         ++c;
     return c;
 }
-constexpr double noTime = std::numeric_limits<double>::infinity();
 
 } // namespace
 

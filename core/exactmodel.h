@@ -157,7 +157,7 @@ private:
     bool m_finite = true;        // every marble's state and the parameters are finite
     bool m_anyResting = false;   // some marble is at rest (and there is no gravity)
     int m_ready = 0;             // marbles 0 .. m_ready - 1 (internal) are read from the World
-    World *m_world = nullptr; // during step()
+    World *m_world = nullptr;    // the World being stepped, during step()
 
     // The clock: the current event time and phi1, phi2, e^{-lambda t} there.
     double m_now = 0.0;

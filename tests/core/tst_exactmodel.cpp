@@ -146,6 +146,8 @@ private slots:
     void densePileBoundedWork();
     void fewMovingAmongResting_data();
     void fewMovingAmongResting();
+    void nonFiniteWorldCarriedAlong_data();
+    void nonFiniteWorldCarriedAlong();
 };
 
 void TestExactModel::dragOnly_data()
@@ -751,6 +753,49 @@ void TestExactModel::fewMovingAmongResting()
         const Vec2 p1 = w.momentum();
         QCOMPARE_LE(std::abs(p1.x - p0.x), 1e-12 * scale);
         QCOMPARE_LE(std::abs(p1.y - p0.y), 1e-12 * scale);
+    }
+}
+
+void TestExactModel::nonFiniteWorldCarriedAlong_data()
+{
+    QTest::addColumn<int>("marbles");
+    QTest::addColumn<QString>("bad");
+    QTest::addRow("few (all pairs), NaN position") << 20 << "nan position";
+    QTest::addRow("few (all pairs), infinite speed") << 20 << "infinite speed";
+    QTest::addRow("crowd (grid), NaN position") << 2000 << "nan position";
+    QTest::addRow("crowd (grid), infinite speed") << 2000 << "infinite speed";
+    QTest::addRow("crowd (grid), NaN radius") << 2000 << "nan radius";
+}
+
+void TestExactModel::nonFiniteWorldCarriedAlong()
+{
+    QFETCH(int, marbles);
+    QFETCH(QString, bad);
+    // A world that has left finite numbers (World::step reports it) is only carried along: every
+    // marble moves straight on, no collision is resolved, and the step returns.
+    World w = makeCrowd(marbles, 5, 1.0);
+    w.params.model = ModelKind::Exact;
+    const int broken = marbles / 2;
+    if (bad == "nan position")
+        w.position[broken].x = std::numeric_limits<double>::quiet_NaN();
+    else if (bad == "infinite speed")
+        w.velocity[broken].y = std::numeric_limits<double>::infinity();
+    else
+        w.radius[broken] = std::numeric_limits<double>::quiet_NaN();
+    const World before = w;
+    ExactModel model;
+    run(w, model, 1);
+    QCOMPARE(model.lastEventCount(), std::int64_t(0));
+    for (int i = 0; i < marbles; ++i) {
+        if (i == broken)
+            continue;
+        // Without friction or gravity a frame of straight motion is p + v (to rounding).
+        const Vec2 p = w.position[i];
+        const Vec2 v = w.velocity[i];
+        QCOMPARE_LE(std::abs(p.x - (before.position[i].x + before.velocity[i].x)), 1e-9);
+        QCOMPARE_LE(std::abs(p.y - (before.position[i].y + before.velocity[i].y)), 1e-9);
+        QCOMPARE_LE(std::abs(v.x - before.velocity[i].x), 1e-12);
+        QCOMPARE_LE(std::abs(v.y - before.velocity[i].y), 1e-12);
     }
 }
 
