@@ -851,11 +851,11 @@ void PlotDock::onHovered(const QLineSeries *series, QPointF point, bool state)
 void PlotDock::updateTotalsAxis()
 {
     // Shown with either total, and titled with what it shows: a short title still fits beside
-    // the default, low plot.
+    // the default, low plot (with both, in the usual symbols; the legend spells them out).
     const bool kinetic = m_showKinetic->isChecked();
     const bool momentum = m_showMomentum->isChecked();
     m_axisTotals->setVisible(kinetic || momentum);
-    m_axisTotals->setTitleText(kinetic && momentum ? tr("energy, momentum")
+    m_axisTotals->setTitleText(kinetic && momentum ? tr("KE and |p|")
                                : kinetic           ? tr("kinetic energy")
                                                    : tr("|momentum|"));
 }

@@ -440,7 +440,7 @@ void TestPlotDock::totalsOnRequest()
     const double px = 12.5 * 0.24;
     const double py = 12.5 * -0.5;
     QCOMPARE_LE(std::abs(momentum->at(11).y() - std::sqrt(px * px + py * py)), 1e-12);
-    QCOMPARE(totalsAxis->titleText(), QStringLiteral("energy, momentum"));
+    QCOMPARE(totalsAxis->titleText(), QStringLiteral("KE and |p|"));
     dock.setKineticEnergyShown(false);
     QCOMPARE(totalsAxis->titleText(), QStringLiteral("|momentum|"));
     dock.setMomentumShown(false);
