@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <limits>
 #include <numeric>
 
@@ -460,7 +461,6 @@ std::span<const int> BookModel::pinCandidates(Vec2 oldPosition, Vec2 newPosition
 void MovingGrid::build(const GridGeometry &geometry, const Vec2 *points, int count)
 {
     m_geometry = geometry;
-    m_invCellSize = 1.0 / geometry.cellSize();
     const auto buckets = static_cast<std::size_t>(geometry.bucketCount());
     Bucket empty;
     std::fill(std::begin(empty.items), std::end(empty.items), count);

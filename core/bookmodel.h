@@ -3,7 +3,6 @@
 #include "core/broadphase.h"
 #include "core/world.h"
 
-#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -42,7 +41,6 @@ private:
         std::int32_t items[inlineCapacity];
     };
 
-    std::int64_t coord(double x) const;
     int bucketOf(Vec2 p) const;
     void insert(int i, int b);
     void remove(int i, int b);
@@ -50,21 +48,10 @@ private:
     void forEachIn(int b, Visit &visit) const;
 
     GridGeometry m_geometry;
-    double m_invCellSize = 1.0; // as GridGeometry::coord computes it, for an inlined copy
     std::vector<Bucket> m_buckets;
     std::vector<std::vector<int>> m_overflow; // bodies past the inline capacity, per bucket
     std::vector<int> m_bucketOf;              // bucket of each body
 };
-
-inline std::int64_t MovingGrid::coord(double x) const
-{
-    // GridGeometry::coord, inlined for the hot loop: floor(x / cellSize), clamped, NaN to 0.
-    const double k = std::floor(x * m_invCellSize);
-    constexpr double limit = static_cast<double>(GridGeometry::coordLimit);
-    if (k > -limit && k < limit) [[likely]]
-        return static_cast<std::int64_t>(k);
-    return m_geometry.coord(x);
-}
 
 template<typename Visit>
 [[gnu::always_inline]] inline void MovingGrid::forEachIn(int b, Visit &visit) const
@@ -90,8 +77,8 @@ void MovingGrid::forEachNear(Vec2 at, Visit &&visit) const
     // every body is visited once. Inside the lattice (the common case) the neighbourhood is
     // three runs of three adjacent buckets and needs no wrap-around arithmetic.
     // For t >= 1, floor(t) lies in [1, n - 1) exactly when t does, and truncation is floor.
-    const double tx = at.x * m_invCellSize;
-    const double ty = at.y * m_invCellSize;
+    const double tx = at.x * m_geometry.inverseCellSize();
+    const double ty = at.y * m_geometry.inverseCellSize();
     const int nx = m_geometry.bucketsX();
     if (tx >= 1.0 && ty >= 1.0 && tx < nx - 1 && ty < m_geometry.bucketsY() - 1) [[likely]] {
         const int centre = static_cast<int>(tx) + static_cast<int>(ty) * nx;
@@ -103,7 +90,7 @@ void MovingGrid::forEachNear(Vec2 at, Visit &&visit) const
         return;
     }
     int buckets[9];
-    m_geometry.neighbourhood(coord(at.x), coord(at.y), buckets);
+    m_geometry.neighbourhood(m_geometry.coord(at.x), m_geometry.coord(at.y), buckets);
     for (int b : buckets)
         forEachIn(b, visit);
 }
