@@ -282,7 +282,6 @@ int checkCommand(const std::vector<std::string> &args)
     return ExitOk;
 }
 
-
 // A scene file to --out (written atomically) or, without it, to standard output.
 void writeScene(const Options &o, const World &w)
 {

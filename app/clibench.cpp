@@ -183,10 +183,10 @@ World withVariant(const World &base, const Variant &v)
 
 using Clock = std::chrono::steady_clock;
 
-// Median over `repeats` runs of the wall time per frame, ms. Each run starts from `base`.
-// Mean wall-clock time of frames 2..F of an F-frame run (median over the repeats). The first
-// frame is stepped but not timed: it sizes the model's buffers (page faults, at 100k marbles a
-// few milliseconds), a cost paid once per run, not per frame.
+// Mean wall-clock time per frame, ms, of frames 2..F of an F-frame run from `base` (median over
+// the repeats, each starting from `base` again). The first frame is stepped but not timed: it
+// sizes the model's buffers (page faults, at 100k marbles a few milliseconds), a cost paid once
+// per run, not per frame.
 double msPerFrame(const World &base, int frames, int repeats)
 {
     std::vector<double> samples;
@@ -243,7 +243,6 @@ struct Row {
     int escapes = 0;
     double movingShare = NAN; // scale rows: mean share of the marbles moving over the run
 };
-
 
 void printTable(const std::vector<Row> &rows, bool scale)
 {

@@ -320,7 +320,6 @@ Outcome runRow(const StressRow &row)
     return o;
 }
 
-
 } // namespace
 
 int stressCommand(const std::vector<std::string> &args)

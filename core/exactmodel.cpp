@@ -376,7 +376,6 @@ Vec2 unit(Vec2 u)
 
 } // namespace
 
-
 ExactModel::ExactModel() = default;
 ExactModel::~ExactModel() = default;
 
