@@ -49,11 +49,14 @@
 //
 // 4. The calendar. Each marble keeps two things: its best contact (the earliest of the wall,
 //    pin and marble contacts it has looked at since its velocity last changed) and its next grid
-//    event (below). Its event is the earlier of the two; a 4-ary heap holds only the marbles
+//    event (below). Its event is the earlier of the two; a calendar queue holds only the marbles
 //    whose event falls inside the frame (in a calm crowd most marbles have none, and cost nothing
-//    after the first look). When a marble's velocity changes, its stamp increases; a pair event
-//    whose partner's stamp has changed since the prediction is stale and only triggers a new
-//    prediction, so the heap never holds more than N entries. Every contact event (stale or not)
+//    after the first look): [0, 1] is cut into as many equal time slots as the first look found
+//    events, each marble sits in the list of its event's slot, and the next event is the least
+//    (time, tie) of the first non-empty slot, the same total order a heap would give. When a
+//    marble's velocity changes, its stamp increases; a pair event whose partner's stamp has
+//    changed since the prediction is stale and only triggers a new prediction, so the calendar
+//    never holds more than N entries. Every contact event (stale or not)
 //    triggers a full new prediction of its marble when it comes due, which allows two savings:
 //    - a search for the contacts of i stops at the earlier of i's and the partner's best
 //      contact (anything later will be found again by whichever of them is predicted first);
@@ -551,8 +554,11 @@ void ExactModel::beginFrame(World &world)
         m_body[m_cursor[m_sortBucket[w]]++].id = w;
     m_overflowHead.assign(buckets, -1);
     m_overflowCount = 0;
-    m_heap.clear();
-    m_heapPos.assign(n, -1);
+    // A frame ends with an empty calendar (every entry out of its slot) unless it stopped early.
+    if (m_entry.size() != static_cast<std::size_t>(n) || m_scheduled != 0) {
+        m_entry.assign(static_cast<std::size_t>(n), Entry{0.0, 0, -1, -1, -1});
+        m_scheduled = 0;
+    }
     m_finite = std::isfinite(m_lambda) && isFinite(m_gravity);
     m_ready = 0;
     if (!world.pins.empty())
@@ -673,79 +679,76 @@ bool ExactModel::keyBefore(const Key &a, const Key &b)
     return a.marble < b.marble;
 }
 
-void ExactModel::heapPlace(int pos, const Key &key)
+void ExactModel::calendarInsert(const Key &key)
 {
-    m_heap[pos] = key;
-    m_heapPos[key.marble] = pos;
+    const double x = key.time * m_slotsPerTime;
+    const int slots = static_cast<int>(m_slotHead.size());
+    // Slots are monotone in time (rounding is), so a later slot only holds later events. An
+    // event before the first slot's (a contact due at once) joins the first slot.
+    int slot = m_firstSlot;
+    if (x >= slots)
+        slot = slots - 1;
+    else if (x > m_firstSlot)
+        slot = static_cast<int>(x);
+    std::int32_t &head = m_slotHead[static_cast<std::size_t>(slot)];
+    Entry &entry = m_entry[static_cast<std::size_t>(key.marble)];
+    entry = {key.time, key.tie, slot, head, -1};
+    if (head >= 0)
+        m_entry[static_cast<std::size_t>(head)].prev = key.marble;
+    head = key.marble;
+    ++m_scheduled;
 }
 
-// The calendar is a 4-ary heap: half the depth of a binary one, and the four children of a node
-// share one or two cache lines.
-void ExactModel::heapSiftUp(int pos)
+void ExactModel::calendarRemove(int i)
 {
-    const Key key = m_heap[pos];
-    while (pos > 0) {
-        const int parent = (pos - 1) / 4;
-        if (!keyBefore(key, m_heap[parent]))
-            break;
-        heapPlace(pos, m_heap[parent]);
-        pos = parent;
-    }
-    heapPlace(pos, key);
+    Entry &entry = m_entry[static_cast<std::size_t>(i)];
+    if (entry.prev >= 0)
+        m_entry[static_cast<std::size_t>(entry.prev)].next = entry.next;
+    else
+        m_slotHead[static_cast<std::size_t>(entry.slot)] = entry.next;
+    if (entry.next >= 0)
+        m_entry[static_cast<std::size_t>(entry.next)].prev = entry.prev;
+    entry.slot = -1;
+    --m_scheduled;
 }
 
-void ExactModel::heapSiftDown(int pos)
+int ExactModel::calendarFirst()
 {
-    const Key key = m_heap[pos];
-    const int size = static_cast<int>(m_heap.size());
-    while (true) {
-        const int first = 4 * pos + 1;
-        if (first >= size)
-            break;
-        int child = first;
-        const int last = std::min(first + 4, size);
-        for (int c = first + 1; c < last; ++c) {
-            if (keyBefore(m_heap[c], m_heap[child]))
-                child = c;
+    if (m_scheduled == 0)
+        return -1;
+    while (m_slotHead[static_cast<std::size_t>(m_firstSlot)] < 0)
+        ++m_firstSlot;
+    int best = m_slotHead[static_cast<std::size_t>(m_firstSlot)];
+    Key bestKey{m_entry[static_cast<std::size_t>(best)].time, m_entry[static_cast<std::size_t>(best)].tie, best};
+    for (int k = m_entry[static_cast<std::size_t>(best)].next; k >= 0; k = m_entry[static_cast<std::size_t>(k)].next) {
+        const Key key{m_entry[static_cast<std::size_t>(k)].time, m_entry[static_cast<std::size_t>(k)].tie, k};
+        if (keyBefore(key, bestKey)) {
+            best = k;
+            bestKey = key;
         }
-        if (!keyBefore(m_heap[child], key))
-            break;
-        heapPlace(pos, m_heap[child]);
-        pos = child;
     }
-    heapPlace(pos, key);
+    // Start loading the records of the next slots' first marble: in a large world its event is
+    // likely the next one, and its records are far from this one's (a hint, no effect on results).
+    const int slots = static_cast<int>(m_slotHead.size());
+    for (int s = m_firstSlot + 1; s < slots && s <= m_firstSlot + 4; ++s) {
+        const int k = m_slotHead[static_cast<std::size_t>(s)];
+        if (k >= 0) {
+            __builtin_prefetch(&m_entry[static_cast<std::size_t>(k)]);
+            __builtin_prefetch(&m_body[static_cast<std::size_t>(k)]);
+            __builtin_prefetch(&m_rec[static_cast<std::size_t>(k)]);
+            break;
+        }
+    }
+    return best;
 }
 
-void ExactModel::heapUpdate(int i)
+void ExactModel::schedule(int i)
 {
+    if (m_entry[static_cast<std::size_t>(i)].slot >= 0)
+        calendarRemove(i);
     const Key key = keyOf(i);
-    const int pos = m_heapPos[i];
-    if (key.time <= 1.0) {
-        if (pos < 0) {
-            m_heap.push_back(key);
-            heapSiftUp(static_cast<int>(m_heap.size()) - 1);
-        } else {
-            const bool up = keyBefore(key, m_heap[pos]);
-            m_heap[pos] = key;
-            if (up)
-                heapSiftUp(pos);
-            else
-                heapSiftDown(pos);
-        }
-    } else if (pos >= 0) {
-        // Leaves the calendar: the last entry takes its place.
-        const Key last = m_heap.back();
-        m_heap.pop_back();
-        m_heapPos[i] = -1;
-        if (pos < static_cast<int>(m_heap.size())) {
-            m_heap[pos] = last;
-            m_heapPos[last.marble] = pos;
-            if (pos > 0 && keyBefore(last, m_heap[(pos - 1) / 4]))
-                heapSiftUp(pos);
-            else
-                heapSiftDown(pos);
-        }
-    }
+    if (key.time <= 1.0)
+        calendarInsert(key);
 }
 
 void ExactModel::nextEscape(int i, Vec2 p, Vec2 v)
@@ -986,7 +989,7 @@ void ExactModel::predictAll()
     const bool gravity = m_gravity.x != 0.0 || m_gravity.y != 0.0;
     auto resting = [&](int i) { return !gravity && m_body[i].b.x == 0.0 && m_body[i].b.y == 0.0; };
     const bool anyResting = m_anyResting;
-    m_heap.clear();
+    m_firstKeys.clear();
     m_restingHit.clear();
     // One pass in grid order. For each moving marble: its own events, pins, then every pair of
     // neighbours once, offered to both marbles: from the lower index when both move, from the
@@ -1047,20 +1050,19 @@ void ExactModel::predictAll()
         }
         setContact(i, best);
         const Key key = keyOf(i);
-        if (key.time <= 1.0) {
-            m_heapPos[i] = static_cast<int>(m_heap.size());
-            m_heap.push_back(key);
-        }
+        if (key.time <= 1.0)
+            m_firstKeys.push_back(key);
     }
     makeReady(n);
-    for (const int j : m_restingHit) {
-        m_heapPos[j] = static_cast<int>(m_heap.size());
-        m_heap.push_back(keyOf(j));
-    }
-    // The calendar: heap-ordered in place (Floyd).
-    const int size = static_cast<int>(m_heap.size());
-    for (int pos = size > 1 ? (size - 2) / 4 : -1; pos >= 0; --pos)
-        heapSiftDown(pos);
+    for (const int j : m_restingHit)
+        m_firstKeys.push_back(keyOf(j));
+    // The calendar: about one slot per event found so far.
+    const auto slots = std::max<std::size_t>(16, m_firstKeys.size());
+    m_slotHead.assign(slots, -1);
+    m_slotsPerTime = static_cast<double>(slots);
+    m_firstSlot = 0;
+    for (const Key &key : m_firstKeys)
+        calendarInsert(key);
 }
 
 void ExactModel::unlockMoved(int i, Vec2 v)
@@ -1257,14 +1259,13 @@ void ExactModel::step(World &world)
         return;
     }
     const Event none{noTime, EventKind::None, -1, 0};
-    while (!m_heap.empty()) {
-        const int i = m_heap[0].marble;
+    for (int i = calendarFirst(); i >= 0; i = calendarFirst()) {
         const Event ev = currentEvent(i);
         setNow(std::max(m_now, ev.time));
         ++m_eventCount;
         if (ev.kind == EventKind::Cross) {
             reanchor(i);
-            heapUpdate(i);
+            schedule(i);
             continue;
         }
         // Every other event ends with a fresh prediction of i. Its old contact is void from here
@@ -1276,7 +1277,7 @@ void ExactModel::step(World &world)
                 collidePair(world, i, ev.other);
                 setContact(ev.other, none);
                 predict(ev.other);
-                heapUpdate(ev.other);
+                schedule(ev.other);
             }
             break;
         case EventKind::Pin:
@@ -1295,7 +1296,7 @@ void ExactModel::step(World &world)
             if (countContact(ev.other)) {
                 setContact(ev.other, none);
                 predict(ev.other);
-                heapUpdate(ev.other);
+                schedule(ev.other);
             }
             break;
         case EventKind::Cross:
@@ -1303,7 +1304,7 @@ void ExactModel::step(World &world)
             break;
         }
         predict(i);
-        heapUpdate(i);
+        schedule(i);
     }
     endFrame(world);
 }

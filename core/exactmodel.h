@@ -18,8 +18,9 @@ namespace marbles {
 /// memory, in 64-byte records that hold all a neighbour test reads. Each marble is "anchored" in
 /// a cell a margin wider than the contact distance and needs a grid event only when it strays
 /// further than the margin from its anchor within one frame. Per marble the calendar keeps its
-/// best contact and that next grid event; an indexed 4-ary heap holds only the marbles with an
-/// event inside the frame, and per-marble collision stamps reveal stale partner events lazily.
+/// best contact and that next grid event; a calendar queue (time slots over the frame) holds only
+/// the marbles with an event inside the frame, and per-marble collision stamps reveal stale
+/// partner events lazily.
 /// All buffers are kept between frames (no allocation in steady state) and are rebuilt from the
 /// World at the start of every frame, so they are caches only.
 class ExactModel final : public Stepper {
@@ -97,11 +98,21 @@ private:
     };
     static_assert(freezeAfterWallBounces < 0xffffffffu && freezeAfterCollisions < 0xffff
                   && freezeAfterRechecks < 0xffff && freezeAfterRestingContacts < 0xff);
-    // A heap entry: the marble's current event, with its tie-break packed for cheap comparison.
+    // A calendar entry: the marble's current event, with its tie-break packed for cheap
+    // comparison.
     struct Key {
         double time;
         std::uint64_t tie;
         int marble;
+    };
+    // A marble's place in the calendar: its key (as scheduled) and its links in the list of its
+    // time slot (slot -1: not in the calendar).
+    struct Entry {
+        double time;
+        std::uint64_t tie;
+        std::int32_t slot;
+        std::int32_t next;
+        std::int32_t prev;
     };
 
     void beginFrame(World &world);
@@ -127,10 +138,10 @@ private:
     Event currentEvent(int i) const;
     Key keyOf(int i) const;
     static bool keyBefore(const Key &a, const Key &b);
-    void heapUpdate(int i);
-    void heapSiftUp(int pos);
-    void heapSiftDown(int pos);
-    void heapPlace(int pos, const Key &key);
+    void schedule(int i);
+    void calendarInsert(const Key &key);
+    void calendarRemove(int i);
+    int calendarFirst();
     void nextEscape(int i, Vec2 p, Vec2 v);
     void reanchor(int i);
     void moveToBucket(int i, int bucket);
@@ -197,13 +208,17 @@ private:
     int m_overflowCount = 0;
     UniformGrid m_pinGrid;
 
-    // Calendar: a heap of the marbles whose earlier event (best contact or grid event) falls
-    // inside the frame.
-    std::vector<Key> m_heap;
-    // Each marble's place in the heap (-1: none). Apart from the records: a heap operation moves
-    // entries of many marbles, and this array (4 bytes a marble) stays in cache where the
-    // records would not.
-    std::vector<int> m_heapPos;
+    // Calendar: the marbles whose earlier event (best contact or grid event) falls inside the
+    // frame, in a calendar queue. The frame [0, 1] is cut into equal time slots, one list each;
+    // an event goes to the slot of its time (or to the current slot, if earlier), so the next
+    // event is the least key of the first non-empty slot, and scheduling costs O(1) where a
+    // heap moved the entries of other marbles at every level.
+    std::vector<Entry> m_entry;       // per marble
+    std::vector<std::int32_t> m_slotHead; // per slot: first entry, or -1
+    std::vector<Key> m_firstKeys;     // the first look's events, before the slots are sized
+    double m_slotsPerTime = 1.0;      // slots per unit of time (= slot count)
+    int m_firstSlot = 0;              // no entry lies in an earlier slot
+    int m_scheduled = 0;              // entries in the calendar
     std::vector<int> m_restingHit; // marbles at rest that got a contact in the first look
 
     std::int64_t m_eventCount = 0;
