@@ -52,8 +52,8 @@
 //    event (below). Its event is the earlier of the two; a calendar queue holds only the marbles
 //    whose event falls inside the frame (in a calm crowd most marbles have none, and cost nothing
 //    after the first look): [0, 1] is cut into as many equal time slots as the first look found
-//    events, each marble sits in the list of its event's slot, and the next event is the least
-//    (time, tie) of the first non-empty slot, the same total order a heap would give. When a
+//    events, each marble sits in its event's slot, and the next event is the least (time, tie)
+//    of the first non-empty slot (a small heap), the same total order one heap of all would give. When a
 //    marble's velocity changes, its stamp increases; a pair event whose partner's stamp has
 //    changed since the prediction is stale and only triggers a new prediction, so the calendar
 //    never holds more than N entries. Every contact event (stale or not)
@@ -556,9 +556,10 @@ void ExactModel::beginFrame(World &world)
     m_overflowCount = 0;
     // A frame ends with an empty calendar (every entry out of its slot) unless it stopped early.
     if (m_entry.size() != static_cast<std::size_t>(n) || m_scheduled != 0) {
-        m_entry.assign(static_cast<std::size_t>(n), Entry{0.0, 0, -1, -1, -1});
+        m_entry.assign(static_cast<std::size_t>(n), Entry{0.0, 0, notScheduled, -1, -1});
         m_scheduled = 0;
     }
+    m_heap.clear();
     m_finite = std::isfinite(m_lambda) && isFinite(m_gravity);
     m_ready = 0;
     if (!world.pins.empty())
@@ -679,56 +680,83 @@ bool ExactModel::keyBefore(const Key &a, const Key &b)
     return a.marble < b.marble;
 }
 
+// The calendar queue. Slots are monotone in time (rounding is), so a later slot only holds
+// later events. The current slot's entries are kept in a 4-ary heap (so that many events at
+// one time, such as a crowd spawned overlapping, cost log n each and not a scan of the slot);
+// the later slots' entries in lists, each loaded into the heap when its turn comes. An event
+// due before the current slot's time (a contact due at once) joins the current slot.
 void ExactModel::calendarInsert(const Key &key)
 {
     const double x = key.time * m_slotsPerTime;
     const int slots = static_cast<int>(m_slotHead.size());
-    // Slots are monotone in time (rounding is), so a later slot only holds later events. An
-    // event before the first slot's (a contact due at once) joins the first slot.
     int slot = m_firstSlot;
     if (x >= slots)
         slot = slots - 1;
     else if (x > m_firstSlot)
         slot = static_cast<int>(x);
+    ++m_scheduled;
+    if (slot == m_firstSlot) {
+        m_entry[static_cast<std::size_t>(key.marble)].slot = inHeap;
+        m_heap.push_back(key);
+        heapSiftUp(static_cast<int>(m_heap.size()) - 1);
+        return;
+    }
     std::int32_t &head = m_slotHead[static_cast<std::size_t>(slot)];
-    Entry &entry = m_entry[static_cast<std::size_t>(key.marble)];
-    entry = {key.time, key.tie, slot, head, -1};
+    m_entry[static_cast<std::size_t>(key.marble)] = {key.time, key.tie, slot, head, -1};
     if (head >= 0)
         m_entry[static_cast<std::size_t>(head)].prev = key.marble;
     head = key.marble;
-    ++m_scheduled;
 }
 
 void ExactModel::calendarRemove(int i)
 {
     Entry &entry = m_entry[static_cast<std::size_t>(i)];
+    --m_scheduled;
+    if (entry.slot == inHeap) {
+        // The heap's last entry takes its place.
+        const int pos = entry.next;
+        entry.slot = notScheduled;
+        const Key last = m_heap.back();
+        m_heap.pop_back();
+        if (pos < static_cast<int>(m_heap.size())) {
+            heapPlace(pos, last);
+            if (pos > 0 && keyBefore(last, m_heap[static_cast<std::size_t>((pos - 1) / 4)]))
+                heapSiftUp(pos);
+            else
+                heapSiftDown(pos);
+        }
+        return;
+    }
     if (entry.prev >= 0)
         m_entry[static_cast<std::size_t>(entry.prev)].next = entry.next;
     else
         m_slotHead[static_cast<std::size_t>(entry.slot)] = entry.next;
     if (entry.next >= 0)
         m_entry[static_cast<std::size_t>(entry.next)].prev = entry.prev;
-    entry.slot = -1;
-    --m_scheduled;
+    entry.slot = notScheduled;
 }
 
 int ExactModel::calendarFirst()
 {
     if (m_scheduled == 0)
         return -1;
-    while (m_slotHead[static_cast<std::size_t>(m_firstSlot)] < 0)
+    // The current slot is done: the next non-empty one becomes current.
+    while (m_heap.empty()) {
         ++m_firstSlot;
-    int best = m_slotHead[static_cast<std::size_t>(m_firstSlot)];
-    Key bestKey{m_entry[static_cast<std::size_t>(best)].time, m_entry[static_cast<std::size_t>(best)].tie, best};
-    for (int k = m_entry[static_cast<std::size_t>(best)].next; k >= 0; k = m_entry[static_cast<std::size_t>(k)].next) {
-        const Key key{m_entry[static_cast<std::size_t>(k)].time, m_entry[static_cast<std::size_t>(k)].tie, k};
-        if (keyBefore(key, bestKey)) {
-            best = k;
-            bestKey = key;
+        std::int32_t &head = m_slotHead[static_cast<std::size_t>(m_firstSlot)];
+        for (int k = head; k >= 0; k = m_entry[static_cast<std::size_t>(k)].next) {
+            m_heap.push_back({m_entry[static_cast<std::size_t>(k)].time, m_entry[static_cast<std::size_t>(k)].tie, k});
+            m_entry[static_cast<std::size_t>(k)].slot = inHeap;
         }
+        head = -1;
+        const int size = static_cast<int>(m_heap.size());
+        for (int pos = 0; pos < size; ++pos)
+            m_entry[static_cast<std::size_t>(m_heap[static_cast<std::size_t>(pos)].marble)].next = pos;
+        for (int pos = size > 1 ? (size - 2) / 4 : -1; pos >= 0; --pos)
+            heapSiftDown(pos);
     }
     // Start loading the records of the next slots' first marble: in a large world its event is
-    // likely the next one, and its records are far from this one's (a hint, no effect on results).
+    // likely to come soon, and its records are far from this one's (a hint, no effect on results).
     const int slots = static_cast<int>(m_slotHead.size());
     for (int s = m_firstSlot + 1; s < slots && s <= m_firstSlot + 4; ++s) {
         const int k = m_slotHead[static_cast<std::size_t>(s)];
@@ -739,12 +767,53 @@ int ExactModel::calendarFirst()
             break;
         }
     }
-    return best;
+    return m_heap.front().marble;
+}
+
+void ExactModel::heapPlace(int pos, const Key &key)
+{
+    m_heap[static_cast<std::size_t>(pos)] = key;
+    m_entry[static_cast<std::size_t>(key.marble)].next = pos;
+}
+
+void ExactModel::heapSiftUp(int pos)
+{
+    const Key key = m_heap[static_cast<std::size_t>(pos)];
+    while (pos > 0) {
+        const int parent = (pos - 1) / 4;
+        if (!keyBefore(key, m_heap[static_cast<std::size_t>(parent)]))
+            break;
+        heapPlace(pos, m_heap[static_cast<std::size_t>(parent)]);
+        pos = parent;
+    }
+    heapPlace(pos, key);
+}
+
+void ExactModel::heapSiftDown(int pos)
+{
+    const Key key = m_heap[static_cast<std::size_t>(pos)];
+    const int size = static_cast<int>(m_heap.size());
+    while (true) {
+        const int first = 4 * pos + 1;
+        if (first >= size)
+            break;
+        int child = first;
+        const int last = std::min(first + 4, size);
+        for (int c = first + 1; c < last; ++c) {
+            if (keyBefore(m_heap[static_cast<std::size_t>(c)], m_heap[static_cast<std::size_t>(child)]))
+                child = c;
+        }
+        if (!keyBefore(m_heap[static_cast<std::size_t>(child)], key))
+            break;
+        heapPlace(pos, m_heap[static_cast<std::size_t>(child)]);
+        pos = child;
+    }
+    heapPlace(pos, key);
 }
 
 void ExactModel::schedule(int i)
 {
-    if (m_entry[static_cast<std::size_t>(i)].slot >= 0)
+    if (m_entry[static_cast<std::size_t>(i)].slot != notScheduled)
         calendarRemove(i);
     const Key key = keyOf(i);
     if (key.time <= 1.0)

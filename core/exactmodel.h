@@ -106,7 +106,9 @@ private:
         int marble;
     };
     // A marble's place in the calendar: its key (as scheduled) and its links in the list of its
-    // time slot (slot -1: not in the calendar).
+    // time slot (or notScheduled, or inHeap: in the current slot's heap, at position `next`).
+    static constexpr std::int32_t notScheduled = -1;
+    static constexpr std::int32_t inHeap = -2;
     struct Entry {
         double time;
         std::uint64_t tie;
@@ -142,6 +144,9 @@ private:
     void calendarInsert(const Key &key);
     void calendarRemove(int i);
     int calendarFirst();
+    void heapSiftUp(int pos);
+    void heapSiftDown(int pos);
+    void heapPlace(int pos, const Key &key);
     void nextEscape(int i, Vec2 p, Vec2 v);
     void reanchor(int i);
     void moveToBucket(int i, int bucket);
@@ -209,15 +214,16 @@ private:
     UniformGrid m_pinGrid;
 
     // Calendar: the marbles whose earlier event (best contact or grid event) falls inside the
-    // frame, in a calendar queue. The frame [0, 1] is cut into equal time slots, one list each;
-    // an event goes to the slot of its time (or to the current slot, if earlier), so the next
-    // event is the least key of the first non-empty slot, and scheduling costs O(1) where a
-    // heap moved the entries of other marbles at every level.
+    // frame, in a calendar queue. The frame [0, 1] is cut into equal time slots; an event goes to
+    // the slot of its time (or to the current slot, if earlier), so the next event is the least
+    // key of the current slot, kept in a small heap, and scheduling a later event costs O(1)
+    // where one heap of them all moved the entries of other marbles at every level.
     std::vector<Entry> m_entry;       // per marble
-    std::vector<std::int32_t> m_slotHead; // per slot: first entry, or -1
+    std::vector<Key> m_heap;          // the current slot's entries
+    std::vector<std::int32_t> m_slotHead; // per later slot: first entry of its list, or -1
     std::vector<Key> m_firstKeys;     // the first look's events, before the slots are sized
     double m_slotsPerTime = 1.0;      // slots per unit of time (= slot count)
-    int m_firstSlot = 0;              // no entry lies in an earlier slot
+    int m_firstSlot = 0;              // the current slot (no entry lies in an earlier one)
     int m_scheduled = 0;              // entries in the calendar
     std::vector<int> m_restingHit; // marbles at rest that got a contact in the first look
 
