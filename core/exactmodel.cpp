@@ -53,11 +53,11 @@
 //    whose event falls inside the frame (in a calm crowd most marbles have none, and cost nothing
 //    after the first look): [0, 1] is cut into as many equal time slots as the first look found
 //    events, each marble sits in its event's slot, and the next event is the least (time, tie)
-//    of the first non-empty slot (a small heap), the same total order one heap of all would give. When a
-//    marble's velocity changes, its stamp increases; a pair event whose partner's stamp has
-//    changed since the prediction is stale and only triggers a new prediction, so the calendar
-//    never holds more than N entries. Every contact event (stale or not)
-//    triggers a full new prediction of its marble when it comes due, which allows two savings:
+//    of the first non-empty slot (a small heap), the order one heap of them all would give.
+//    When a marble's velocity changes, its stamp increases; a pair event whose partner's stamp
+//    has changed since the prediction is stale and only triggers a new prediction, so the
+//    calendar never holds more than N entries. Every contact event (stale or not) triggers a
+//    full new prediction of its marble when it comes due, which allows two savings:
 //    - a search for the contacts of i stops at the earlier of i's and the partner's best
 //      contact (anything later will be found again by whichever of them is predicted first);
 //    - a grid event keeps the best contact and only looks for new partners if the marble's
