@@ -687,8 +687,9 @@ bool ExactModel::keyBefore(const Key &a, const Key &b)
 // due before the current slot's time (a contact due at once) joins the current slot.
 void ExactModel::calendarInsert(const Key &key)
 {
-    const double x = key.time * m_slotsPerTime;
+    // Slots are 1 / slots of a frame wide.
     const int slots = static_cast<int>(m_slotHead.size());
+    const double x = key.time * slots;
     int slot = m_firstSlot;
     if (x >= slots)
         slot = slots - 1;
@@ -1128,7 +1129,6 @@ void ExactModel::predictAll()
     // The calendar: about one slot per event found so far.
     const auto slots = std::max<std::size_t>(16, m_firstKeys.size());
     m_slotHead.assign(slots, -1);
-    m_slotsPerTime = static_cast<double>(slots);
     m_firstSlot = 0;
     for (const Key &key : m_firstKeys)
         calendarInsert(key);

@@ -222,7 +222,6 @@ private:
     std::vector<Key> m_heap;          // the current slot's entries
     std::vector<std::int32_t> m_slotHead; // per later slot: first entry of its list, or -1
     std::vector<Key> m_firstKeys;     // the first look's events, before the slots are sized
-    double m_slotsPerTime = 1.0;      // slots per unit of time (= slot count)
     int m_firstSlot = 0;              // the current slot (no entry lies in an earlier one)
     int m_scheduled = 0;              // entries in the calendar
     std::vector<int> m_restingHit; // marbles at rest that got a contact in the first look
