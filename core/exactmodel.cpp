@@ -1119,9 +1119,10 @@ void ExactModel::predictAll()
             }
         }
         setContact(i, best);
-        const Key key = keyOf(i);
-        if (key.time <= 1.0)
-            m_firstKeys.push_back(key);
+        // Its event (keyOf) is the earlier of that contact and its grid event: inside the frame
+        // exactly when one of them is.
+        if (best.time <= 1.0 || m_rec[i].crossTime <= 1.0)
+            m_firstKeys.push_back(keyOf(i));
     }
     makeReady(n);
     for (const int j : m_restingHit)
