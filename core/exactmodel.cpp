@@ -745,14 +745,16 @@ int ExactModel::calendarFirst()
     while (m_heap.empty()) {
         ++m_firstSlot;
         std::int32_t &head = m_slotHead[static_cast<std::size_t>(m_firstSlot)];
-        for (int k = head; k >= 0; k = m_entry[static_cast<std::size_t>(k)].next) {
-            m_heap.push_back({m_entry[static_cast<std::size_t>(k)].time, m_entry[static_cast<std::size_t>(k)].tie, k});
-            m_entry[static_cast<std::size_t>(k)].slot = inHeap;
+        for (int k = head; k >= 0;) {
+            Entry &entry = m_entry[static_cast<std::size_t>(k)];
+            const int next = entry.next;
+            m_heap.push_back({entry.time, entry.tie, k});
+            entry.slot = inHeap;
+            entry.next = static_cast<int>(m_heap.size()) - 1; // its heap position from now on
+            k = next;
         }
         head = -1;
         const int size = static_cast<int>(m_heap.size());
-        for (int pos = 0; pos < size; ++pos)
-            m_entry[static_cast<std::size_t>(m_heap[static_cast<std::size_t>(pos)].marble)].next = pos;
         for (int pos = size > 1 ? (size - 2) / 4 : -1; pos >= 0; --pos)
             heapSiftDown(pos);
     }
