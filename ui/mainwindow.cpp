@@ -472,7 +472,7 @@ void MainWindow::createStatusBar()
     m_frameLabel = addLabel(QStringLiteral("frameLabel"), tr("Frames simulated since frame 0"));
     m_timeLabel = addLabel(QStringLiteral("timeLabel"), tr("Simulated time: frame × frameMs"));
     m_countLabel = addLabel(QStringLiteral("countLabel"), tr("Marbles and pins on the stage"));
-    m_physicsLabel = addLabel(QStringLiteral("physicsLabel"), tr("Time the physics takes per frame"));
+    m_physicsLabel = addLabel(QStringLiteral("physicsLabel"), tr("Time the model takes to compute a frame (average of the last 30 or so; keeping the frame for stepping back is not counted)"));
     m_fpsLabel = addLabel(QStringLiteral("fpsLabel"), tr("Times per second the stage was redrawn (0 while nothing moves)"));
     m_energyLabel = addLabel(QStringLiteral("energyLabel"), tr("Total kinetic energy, sum of m v² / 2"));
     m_momentumLabel = addLabel(QStringLiteral("momentumLabel"), tr("Total momentum, sum of m v"));

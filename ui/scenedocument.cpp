@@ -145,14 +145,15 @@ void SceneDocument::applyHold()
 
 StepResult SceneDocument::step()
 {
-    QElapsedTimer clock;
-    clock.start();
     applyHold();
     m_history.record(m_world);
+    // The model's own time for the frame (recording it for stepping back is not physics).
+    QElapsedTimer clock;
+    clock.start();
     const StepResult result = m_world.step();
+    const double ms = static_cast<double>(clock.nsecsElapsed()) / 1.0e6;
     applyHold();
     // Exponential moving average over about 30 frames: steady enough to read in the status bar.
-    const double ms = static_cast<double>(clock.nsecsElapsed()) / 1.0e6;
     m_physicsMsPerFrame = m_physicsMsPerFrame == 0.0 ? ms : m_physicsMsPerFrame + (ms - m_physicsMsPerFrame) / 30.0;
     Q_EMIT frameAdvanced();
     if (!result.finite) {

@@ -63,7 +63,8 @@ public:
     bool rewind();
     /// Frame number that rewind() returns to.
     std::int64_t startFrame() const { return m_history.startFrame(); }
-    /// Mean physics time per simulated frame over the recent frames, ms.
+    /// Mean time of the model's step per simulated frame over the recent frames (without the
+    /// undo history's recording), ms.
     double physicsMsPerFrame() const { return m_physicsMsPerFrame; }
 
     /// The chapter's click: World::push on marble i at `at` (stage px); acts on the next frame.
