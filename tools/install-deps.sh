@@ -3,9 +3,11 @@
 # (or with sudo available). Installs nothing when everything is already there.
 set -euo pipefail
 
+# libqt6opengl6-dev: Qt6Charts' CMake package needs Qt6OpenGL's, and Debian 12's
+# qt6-charts-dev does not depend on it, so a fresh machine fails at find_package without it.
 packages=(
     build-essential cmake ninja-build pkg-config
-    qt6-base-dev qt6-base-dev-tools qt6-charts-dev libgl1-mesa-dev libqt6svg6
+    qt6-base-dev qt6-base-dev-tools qt6-charts-dev libqt6opengl6-dev libgl1-mesa-dev libqt6svg6
     nlohmann-json3-dev
     clang libclang-rt-14-dev
     xvfb xauth imagemagick xdotool
