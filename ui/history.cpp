@@ -38,6 +38,21 @@ std::size_t FrameSnapshot::byteSize() const
         + lastHit.capacity() * sizeof(HitRecord);
 }
 
+void FrameHistory::Frame::copyFrom(const World &world)
+{
+    frame = world.frame;
+    position.assign(world.position.begin(), world.position.end());
+    velocity.assign(world.velocity.begin(), world.velocity.end());
+    acceleration.assign(world.acceleration.begin(), world.acceleration.end());
+    hitsBefore.clear();
+}
+
+std::size_t FrameHistory::Frame::byteSize() const
+{
+    return sizeof(Frame) + (position.capacity() + velocity.capacity() + acceleration.capacity()) * sizeof(Vec2)
+        + hitsBefore.capacity() * sizeof(std::pair<int, HitRecord>);
+}
+
 FrameHistory::FrameHistory(std::size_t maxFrames, std::size_t maxBytes)
     : m_maxFrames(maxFrames > 0 ? maxFrames : 1)
     , m_maxBytes(maxBytes)
@@ -49,6 +64,30 @@ void FrameHistory::reset(const World &world)
     m_frames.clear();
     m_bytes = 0;
     m_start = FrameSnapshot::of(world);
+    m_hits = world.lastHit;
+}
+
+void FrameHistory::noteHitChanges(const World &world)
+{
+    // What changed since the newest frame was kept (its step, normally) is logged in that frame
+    // with the value it had there; m_hits then follows the world.
+    Frame &newest = m_frames.back();
+    m_bytes -= newest.byteSize();
+    newest.hitsBefore.clear();
+    const std::size_t n = world.lastHit.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!(world.lastHit[i] == m_hits[i])) {
+            newest.hitsBefore.emplace_back(static_cast<int>(i), m_hits[i]);
+            m_hits[i] = world.lastHit[i];
+        }
+    }
+    m_bytes += newest.byteSize();
+}
+
+void FrameHistory::dropOldest()
+{
+    m_bytes -= m_frames.front().byteSize();
+    m_frames.pop_front();
 }
 
 void FrameHistory::record(const World &world)
@@ -62,39 +101,53 @@ void FrameHistory::record(const World &world)
         m_frames.clear();
         m_bytes = 0;
     }
+    if (m_frames.empty())
+        m_hits = world.lastHit;
+    else
+        noteHitChanges(world);
     // Once the history is full, the oldest frame's buffers are reused for the newest: a big
     // scene then costs one copy per frame, not an allocation, page faults and a free.
-    const std::size_t incoming = sizeof(FrameSnapshot)
-        + static_cast<std::size_t>(world.marbleCount()) * (3 * sizeof(Vec2) + sizeof(HitRecord));
+    const std::size_t incoming = sizeof(Frame) + static_cast<std::size_t>(world.marbleCount()) * 3 * sizeof(Vec2);
     if (!m_frames.empty() && (m_frames.size() >= m_maxFrames || m_bytes + incoming > m_maxBytes)) {
-        FrameSnapshot recycled = std::move(m_frames.front());
+        Frame recycled = std::move(m_frames.front());
         m_bytes -= recycled.byteSize();
         m_frames.pop_front();
         recycled.copyFrom(world);
         m_frames.push_back(std::move(recycled));
     } else {
-        m_frames.push_back(FrameSnapshot::of(world));
+        m_frames.emplace_back();
+        m_frames.back().copyFrom(world);
     }
     m_bytes += m_frames.back().byteSize();
-    while (m_frames.size() > m_maxFrames || (m_bytes > m_maxBytes && m_frames.size() > 1)) {
-        m_bytes -= m_frames.front().byteSize();
-        m_frames.pop_front();
-    }
+    while (m_frames.size() > m_maxFrames || (m_bytes > m_maxBytes && m_frames.size() > 1))
+        dropOldest();
 }
 
 bool FrameHistory::canStepBack(const World &world) const
 {
     return !m_frames.empty() && m_frames.back().frame + 1 == world.frame
-        && static_cast<int>(m_frames.back().position.size()) == world.marbleCount();
+        && static_cast<int>(m_frames.back().position.size()) == world.marbleCount()
+        && m_hits.size() == world.lastHit.size();
 }
 
 bool FrameHistory::stepBack(World &world)
 {
     if (!canStepBack(world))
         return false;
-    m_frames.back().restoreInto(world);
-    m_bytes -= m_frames.back().byteSize();
+    // m_hits holds the records as of the newest kept frame: exactly what that frame had.
+    const Frame &newest = m_frames.back();
+    world.frame = newest.frame;
+    world.position = newest.position;
+    world.velocity = newest.velocity;
+    world.acceleration = newest.acceleration;
+    world.lastHit = m_hits;
+    m_bytes -= newest.byteSize();
     m_frames.pop_back();
+    // Now walk m_hits back to the frame before (the new newest), whose step led to this one.
+    if (!m_frames.empty()) {
+        for (const auto &[i, before] : m_frames.back().hitsBefore)
+            m_hits[static_cast<std::size_t>(i)] = before;
+    }
     return true;
 }
 
@@ -105,6 +158,7 @@ bool FrameHistory::rewind(World &world)
     m_start.restoreInto(world);
     m_frames.clear();
     m_bytes = 0;
+    m_hits = world.lastHit;
     return true;
 }
 

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <utility>
 #include <vector>
 
 namespace marbles {
@@ -29,9 +30,14 @@ struct FrameSnapshot {
     std::size_t byteSize() const;
 };
 
-/// Step-back memory for the run: the snapshots of the frames simulated so far, newest last,
-/// bounded by a frame count and a byte budget (the oldest frames are forgotten first), plus
-/// the first frame of the timeline, which is never forgotten so that "back to start" always works.
+/// Step-back memory for the run: the frames simulated so far, newest last, bounded by a frame
+/// count and a byte budget (the oldest frames are forgotten first), plus the first frame of the
+/// timeline, which is never forgotten so that "back to start" always works.
+///
+/// A kept frame holds every marble's position, velocity and push, but of the last-hit records
+/// (the collision vectors, more than half of a marble's state) only those the step from it
+/// changed, with their values before the step: the history keeps one full copy of the records,
+/// as of its newest frame, and walks back from it.
 class FrameHistory {
 public:
     /// At least this many frames are kept unless the byte budget is reached first.
@@ -61,10 +67,29 @@ public:
     std::size_t byteSize() const { return m_bytes; }
 
 private:
+    /// One kept frame: the state a step changes, except the last-hit records, of which only
+    /// those the step from this frame changed are kept, with their values at this frame.
+    struct Frame {
+        std::int64_t frame = 0;
+        std::vector<Vec2> position;
+        std::vector<Vec2> velocity;
+        std::vector<Vec2> acceleration;
+        std::vector<std::pair<int, HitRecord>> hitsBefore;
+
+        void copyFrom(const World &world);
+        std::size_t byteSize() const;
+    };
+
+    void noteHitChanges(const World &world);
+    void dropOldest();
+
     std::size_t m_maxFrames;
     std::size_t m_maxBytes;
     FrameSnapshot m_start;
-    std::deque<FrameSnapshot> m_frames;
+    std::deque<Frame> m_frames;
+    // The last-hit records as of the newest kept frame (or, with none kept, as of the world the
+    // history last saw): the newest frame's hitsBefore are filled in from it at the next record.
+    std::vector<HitRecord> m_hits;
     std::size_t m_bytes = 0;
 };
 
