@@ -61,6 +61,8 @@ struct Result {
     double paintOnlyCpuMs = 0.0; ///< median processor time of a repaint
     double paintsPerFrame = 0.0;
     int hitMarbles = 0; ///< marbles with a Figure 11.12 overlay at the end of the run
+    std::size_t historyFrames = 0; ///< frames the step-back history keeps at the end of the run
+    std::size_t historyBytes = 0;
 };
 
 /// Wall-clock and processor time together: on a shared machine the wall clock also counts
@@ -212,6 +214,8 @@ Result measure(int n, const Options &options)
     for (const HitRecord &hit : document->world().lastHit)
         result.hitMarbles += hit.frame >= 0 ? 1 : 0;
     result.paintsPerFrame = options.frames > 0 ? static_cast<double>(paints) / options.frames : 0.0;
+    result.historyFrames = document->history().size();
+    result.historyBytes = document->history().byteSize();
     top->hide();
     return result;
 }
@@ -388,7 +392,9 @@ int main(int argc, char *argv[])
                 << QString::number(r.paintOnlyMs, 'f', 2) << " ms); processor time "
                 << QString::number(r.paintOnlyCpuMs, 'f', 2) << " ms = " << QString::number(fps(r.paintOnlyCpuMs), 'f', 1)
                 << " fps\n"
-                << "  paints per frame " << QString::number(r.paintsPerFrame, 'f', 2) << "\n";
+                << "  paints per frame " << QString::number(r.paintsPerFrame, 'f', 2) << "\n"
+                << "  step-back history " << r.historyFrames << " frames ("
+                << QString::number(static_cast<double>(r.historyBytes) / (1024.0 * 1024.0), 'f', 1) << " MiB)\n";
         }
         out.flush();
     }

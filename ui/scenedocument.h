@@ -63,6 +63,8 @@ public:
     bool rewind();
     /// Frame number that rewind() returns to.
     std::int64_t startFrame() const { return m_history.startFrame(); }
+    /// The step-back history (how many frames it keeps and their bytes).
+    const FrameHistory &history() const { return m_history; }
     /// Mean time of the model's step per simulated frame over the recent frames (without the
     /// undo history's recording), ms.
     double physicsMsPerFrame() const { return m_physicsMsPerFrame; }
