@@ -57,6 +57,9 @@ public:
     /// The 9 buckets around bucket b (the neighbourhood of any cell stored in b), row by row.
     void bucketNeighbourhood(int b, int out[9]) const;
 
+    /// The same lattice (every body lands in the same bucket).
+    bool operator==(const GridGeometry &) const = default;
+
 private:
     double m_cellSize = 1.0;
     double m_invCellSize = 1.0;

@@ -37,7 +37,43 @@ void appendRun(SlotRange out[], int &count, int lo, int hi)
 
 } // namespace
 
-void ImpulseModel::sortIntoBuckets(const World &world, int awake)
+bool ImpulseModel::sortIntoBuckets(const World &world, int awake)
+{
+    const int n = world.marbleCount();
+    const bool partial = m_sorted && resortChanged(world);
+    if (!partial)
+        sortAll(world);
+    m_sorted = true;
+    if (partial) {
+        m_visit.swap(m_changed);
+        ++m_partialSorts;
+    } else {
+        m_visit.clear();
+    }
+    m_changed.clear();
+
+    // A bucket's pairs can do something only if it or a forward neighbour holds a marble that
+    // is awake: mark, for each awake marble, its bucket and the buckets that have it ahead.
+    // With most marbles awake, every bucket is visited and the marks are not kept.
+    m_allActive = awake > n / 4;
+    if (!m_allActive) {
+        m_active.assign((static_cast<std::size_t>(m_geometry.bucketCount()) + 63) / 64, 0);
+        if (partial) {
+            for (int i : m_visit) {
+                if (m_sleepy[i] != 1)
+                    markActive(m_bucketOf[i]);
+            }
+        } else {
+            for (int i = 0; i < n; ++i) {
+                if (m_sleepy[i] != 1)
+                    markActive(m_bucketOf[i]);
+            }
+        }
+    }
+    return partial;
+}
+
+void ImpulseModel::sortAll(const World &world)
 {
     // Counting sort, stable: each bucket lists its marbles in ascending scene order.
     const int n = world.marbleCount();
@@ -63,18 +99,80 @@ void ImpulseModel::sortIntoBuckets(const World &world, int awake)
     for (int b = buckets; b > 0; --b)
         m_start[b] = m_start[b - 1];
     m_start[0] = 0;
+    m_slotsKnown = false;
+}
 
-    // A bucket's pairs can do something only if it or a forward neighbour holds a marble that
-    // is awake: mark, for each awake marble, its bucket and the buckets that have it ahead.
-    // With most marbles awake, every bucket is visited and the marks are not kept.
-    m_allActive = awake > n / 4;
-    if (!m_allActive) {
-        m_active.assign((static_cast<std::size_t>(buckets) + 63) / 64, 0);
-        for (int i = 0; i < n; ++i) {
-            if (m_sleepy[i] != 1)
-                markActive(m_bucketOf[i]);
-        }
+bool ImpulseModel::resortChanged(const World &world)
+{
+    // The slots of the marbles not listed in m_changed hold what sortAll would put there: they
+    // are asleep, unmoved since their slot was last written (those that fell asleep in the last
+    // pass had not moved since the sort; that pass set their flag), and wakeSleepers found
+    // them unchanged since. So moving the listed marbles to their buckets, each to its place
+    // in scene order, and reading them again gives sortAll's order. Each move shifts the slots and bucket starts
+    // between its old and new place; past a budget of n / 2 shifts the full sort is cheaper
+    // (it then starts over from the world, so a half-done pass here does no harm).
+    const int n = world.marbleCount();
+    if (static_cast<int>(m_changed.size()) > n / 16)
+        return false;
+    if (!m_slotsKnown) {
+        m_slotOf.resize(static_cast<std::size_t>(n));
+        for (int slot = 0; slot < n; ++slot)
+            m_slotOf[m_bodies[slot].id] = slot;
+        m_slotsKnown = true;
     }
+    long budget = n / 2;
+    for (int id : m_changed) {
+        const Vec2 p = world.position[id];
+        const int to = m_geometry.bucketAt(p.x, p.y);
+        const int from = m_bucketOf[id];
+        if (to != from) {
+            budget -= moveToBucket(id, from, to);
+            if (budget < 0)
+                return false;
+        }
+        const int slot = m_slotOf[id];
+        m_bodies[slot] = {p.x, p.y, world.radius[id], id, m_sleepy[id] == 1 ? asleep : 0};
+        m_motions[slot] = {world.velocity[id].x, world.velocity[id].y, 1.0 / world.mass[id]};
+    }
+    return true;
+}
+
+int ImpulseModel::moveToBucket(int id, int from, int to)
+{
+    // The marble's new slot: in bucket `to`, before its first marble with a larger index. The
+    // slots between the old and the new place shift by one towards the old, and so do the
+    // starts of the buckets in between. Returns the number of slots and starts shifted.
+    const int old = m_slotOf[id];
+    int at = m_start[to];
+    while (at < m_start[to + 1] && m_bodies[at].id < id)
+        ++at;
+    const Body body = m_bodies[old];
+    const Motion motion = m_motions[old];
+    int slot;
+    if (to > from) {
+        for (int k = old + 1; k < at; ++k) {
+            m_bodies[k - 1] = m_bodies[k];
+            m_motions[k - 1] = m_motions[k];
+            m_slotOf[m_bodies[k - 1].id] = k - 1;
+        }
+        for (int b = from + 1; b <= to; ++b)
+            --m_start[b];
+        slot = at - 1;
+    } else {
+        for (int k = old; k > at; --k) {
+            m_bodies[k] = m_bodies[k - 1];
+            m_motions[k] = m_motions[k - 1];
+            m_slotOf[m_bodies[k].id] = k;
+        }
+        for (int b = to + 1; b <= from; ++b)
+            ++m_start[b];
+        slot = at;
+    }
+    m_bodies[slot] = body;
+    m_motions[slot] = motion;
+    m_slotOf[id] = slot;
+    m_bucketOf[id] = to;
+    return std::abs(slot - old) + std::abs(to - from);
 }
 
 void ImpulseModel::markActive(int bucket)
@@ -92,6 +190,17 @@ void ImpulseModel::markActive(int bucket)
     const int above = (by == 0 ? ny - 1 : by - 1) * nx;
     for (int b : {bucket, left + by * nx, left + above, bx + above, right + above})
         m_active[static_cast<std::size_t>(b) >> 6] |= std::uint64_t(1) << (b & 63);
+}
+
+void ImpulseModel::wake(const World &world, int slot, int bucket)
+{
+    // A sleeper that wakes makes the buckets that have it ahead worth visiting, and joins the
+    // marbles the pin and wall pass visits. Its mass is read again: the only part of a
+    // sleeper's slot that wakeSleepers does not check.
+    markActive(bucket);
+    const int id = m_bodies[slot].id;
+    m_visit.push_back(id);
+    m_motions[slot].invMass = 1.0 / world.mass[id];
 }
 
 int ImpulseModel::nextActive(int bucket) const
@@ -119,6 +228,7 @@ void ImpulseModel::wakeSleepers(const World &world)
     const bool valid = static_cast<int>(m_sleepy.size()) == n && g.x == 0.0 && g.y == 0.0
                        && world.stage == m_sleepStage && world.pins == m_sleepPins;
     if (!valid) {
+        m_sorted = false;
         m_sleepy.assign(static_cast<std::size_t>(n), 0);
         m_sleepPosition.resize(static_cast<std::size_t>(n));
         m_sleepRadius.resize(static_cast<std::size_t>(n));
@@ -134,8 +244,10 @@ void ImpulseModel::wakeSleepers(const World &world)
         const bool same = p.x == m_sleepPosition[i].x && p.y == m_sleepPosition[i].y
                           && world.radius[i] == m_sleepRadius[i] && std::bit_cast<std::uint64_t>(v.x) == 0
                           && std::bit_cast<std::uint64_t>(v.y) == 0;
-        if (!same)
+        if (!same) {
             m_sleepy[i] = 0;
+            m_changed.push_back(i);
+        }
     }
 }
 
@@ -189,12 +301,11 @@ void ImpulseModel::resolvePairs(World &world, double e, std::int64_t hitFrame)
                         const double d2 = d.x * d.x + d.y * d.y;
                         if (!(d2 < reach * reach))
                             continue;
-                        // Overlap: both are awake from now on, and a sleeper that wakes makes
-                        // the buckets that have it ahead worth visiting.
+                        // Overlap: both are awake from now on.
                         if (bi.flags == asleep)
-                            markActive(b);
+                            wake(world, si, b);
                         if (bj.flags == asleep)
-                            markActive(m_bucketOf[bj.id]);
+                            wake(world, t, m_bucketOf[bj.id]);
                         bi.flags |= touched;
                         bj.flags |= touched;
                         const double dist = std::sqrt(d2);
@@ -279,7 +390,10 @@ void ImpulseModel::step(World &world)
     const std::int64_t hitFrame = world.frame + 1;
     const double z = world.params.zeroThreshold;
 
-    m_geometry = GridGeometry::fit(2.0 * rMax, stage.width, stage.height, n + pinCount);
+    const GridGeometry geometry = GridGeometry::fit(2.0 * rMax, stage.width, stage.height, n + pinCount);
+    if (!(geometry == m_geometry) || m_bodies.size() != static_cast<std::size_t>(n))
+        m_sorted = false;
+    m_geometry = geometry;
     if (pinCount > 0)
         m_pinGrid.build(m_geometry, world.pins.data(), pinCount);
     // Without gravity a marble at rest stays at rest unless something touches it: only then can
@@ -287,15 +401,16 @@ void ImpulseModel::step(World &world)
     const bool canSleep = g.x == 0.0 && g.y == 0.0;
     wakeSleepers(world);
 
+    const std::size_t changedLimit = static_cast<std::size_t>(n / 16);
     for (int s = 0; s < substeps; ++s) {
         // Semi-implicit Euler: the new velocity moves the marble. A sleeper's step would be
         // v = 0 * damping + 0 = +0 and p += 0: nothing, so it is skipped. A marble that starts
         // the sub-step at rest is noted (m_sleepy 2): it may fall asleep at the end.
+        // While the kept order is valid, the marbles awake are those listed in m_changed (when
+        // the list is complete), in any order: each marble's step is its own.
         int awake = 0;
         int resting = 0;
-        for (int i = 0; i < n; ++i) {
-            if (m_sleepy[i] == 1)
-                continue;
+        auto advance = [&](int i) __attribute__((always_inline)) {
             ++awake;
             const bool rest = canSleep && std::bit_cast<std::uint64_t>(v[i].x) == 0
                               && std::bit_cast<std::uint64_t>(v[i].y) == 0;
@@ -305,23 +420,29 @@ void ImpulseModel::step(World &world)
             v[i].y = v[i].y * damping + g.y * h;
             p[i].x += v[i].x * h;
             p[i].y += v[i].y * h;
+        };
+        if (m_sorted && m_changed.size() <= changedLimit) {
+            for (int i : m_changed)
+                advance(i);
+        } else {
+            for (int i = 0; i < n; ++i) {
+                if (m_sleepy[i] != 1)
+                    advance(i);
+            }
         }
 
-        sortIntoBuckets(world, awake);
+        const bool partial = sortIntoBuckets(world, awake);
+        const std::size_t visitBeforePairs = m_visit.size();
         resolvePairs(world, e, hitFrame);
+        const int woken = static_cast<int>(m_visit.size() - visitBeforePairs);
 
-        // Pins and walls act on each marble alone, so they run in bucket order. A sleeper that
-        // nothing touched is known to clear every pin and wall: it stays as it is. With no
-        // sleeper and no marble at rest, no marble can be asleep after this sub-step.
+        // Pins and walls act on each marble alone, so the order they run in changes nothing. A
+        // sleeper that nothing touched is known to clear every pin and wall: it stays as it is.
+        // With no sleeper and no marble at rest, no marble can be asleep after this sub-step.
+        // The marbles left awake here are listed for the next sub-step, up to the number its
+        // partial sort takes (beyond it, everything is sorted again anyway).
         const bool trackSleep = resting > 0 || awake < n;
-        m_sleeperCount = 0;
-        for (int slot = 0; slot < n; ++slot) {
-            Body &b = m_bodies[slot];
-            if (b.flags == asleep) {
-                ++m_sleeperCount;
-                continue;
-            }
-            Motion &m = m_motions[slot];
+        auto settle = [&](Body &b, Motion &m) __attribute__((always_inline)) {
             const double r = b.r;
             bool clear = (b.flags & touched) == 0; // overlapped nothing in this sub-step
             // Pins: immovable points; the marble is moved out to touching and reflected if approaching.
@@ -401,15 +522,47 @@ void ImpulseModel::step(World &world)
             // not move it) and clear of everything. A zero coordinate could be -0, which the
             // skipped "p += 0" would have turned into +0: such a marble stays awake.
             if (!trackSleep)
-                continue;
+                return;
+            // One that falls asleep has not moved since the sort (it was at rest and clear), so
+            // its slot holds what the next sort would put there but for the flag, set here; one
+            // that stays awake is listed for the next sort to read again.
             const bool sleepy = m_sleepy[b.id] == 2 && clear && b.x != 0.0 && b.y != 0.0;
             m_sleepy[b.id] = sleepy ? 1 : 0;
             if (sleepy) {
                 m_sleepPosition[b.id] = {b.x, b.y};
                 m_sleepRadius[b.id] = r;
                 ++m_sleeperCount;
+                b.flags = asleep;
+            } else if (m_changed.size() <= changedLimit) {
+                m_changed.push_back(b.id);
+            }
+        };
+        if (partial) {
+            // The marbles awake: those sorted again (awake at the sort) and the sleepers the
+            // pairs woke (asleep at the sort), so each is listed once. The sleepers at the
+            // sort, less those woken, stay asleep.
+            m_sleeperCount = n - awake - woken;
+            for (int id : m_visit) {
+                const int slot = m_slotOf[id];
+                Body &b = m_bodies[slot];
+                assert(b.flags != asleep && (b.flags & settled) == 0);
+                b.flags |= settled;
+                settle(b, m_motions[slot]);
+            }
+        } else {
+            m_sleeperCount = 0;
+            for (int slot = 0; slot < n; ++slot) {
+                Body &b = m_bodies[slot];
+                if (b.flags == asleep) {
+                    ++m_sleeperCount;
+                    continue;
+                }
+                settle(b, m_motions[slot]);
             }
         }
+        // Without sleepers every marble is sorted again next time.
+        if (!trackSleep)
+            m_sorted = false;
     }
 
     if (!(m_sleepStage == stage))

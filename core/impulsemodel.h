@@ -26,6 +26,9 @@ namespace marbles {
 /// skipped, and sleepers are neither moved nor tested against pins and walls. Results are bit
 /// for bit those of testing everything; a sleeper wakes as soon as anything touches it, and
 /// any change to it between frames (position, radius, velocity, pins, stage) wakes it too.
+/// While few marbles are awake, the bucket order is not sorted afresh each sub-step: the
+/// awake marbles are moved within the last sub-step's order (the same order the full sort
+/// gives), and only they and the sleepers they wake go through the pin and wall pass.
 class ImpulseModel final : public Stepper {
 public:
     /// Advances `world` one frame. Consumes pending pushes as an instant velocity change;
@@ -34,6 +37,8 @@ public:
 
     /// Marbles asleep after the last step (they cost next to nothing in the next one).
     int sleepingCount() const { return m_sleeperCount; }
+    /// Sub-steps so far whose bucket order was updated for the changed marbles only.
+    std::int64_t partialSortCount() const { return m_partialSorts; }
 
 private:
     /// A marble's shape and place, in bucket order (what the distance test reads).
@@ -53,10 +58,17 @@ private:
 
     static constexpr int asleep = 1;  ///< at rest and touching nothing since the last sub-step
     static constexpr int touched = 2; ///< overlapped a marble in this sub-step's pair pass
+    static constexpr int settled = 4; ///< done by this sub-step's pin and wall pass
 
     void wakeSleepers(const World &world);
-    void sortIntoBuckets(const World &world, int awake);
+    /// Puts the marbles in bucket order; returns whether it only moved the marbles that may
+    /// have changed (then only m_visit needs the pin and wall pass), not sorted them all.
+    bool sortIntoBuckets(const World &world, int awake);
+    void sortAll(const World &world);
+    bool resortChanged(const World &world);
+    int moveToBucket(int id, int from, int to);
     void markActive(int bucket);
+    [[gnu::noinline, gnu::cold]] void wake(const World &world, int slot, int bucket);
     int nextActive(int bucket) const;
     void resolvePairs(World &world, double e, std::int64_t hitFrame);
 
@@ -68,6 +80,17 @@ private:
     std::vector<Motion> m_motions;  // per slot
     std::vector<std::uint64_t> m_active; // per bucket, one bit: has pairs that may do something
     bool m_allActive = true;             // every bucket is visited (m_active unused)
+
+    // The slot order kept from one sub-step to the next. It is valid (m_sorted) for the lattice
+    // m_geometry and the marbles as they were left, except those listed in m_changed: the ones
+    // the last pin and wall pass left awake, and the sleepers woken since. These are all the
+    // marbles awake, unless the list outgrew the partial sort's limit (n / 16) and was cut.
+    bool m_sorted = false;
+    std::int64_t m_partialSorts = 0;
+    std::vector<int> m_slotOf;   // per marble (scene order): its slot, when m_slotsKnown
+    bool m_slotsKnown = false;   // (the full sort leaves it to the first partial one)
+    std::vector<int> m_changed;  // marbles whose slot contents must be read again from the world
+    std::vector<int> m_visit;    // after a partial sort: the marbles awake in this sub-step
 
     // Sleeping (see step()): per marble, whether it ended the last sub-step asleep, and the
     // position and radius it was asleep with; plus the pins and stage it was checked against.
