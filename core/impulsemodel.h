@@ -28,7 +28,8 @@ namespace marbles {
 /// any change to it between frames (position, radius, velocity, pins, stage) wakes it too.
 /// While few marbles are awake, the bucket order is not sorted afresh each sub-step: the
 /// awake marbles are moved within the last sub-step's order (the same order the full sort
-/// gives), and only they and the sleepers they wake go through the pin and wall pass.
+/// gives), and only they and the sleepers they wake go through the Euler step and the pin and
+/// wall pass.
 class ImpulseModel final : public Stepper {
 public:
     /// Advances `world` one frame. Consumes pending pushes as an instant velocity change;
@@ -58,7 +59,7 @@ private:
 
     static constexpr int asleep = 1;  ///< at rest and touching nothing since the last sub-step
     static constexpr int touched = 2; ///< overlapped a marble in this sub-step's pair pass
-    static constexpr int settled = 4; ///< done by this sub-step's pin and wall pass
+    static constexpr int settled = 4; ///< done by this sub-step's pin and wall pass (asserted once)
 
     void wakeSleepers(const World &world);
     /// Puts the marbles in bucket order; returns whether it only moved the marbles that may
