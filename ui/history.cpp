@@ -4,40 +4,6 @@
 
 namespace marbles {
 
-FrameSnapshot FrameSnapshot::of(const World &world)
-{
-    FrameSnapshot s;
-    s.copyFrom(world);
-    return s;
-}
-
-void FrameSnapshot::copyFrom(const World &world)
-{
-    frame = world.frame;
-    position.assign(world.position.begin(), world.position.end());
-    velocity.assign(world.velocity.begin(), world.velocity.end());
-    acceleration.assign(world.acceleration.begin(), world.acceleration.end());
-    lastHit.assign(world.lastHit.begin(), world.lastHit.end());
-}
-
-void FrameSnapshot::restoreInto(World &world) const
-{
-    assert(static_cast<int>(position.size()) == world.marbleCount());
-    if (static_cast<int>(position.size()) != world.marbleCount())
-        return;
-    world.frame = frame;
-    world.position = position;
-    world.velocity = velocity;
-    world.acceleration = acceleration;
-    world.lastHit = lastHit;
-}
-
-std::size_t FrameSnapshot::byteSize() const
-{
-    return sizeof(FrameSnapshot) + (position.capacity() + velocity.capacity() + acceleration.capacity()) * sizeof(Vec2)
-        + lastHit.capacity() * sizeof(HitRecord);
-}
-
 void FrameHistory::Frame::copyFrom(const World &world)
 {
     frame = world.frame;
@@ -45,6 +11,15 @@ void FrameHistory::Frame::copyFrom(const World &world)
     velocity.assign(world.velocity.begin(), world.velocity.end());
     acceleration.assign(world.acceleration.begin(), world.acceleration.end());
     hitsBefore.clear();
+}
+
+void FrameHistory::Frame::restoreInto(World &world) const
+{
+    assert(static_cast<int>(position.size()) == world.marbleCount());
+    world.frame = frame;
+    world.position = position;
+    world.velocity = velocity;
+    world.acceleration = acceleration;
 }
 
 std::size_t FrameHistory::Frame::byteSize() const
@@ -63,7 +38,8 @@ void FrameHistory::reset(const World &world)
 {
     m_frames.clear();
     m_bytes = 0;
-    m_start = FrameSnapshot::of(world);
+    m_start.copyFrom(world);
+    m_startHits = world.lastHit;
     m_hits = world.lastHit;
 }
 
@@ -136,10 +112,7 @@ bool FrameHistory::stepBack(World &world)
         return false;
     // m_hits holds the records as of the newest kept frame: exactly what that frame had.
     const Frame &newest = m_frames.back();
-    world.frame = newest.frame;
-    world.position = newest.position;
-    world.velocity = newest.velocity;
-    world.acceleration = newest.acceleration;
+    newest.restoreInto(world);
     world.lastHit = m_hits;
     m_bytes -= newest.byteSize();
     m_frames.pop_back();
@@ -156,9 +129,10 @@ bool FrameHistory::rewind(World &world)
     if (static_cast<int>(m_start.position.size()) != world.marbleCount())
         return false;
     m_start.restoreInto(world);
+    world.lastHit = m_startHits;
     m_frames.clear();
     m_bytes = 0;
-    m_hits = world.lastHit;
+    m_hits = m_startHits;
     return true;
 }
 

@@ -10,26 +10,6 @@
 
 namespace marbles {
 
-/// The dynamic state of every marble at one frame: what a step changes, and nothing else.
-/// Radius, mass, pins, params and the stage are not kept: a snapshot is only restored into
-/// a world with the same marbles (the history is cleared when marbles are added or removed).
-struct FrameSnapshot {
-    std::int64_t frame = 0;
-    std::vector<Vec2> position;
-    std::vector<Vec2> velocity;
-    std::vector<Vec2> acceleration;
-    std::vector<HitRecord> lastHit;
-
-    /// Copies the dynamic state of `world`.
-    static FrameSnapshot of(const World &world);
-    /// Copies the dynamic state of `world` into this snapshot, reusing its buffers.
-    void copyFrom(const World &world);
-    /// Writes this state back into `world`, bit for bit. `world` must have the same marble count.
-    void restoreInto(World &world) const;
-    /// Approximate heap size of this snapshot, bytes.
-    std::size_t byteSize() const;
-};
-
 /// Step-back memory for the run: the frames simulated so far, newest last, bounded by a frame
 /// count and a byte budget (the oldest frames are forgotten first), plus the first frame of the
 /// timeline, which is never forgotten so that "back to start" always works.
@@ -69,6 +49,8 @@ public:
 private:
     /// One kept frame: the state a step changes, except the last-hit records, of which only
     /// those the step from this frame changed are kept, with their values at this frame.
+    /// Radius, mass, pins, params and the stage are not kept: a frame is only restored into a
+    /// world with the same marbles (the history is cleared when marbles are added or removed).
     struct Frame {
         std::int64_t frame = 0;
         std::vector<Vec2> position;
@@ -76,7 +58,12 @@ private:
         std::vector<Vec2> acceleration;
         std::vector<std::pair<int, HitRecord>> hitsBefore;
 
+        /// Copies the frame number, positions, velocities and pushes of `world`, reusing the
+        /// buffers; hitsBefore is emptied.
         void copyFrom(const World &world);
+        /// Writes them back into `world` (same marble count), bit for bit; not the last hits.
+        void restoreInto(World &world) const;
+        /// Approximate heap size, bytes.
         std::size_t byteSize() const;
     };
 
@@ -85,7 +72,8 @@ private:
 
     std::size_t m_maxFrames;
     std::size_t m_maxBytes;
-    FrameSnapshot m_start;
+    Frame m_start; // the start of the timeline, with its last-hit records in m_startHits
+    std::vector<HitRecord> m_startHits;
     std::deque<Frame> m_frames;
     // The last-hit records as of the newest kept frame (or, with none kept, as of the world the
     // history last saw): the newest frame's hitsBefore are filled in from it at the next record.
