@@ -60,6 +60,9 @@ private:
     static constexpr int asleep = 1;  ///< at rest and touching nothing since the last sub-step
     static constexpr int touched = 2; ///< overlapped a marble in this sub-step's pair pass
     static constexpr int settled = 4; ///< done by this sub-step's pin and wall pass (asserted once)
+    /// The pair pass tests the buckets below a marble in windows of this many slots, and may
+    /// read as many past the last marble (padding).
+    static constexpr int windowPadding = 3;
 
     void wakeSleepers(const World &world);
     /// Puts the marbles in bucket order; returns whether it only moved the marbles that may
@@ -72,12 +75,15 @@ private:
     [[gnu::noinline, gnu::cold]] void wake(const World &world, int slot, int bucket);
     int nextActive(int bucket) const;
     void resolvePairs(World &world, double e, std::int64_t hitFrame);
+    /// Resolves an overlapping pair (slots si and t, si in `bucket`): wakes, impulse, correction.
+    /// Out of line: the pair pass's loops stay small, and most candidates do not overlap.
+    [[gnu::noinline]] void resolvePair(World &world, double e, std::int64_t hitFrame, int bucket, int si, int t);
 
     GridGeometry m_geometry;
     UniformGrid m_pinGrid;          // rebuilt every frame
     std::vector<int> m_bucketOf;    // per marble (scene order): its bucket this sub-step
     std::vector<int> m_start;       // per bucket: first slot; m_start[bucketCount] = n
-    std::vector<Body> m_bodies;     // per slot
+    std::vector<Body> m_bodies;     // per slot, then padding (see resolvePairs())
     std::vector<Motion> m_motions;  // per slot
     std::vector<std::uint64_t> m_active; // per bucket, one bit: has pairs that may do something
     bool m_allActive = true;             // every bucket is visited (m_active unused)

@@ -52,6 +52,7 @@ private slots:
     void convergesToExactAtFirstOrder();
     void sleepingChangesNoBit_data();
     void sleepingChangesNoBit();
+    void pairsInBucketOrderOnFoldedLattice();
 };
 
 void TestImpulseModel::momentumKeptInFreeSpace_data()
@@ -317,6 +318,31 @@ void TestImpulseModel::sleepingChangesNoBit()
     // marbles that changed.
     QCOMPARE_GE(mostAsleep, slept.marbleCount() / 2);
     QCOMPARE_GE(kept.partialSortCount(), 5);
+}
+
+void TestImpulseModel::pairsInBucketOrderOnFoldedLattice()
+{
+    // Pairs are resolved bucket by bucket in row-major order, each bucket with its forward half.
+    // On a 3 x 3 lattice (cells of 20 px, walls off) marble j, just above the stage, lies in the
+    // last row's first bucket, the one "above" row 0 once folded; marble i in row 0 overlaps it
+    // diagonally, and marble k, in j's bucket, overlaps j on the side away from i. So (j, k) and
+    // then (j, i) are resolved in the last row's turn: j's last hit is i. A lone marble in row 1
+    // puts j's bucket just after the run of buckets below i in storage, so a pass reading past
+    // that run would take (i, j) in row 0's turn, first, and j's last hit would be k.
+    World w = bareWorld(0.0, 1);
+    w.stage = {60, 60, false};
+    const int i = w.addMarble({22.0, 2.0}, 10.0, {-1.0, -0.8});
+    const int j = w.addMarble({12.0, -6.0}, 10.0);
+    const int k = w.addMarble({18.87, -14.59}, 4.0, {-0.5, 0.6});
+    w.addMarble({55.0, 35.0}, 4.0);
+    ImpulseModel model;
+    run(w, model, 1);
+    QCOMPARE(w.lastHit[i].frame, 1);
+    QCOMPARE(w.lastHit[k].frame, 1);
+    QCOMPARE(w.lastHit[j].frame, 1);
+    const Vec2 towardsI{w.position[i].x - w.position[j].x, w.position[i].y - w.position[j].y};
+    const double alongI = dot(w.lastHit[j].normal, towardsI) / length(towardsI);
+    QVERIFY2(alongI > 0.99, qPrintable(QString("normal of j's last hit . unit(i - j) = %1").arg(alongI)));
 }
 
 QTEST_APPLESS_MAIN(TestImpulseModel)
