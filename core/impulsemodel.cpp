@@ -82,7 +82,6 @@ void ImpulseModel::sortAll(const World &world)
     m_start.assign(static_cast<std::size_t>(buckets) + 1, 0);
     m_bucketOf.resize(static_cast<std::size_t>(n));
     m_bodies.resize(static_cast<std::size_t>(n) + windowPadding);
-    m_motions.resize(static_cast<std::size_t>(n));
     constexpr double far = std::numeric_limits<double>::infinity();
     std::fill(m_bodies.begin() + n, m_bodies.end(), Body{far, far, 0.0, -1, 0});
     for (int i = 0; i < n; ++i) {
@@ -97,7 +96,6 @@ void ImpulseModel::sortAll(const World &world)
         const int slot = m_start[m_bucketOf[i]]++;
         m_bodies[slot] = {world.position[i].x, world.position[i].y, world.radius[i], i,
                           m_sleepy[i] == 1 ? asleep : 0};
-        m_motions[slot] = {world.velocity[i].x, world.velocity[i].y, 1.0 / world.mass[i]};
     }
     for (int b = buckets; b > 0; --b)
         m_start[b] = m_start[b - 1];
@@ -138,7 +136,6 @@ bool ImpulseModel::resortChanged(const World &world)
         }
         const int slot = m_slotOf[id];
         m_bodies[slot] = {p.x, p.y, world.radius[id], id, m_sleepy[id] == 1 ? asleep : 0};
-        m_motions[slot] = {world.velocity[id].x, world.velocity[id].y, 1.0 / world.mass[id]};
     }
     return true;
 }
@@ -153,12 +150,10 @@ int ImpulseModel::moveToBucket(int id, int from, int to)
     while (at < m_start[to + 1] && m_bodies[at].id < id)
         ++at;
     const Body body = m_bodies[old];
-    const Motion motion = m_motions[old];
     int slot;
     if (to > from) {
         for (int k = old + 1; k < at; ++k) {
             m_bodies[k - 1] = m_bodies[k];
-            m_motions[k - 1] = m_motions[k];
             m_slotOf[m_bodies[k - 1].id] = k - 1;
         }
         for (int b = from + 1; b <= to; ++b)
@@ -167,7 +162,6 @@ int ImpulseModel::moveToBucket(int id, int from, int to)
     } else {
         for (int k = old; k > at; --k) {
             m_bodies[k] = m_bodies[k - 1];
-            m_motions[k] = m_motions[k - 1];
             m_slotOf[m_bodies[k].id] = k;
         }
         for (int b = to + 1; b <= from; ++b)
@@ -175,7 +169,6 @@ int ImpulseModel::moveToBucket(int id, int from, int to)
         slot = at;
     }
     m_bodies[slot] = body;
-    m_motions[slot] = motion;
     m_slotOf[id] = slot;
     m_bucketOf[id] = to;
     return std::abs(slot - old) + std::abs(to - from);
@@ -198,15 +191,12 @@ void ImpulseModel::markActive(int bucket)
         m_active[static_cast<std::size_t>(b) >> 6] |= std::uint64_t(1) << (b & 63);
 }
 
-void ImpulseModel::wake(const World &world, int slot, int bucket)
+void ImpulseModel::wake(int slot, int bucket)
 {
     // A sleeper that wakes makes the buckets that have it ahead worth visiting, and joins the
-    // marbles the pin and wall pass visits. Its mass is read again: the only part of a
-    // sleeper's slot that wakeSleepers does not check.
+    // marbles the pin and wall pass visits.
     markActive(bucket);
-    const int id = m_bodies[slot].id;
-    m_visit.push_back(id);
-    m_motions[slot].invMass = 1.0 / world.mass[id];
+    m_visit.push_back(m_bodies[slot].id);
 }
 
 int ImpulseModel::nextActive(int bucket) const
@@ -263,9 +253,9 @@ void ImpulseModel::resolvePair(World &world, double e, std::int64_t hitFrame, in
     Body &bi = m_bodies[si];
     Body &bj = m_bodies[t];
     if (bi.flags == asleep)
-        wake(world, si, bucket);
+        wake(si, bucket);
     if (bj.flags == asleep)
-        wake(world, t, m_bucketOf[bj.id]);
+        wake(t, m_bucketOf[bj.id]);
     bi.flags |= touched;
     bj.flags |= touched;
     const double reach = bi.r + bj.r;
@@ -274,23 +264,24 @@ void ImpulseModel::resolvePair(World &world, double e, std::int64_t hitFrame, in
     const double dist = std::sqrt(d2);
     if (!(dist > 0.0))
         return; // coincident centres: no normal to push along
-    Motion &mi = m_motions[si];
-    Motion &mj = m_motions[t];
+    // Velocities are not copied into bucket order: only overlapping pairs read them.
+    Vec2 &vi = world.velocity[bi.id];
+    Vec2 &vj = world.velocity[bj.id];
     const Vec2 nrm{d.x / dist, d.y / dist};
-    const double wi = mi.invMass;
-    const double wj = mj.invMass;
-    const double approach = (mi.vx - mj.vx) * nrm.x + (mi.vy - mj.vy) * nrm.y;
+    const double wi = 1.0 / world.mass[bi.id];
+    const double wj = 1.0 / world.mass[bj.id];
+    const double approach = (vi.x - vj.x) * nrm.x + (vi.y - vj.y) * nrm.y;
     if (approach > 0.0) {
         // The exact model's impulse: J = (1 + e) approach / (1/m_i + 1/m_j).
         const double impulse = (1.0 + e) * approach / (wi + wj);
-        const Vec2 inI{mi.vx, mi.vy};
-        const Vec2 inJ{mj.vx, mj.vy};
-        mi.vx -= impulse * wi * nrm.x;
-        mi.vy -= impulse * wi * nrm.y;
-        mj.vx += impulse * wj * nrm.x;
-        mj.vy += impulse * wj * nrm.y;
-        world.lastHit[bi.id] = {hitFrame, unitOrZero(inI), nrm, unitOrZero({mi.vx, mi.vy})};
-        world.lastHit[bj.id] = {hitFrame, unitOrZero(inJ), {-nrm.x, -nrm.y}, unitOrZero({mj.vx, mj.vy})};
+        const Vec2 inI = vi;
+        const Vec2 inJ = vj;
+        vi.x -= impulse * wi * nrm.x;
+        vi.y -= impulse * wi * nrm.y;
+        vj.x += impulse * wj * nrm.x;
+        vj.y += impulse * wj * nrm.y;
+        world.lastHit[bi.id] = {hitFrame, unitOrZero(inI), nrm, unitOrZero(vi)};
+        world.lastHit[bj.id] = {hitFrame, unitOrZero(inJ), {-nrm.x, -nrm.y}, unitOrZero(vj)};
     }
     // Positional correction: separate to touching, in inverse-mass proportion, which leaves
     // the centre of mass where it was.
@@ -469,7 +460,8 @@ void ImpulseModel::step(World &world)
         // The marbles left awake here are listed for the next sub-step, up to the number its
         // partial sort takes (beyond it, everything is sorted again anyway).
         const bool trackSleep = resting > 0 || awake < n;
-        auto settle = [&](Body &b, Motion &m) __attribute__((always_inline)) {
+        auto settle = [&](Body &b) __attribute__((always_inline)) {
+            Vec2 &vel = v[b.id];
             const double r = b.r;
             bool clear = (b.flags & touched) == 0; // overlapped nothing in this sub-step
             // Pins: immovable points; the marble is moved out to touching and reflected if approaching.
@@ -488,12 +480,12 @@ void ImpulseModel::step(World &world)
                         if (!(dist > 0.0))
                             continue;
                         const Vec2 nrm{d.x / dist, d.y / dist};
-                        const double approach = m.vx * nrm.x + m.vy * nrm.y;
+                        const double approach = vel.x * nrm.x + vel.y * nrm.y;
                         if (approach > 0.0) {
-                            const Vec2 in{m.vx, m.vy};
-                            m.vx -= (1.0 + e) * approach * nrm.x;
-                            m.vy -= (1.0 + e) * approach * nrm.y;
-                            world.lastHit[b.id] = {hitFrame, unitOrZero(in), nrm, unitOrZero({m.vx, m.vy})};
+                            const Vec2 in = vel;
+                            vel.x -= (1.0 + e) * approach * nrm.x;
+                            vel.y -= (1.0 + e) * approach * nrm.y;
+                            world.lastHit[b.id] = {hitFrame, unitOrZero(in), nrm, unitOrZero(vel)};
                         }
                         b.x -= nrm.x * (r - dist);
                         b.y -= nrm.y * (r - dist);
@@ -503,48 +495,47 @@ void ImpulseModel::step(World &world)
 
             // Walls: clamp inside, and reflect the normal component with e when moving outward.
             if (stage.walls) {
-                const Vec2 in{m.vx, m.vy};
+                const Vec2 in = vel;
                 Vec2 nrm{};
                 if (trackSleep && (b.x - r < 0.0 || b.x + r > stage.width || b.y - r < 0.0 || b.y + r > stage.height))
                     clear = false;
                 if (b.x - r < 0.0) {
                     b.x = r;
-                    if (m.vx < 0.0) {
-                        m.vx = -e * m.vx;
+                    if (vel.x < 0.0) {
+                        vel.x = -e * vel.x;
                         nrm = {-1.0, 0.0};
                     }
                 } else if (b.x + r > stage.width) {
                     b.x = stage.width - r;
-                    if (m.vx > 0.0) {
-                        m.vx = -e * m.vx;
+                    if (vel.x > 0.0) {
+                        vel.x = -e * vel.x;
                         nrm = {1.0, 0.0};
                     }
                 }
                 if (b.y - r < 0.0) {
                     b.y = r;
-                    if (m.vy < 0.0) {
-                        m.vy = -e * m.vy;
+                    if (vel.y < 0.0) {
+                        vel.y = -e * vel.y;
                         nrm = {0.0, -1.0};
                     }
                 } else if (b.y + r > stage.height) {
                     b.y = stage.height - r;
-                    if (m.vy > 0.0) {
-                        m.vy = -e * m.vy;
+                    if (vel.y > 0.0) {
+                        vel.y = -e * vel.y;
                         nrm = {0.0, 1.0};
                     }
                 }
                 if (nrm.x != 0.0 || nrm.y != 0.0)
-                    world.lastHit[b.id] = {hitFrame, unitOrZero(in), nrm, unitOrZero({m.vx, m.vy})};
+                    world.lastHit[b.id] = {hitFrame, unitOrZero(in), nrm, unitOrZero(vel)};
             }
             // The zero threshold acts at the frame boundary (after the last sub-step).
             if (s + 1 == substeps) {
-                if (std::abs(m.vx) <= z)
-                    m.vx = 0.0;
-                if (std::abs(m.vy) <= z)
-                    m.vy = 0.0;
+                if (std::abs(vel.x) <= z)
+                    vel.x = 0.0;
+                if (std::abs(vel.y) <= z)
+                    vel.y = 0.0;
             }
             p[b.id] = {b.x, b.y};
-            v[b.id] = {m.vx, m.vy};
             // Asleep for the next sub-step: at rest all through this one (so the Euler step did
             // not move it) and clear of everything. A zero coordinate could be -0, which the
             // skipped "p += 0" would have turned into +0: such a marble stays awake.
@@ -574,7 +565,7 @@ void ImpulseModel::step(World &world)
                 Body &b = m_bodies[slot];
                 assert(b.flags != asleep && (b.flags & settled) == 0);
                 b.flags |= settled;
-                settle(b, m_motions[slot]);
+                settle(b);
             }
         } else {
             m_sleeperCount = 0;
@@ -584,7 +575,7 @@ void ImpulseModel::step(World &world)
                     ++m_sleeperCount;
                     continue;
                 }
-                settle(b, m_motions[slot]);
+                settle(b);
             }
         }
         // Without sleepers every marble is sorted again next time.

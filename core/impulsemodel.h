@@ -50,12 +50,6 @@ private:
         int id;    ///< index in the world (scene order)
         int flags; ///< asleep, touched (below)
     };
-    /// A marble's velocity and inverse mass, in bucket order (read only for overlapping pairs).
-    struct Motion {
-        double vx;
-        double vy;
-        double invMass;
-    };
 
     static constexpr int asleep = 1;  ///< at rest and touching nothing since the last sub-step
     static constexpr int touched = 2; ///< overlapped a marble in this sub-step's pair pass
@@ -72,7 +66,7 @@ private:
     bool resortChanged(const World &world);
     int moveToBucket(int id, int from, int to);
     void markActive(int bucket);
-    [[gnu::noinline, gnu::cold]] void wake(const World &world, int slot, int bucket);
+    [[gnu::noinline, gnu::cold]] void wake(int slot, int bucket);
     int nextActive(int bucket) const;
     void resolvePairs(World &world, double e, std::int64_t hitFrame);
     /// Resolves an overlapping pair (slots si and t, si in `bucket`): wakes, impulse, correction.
@@ -84,7 +78,6 @@ private:
     std::vector<int> m_bucketOf;    // per marble (scene order): its bucket this sub-step
     std::vector<int> m_start;       // per bucket: first slot; m_start[bucketCount] = n
     std::vector<Body> m_bodies;     // per slot, then padding (see resolvePairs())
-    std::vector<Motion> m_motions;  // per slot
     std::vector<std::uint64_t> m_active; // per bucket, one bit: has pairs that may do something
     bool m_allActive = true;             // every bucket is visited (m_active unused)
 
