@@ -11,8 +11,8 @@ namespace marbles {
 
 /// A uniform grid whose bodies move one at a time: the book model updates marbles in place, so
 /// the grid must follow each marble as soon as it moves. Each bucket holds a few bodies inline
-/// (one half cache line) and spills the rest to an overflow list; moving a body is O(bucket),
-/// and nothing is allocated in steady state.
+/// (a quarter of a cache line) and spills the rest to an overflow list; moving a body is
+/// O(bucket), and nothing is allocated in steady state.
 class MovingGrid {
 public:
     /// Puts bodies 0..count-1 at `points` into the buckets of `geometry`.
@@ -28,15 +28,18 @@ public:
     void forEachNear(Vec2 at, Visit &&visit) const;
 
 private:
-    // A bucket is half a cache line. Its first `scannedSlots` slots are always read, empty ones
-    // holding the index size(): in the usual sparse grid this replaces a loop whose length
-    // changes from bucket to bucket (and defeats branch prediction) by straight-line code. One
-    // slot: cells are 2 rMax wide, so on the crowd (packing 0.24) a cell holds 0.64 marbles on
-    // average and 13 % hold more (measured on the 10k crowd: 1 slot 13 % faster than 2, and 0
-    // slots, a plain loop, 30 % slower).
-    static constexpr int inlineCapacity = 7;
+    // A bucket is a quarter of a cache line. Its first `scannedSlots` slots are always read,
+    // empty ones holding the index size(): in the usual sparse grid this replaces a loop whose
+    // length changes from bucket to bucket (and defeats branch prediction) by straight-line code.
+    // One slot: cells are 2 rMax wide, so on the crowd (packing 0.24) a cell holds 0.64 marbles
+    // on average and 13 % hold more (measured on the 10k crowd: 1 slot 13 % faster than 2, and 0
+    // slots, a plain loop, 30 % slower). Three inline bodies: the buckets of a neighbourhood's
+    // row fit in one or two cache lines (pinned runs, medians, against seven inline bodies in
+    // half a line: 10k crowd 3 % less time per frame, 100k 6 to 9 %; one inline body, with the
+    // rest in the overflow list, 3 % and 12 to 17 % more).
+    static constexpr int inlineCapacity = 3;
     static constexpr int scannedSlots = 1;
-    struct Bucket {
+    struct alignas(16) Bucket {
         std::int32_t count = 0;
         std::int32_t items[inlineCapacity];
     };
