@@ -1,5 +1,7 @@
 #include "core/exactmodel.h"
 
+#include "core/pairimpulse.h"
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -367,14 +369,6 @@ Contact firstContact(Vec2 d0, Vec2 dv, Vec2 dg, double R, double lambda, double 
     // exactly touching, at relative rest, with no relative acceleration) call it a contact: the
     // collision then finds no approach, and the collapse guard counts it.
     return {tau, tau > 0.0};
-}
-
-Vec2 unit(Vec2 u)
-{
-    const double len = length(u);
-    if (!(len > 0.0) || !std::isfinite(len))
-        return {};
-    return {u.x / len, u.y / len};
 }
 
 } // namespace
@@ -1192,7 +1186,7 @@ void ExactModel::collidePair(World &world, int i, int j)
     Vec2 vj;
     stateAt(m_body[i], pi, vi);
     stateAt(m_body[j], pj, vj);
-    const Vec2 n = unit({pj.x - pi.x, pj.y - pi.y});
+    const Vec2 n = unitOrZero({pj.x - pi.x, pj.y - pi.y});
     // Approach speed along the normal (from i towards j).
     const double approach = (vi.x - vj.x) * n.x + (vi.y - vj.y) * n.y;
     const double wi = m_rec[i].invMass;
@@ -1211,15 +1205,8 @@ void ExactModel::collidePair(World &world, int i, int j)
         const bool elastic = m_inelastic && (gi.pairHits > elasticAfterCollisions || gj.pairHits > elasticAfterCollisions);
         const double e = elastic ? 1.0 : m_restitution;
         const double impulse = (1.0 + e) * approach / (wi + wj);
-        const Vec2 inI = vi;
-        const Vec2 inJ = vj;
-        vi.x -= impulse * wi * n.x;
-        vi.y -= impulse * wi * n.y;
-        vj.x += impulse * wj * n.x;
-        vj.y += impulse * wj * n.y;
-        const std::int64_t frame = world.frame + 1;
-        world.lastHit[m_body[i].id] = {frame, unit(inI), n, unit(vi)};
-        world.lastHit[m_body[j].id] = {frame, unit(inJ), {-n.x, -n.y}, unit(vj)};
+        applyPairImpulse(impulse, n, vi, wi, vj, wj, world.lastHit[m_body[i].id], world.lastHit[m_body[j].id],
+                         world.frame + 1);
         ++m_collisionCount;
     }
     ++m_rec[i].stamp;
@@ -1244,7 +1231,7 @@ void ExactModel::collidePin(World &world, int i, int pin)
     Vec2 v;
     stateAt(m_body[i], p, v);
     const Vec2 q = world.pins[pin];
-    const Vec2 n = unit({q.x - p.x, q.y - p.y});
+    const Vec2 n = unitOrZero({q.x - p.x, q.y - p.y});
     const double approach = dot(v, n);
     Guard &guard = m_rec[i].guard;
     count(guard.pairHits);
@@ -1257,7 +1244,7 @@ void ExactModel::collidePin(World &world, int i, int pin)
         const Vec2 in = v;
         v.x -= (1.0 + e) * approach * n.x;
         v.y -= (1.0 + e) * approach * n.y;
-        world.lastHit[m_body[i].id] = {world.frame + 1, unit(in), n, unit(v)};
+        world.lastHit[m_body[i].id] = {world.frame + 1, unitOrZero(in), n, unitOrZero(v)};
         ++m_collisionCount;
     }
     ++m_rec[i].stamp;
@@ -1306,7 +1293,7 @@ void ExactModel::collideWall(World &world, int i, int wall)
     if (hit) {
         Vec2 n{};
         (axis == 0 ? n.x : n.y) = upper ? 1.0 : -1.0;
-        world.lastHit[m_body[i].id] = {world.frame + 1, unit(in), n, unit(vel)};
+        world.lastHit[m_body[i].id] = {world.frame + 1, unitOrZero(in), n, unitOrZero(vel)};
     }
     ++m_rec[i].stamp;
     setState(i, p, vel);

@@ -1,5 +1,7 @@
 #include "core/impulsemodel.h"
 
+#include "core/pairimpulse.h"
+
 #include <algorithm>
 #include <bit>
 #include <cassert>
@@ -9,14 +11,6 @@
 namespace marbles {
 
 namespace {
-
-Vec2 unitOrZero(Vec2 u)
-{
-    const double len = length(u);
-    if (!(len > 0.0) || !std::isfinite(len))
-        return {};
-    return {u.x / len, u.y / len};
-}
 
 /// A run of consecutive slots [begin, end).
 struct SlotRange {
@@ -274,14 +268,7 @@ void ImpulseModel::resolvePair(World &world, double e, std::int64_t hitFrame, in
     if (approach > 0.0) {
         // The exact model's impulse: J = (1 + e) approach / (1/m_i + 1/m_j).
         const double impulse = (1.0 + e) * approach / (wi + wj);
-        const Vec2 inI = vi;
-        const Vec2 inJ = vj;
-        vi.x -= impulse * wi * nrm.x;
-        vi.y -= impulse * wi * nrm.y;
-        vj.x += impulse * wj * nrm.x;
-        vj.y += impulse * wj * nrm.y;
-        world.lastHit[bi.id] = {hitFrame, unitOrZero(inI), nrm, unitOrZero(vi)};
-        world.lastHit[bj.id] = {hitFrame, unitOrZero(inJ), {-nrm.x, -nrm.y}, unitOrZero(vj)};
+        applyPairImpulse(impulse, nrm, vi, wi, vj, wj, world.lastHit[bi.id], world.lastHit[bj.id], hitFrame);
     }
     // Positional correction: separate to touching, in inverse-mass proportion, which leaves
     // the centre of mass where it was.

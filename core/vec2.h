@@ -33,6 +33,15 @@ inline double dot(Vec2 a, Vec2 b)
     return a.x * b.x + a.y * b.y;
 }
 
+/// u / |u|, or (0, 0) where |u| is zero, infinite or NaN.
+inline Vec2 unitOrZero(Vec2 u)
+{
+    const double len = length(u);
+    if (!(len > 0.0) || !std::isfinite(len))
+        return {};
+    return {u.x / len, u.y / len};
+}
+
 /// True when both components are finite (neither NaN nor infinite).
 inline bool isFinite(Vec2 u)
 {

@@ -1,0 +1,27 @@
+#pragma once
+
+#include "core/vec2.h"
+#include "core/world.h"
+
+#include <cstdint>
+
+namespace marbles {
+
+/// The velocity change both Newtonian models (exact and impulse) give a colliding pair: an
+/// impulse J along the unit normal n (from marble i towards marble j), v_i -= J w_i n and
+/// v_j += J w_j n, where w is the inverse mass, so that momentum is kept. Records both hits,
+/// produced in `frame`, for the collision vectors overlay.
+inline void applyPairImpulse(double impulse, Vec2 n, Vec2 &vi, double wi, Vec2 &vj, double wj,
+                             HitRecord &hitI, HitRecord &hitJ, std::int64_t frame)
+{
+    const Vec2 inI = vi;
+    const Vec2 inJ = vj;
+    vi.x -= impulse * wi * n.x;
+    vi.y -= impulse * wi * n.y;
+    vj.x += impulse * wj * n.x;
+    vj.y += impulse * wj * n.y;
+    hitI = {frame, unitOrZero(inI), n, unitOrZero(vi)};
+    hitJ = {frame, unitOrZero(inJ), {-n.x, -n.y}, unitOrZero(vj)};
+}
+
+} // namespace marbles
