@@ -110,7 +110,7 @@ bool ImpulseModel::resortChanged(const World &world)
     // On the 100k crowd with 1 % moving, budgets of 2 n, 4 n and 8 n gave the same times and
     // n / 2 took 65 % more: it fell back to the full sort from the eighth frame on.
     const int n = world.marbleCount();
-    if (static_cast<int>(m_changed.size()) > n / 16)
+    if (static_cast<int>(m_changed.size()) > n / partialSortShare)
         return false;
     if (!m_slotsKnown) {
         m_slotOf.resize(static_cast<std::size_t>(n));
@@ -406,7 +406,7 @@ void ImpulseModel::step(World &world)
     const bool canSleep = g.x == 0.0 && g.y == 0.0;
     wakeSleepers(world);
 
-    const std::size_t changedLimit = static_cast<std::size_t>(n / 16);
+    const std::size_t changedLimit = static_cast<std::size_t>(n / partialSortShare);
     for (int s = 0; s < substeps; ++s) {
         // Semi-implicit Euler: the new velocity moves the marble. A sleeper's step would be
         // v = 0 * damping + 0 = +0 and p += 0: nothing, so it is skipped. A marble that starts

@@ -57,6 +57,9 @@ private:
     /// The pair pass tests the buckets below a marble in windows of this many slots, and may
     /// read as many past the last marble (padding).
     static constexpr int windowPadding = 3;
+    /// While at most n / partialSortShare marbles are awake, a sub-step moves only them within
+    /// the kept bucket order (see resortChanged()) instead of sorting every marble again.
+    static constexpr int partialSortShare = 16;
 
     void wakeSleepers(const World &world);
     /// Puts the marbles in bucket order; returns whether it only moved the marbles that may
@@ -84,7 +87,7 @@ private:
     // The slot order kept from one sub-step to the next. It is valid (m_sorted) for the lattice
     // m_geometry and the marbles as they were left, except those listed in m_changed: the ones
     // the last pin and wall pass left awake, and the sleepers woken since. These are all the
-    // marbles awake, unless the list outgrew the partial sort's limit (n / 16) and was cut.
+    // marbles awake, unless the list outgrew the partial sort's limit (n / partialSortShare) and was cut.
     bool m_sorted = false;
     std::int64_t m_partialSorts = 0;
     std::vector<int> m_slotOf;   // per marble (scene order): its slot, when m_slotsKnown
