@@ -1244,7 +1244,7 @@ void ExactModel::collidePin(World &world, int i, int pin)
         const Vec2 in = v;
         v.x -= (1.0 + e) * approach * n.x;
         v.y -= (1.0 + e) * approach * n.y;
-        world.lastHit[m_body[i].id] = {world.frame + 1, unitOrZero(in), n, unitOrZero(v)};
+        world.lastHit[m_body[i].id] = HitRecord::of(world.frame + 1, in, n, v);
         ++m_collisionCount;
     }
     ++m_rec[i].stamp;
@@ -1293,7 +1293,7 @@ void ExactModel::collideWall(World &world, int i, int wall)
     if (hit) {
         Vec2 n{};
         (axis == 0 ? n.x : n.y) = upper ? 1.0 : -1.0;
-        world.lastHit[m_body[i].id] = {world.frame + 1, unitOrZero(in), n, unitOrZero(vel)};
+        world.lastHit[m_body[i].id] = HitRecord::of(world.frame + 1, in, n, vel);
     }
     ++m_rec[i].stamp;
     setState(i, p, vel);

@@ -472,7 +472,7 @@ void ImpulseModel::step(World &world)
                             const Vec2 in = vel;
                             vel.x -= (1.0 + e) * approach * nrm.x;
                             vel.y -= (1.0 + e) * approach * nrm.y;
-                            world.lastHit[b.id] = {hitFrame, unitOrZero(in), nrm, unitOrZero(vel)};
+                            world.lastHit[b.id] = HitRecord::of(hitFrame, in, nrm, vel);
                         }
                         b.x -= nrm.x * (r - dist);
                         b.y -= nrm.y * (r - dist);
@@ -513,7 +513,7 @@ void ImpulseModel::step(World &world)
                     }
                 }
                 if (nrm.x != 0.0 || nrm.y != 0.0)
-                    world.lastHit[b.id] = {hitFrame, unitOrZero(in), nrm, unitOrZero(vel)};
+                    world.lastHit[b.id] = HitRecord::of(hitFrame, in, nrm, vel);
             }
             // The zero threshold acts at the frame boundary (after the last sub-step).
             if (s + 1 == substeps) {

@@ -1,6 +1,5 @@
 #pragma once
 
-#include "core/vec2.h"
 #include "core/world.h"
 
 #include <cstdint>
@@ -20,8 +19,8 @@ inline void applyPairImpulse(double impulse, Vec2 n, Vec2 &vi, double wi, Vec2 &
     vi.y -= impulse * wi * n.y;
     vj.x += impulse * wj * n.x;
     vj.y += impulse * wj * n.y;
-    hitI = {frame, unitOrZero(inI), n, unitOrZero(vi)};
-    hitJ = {frame, unitOrZero(inJ), {-n.x, -n.y}, unitOrZero(vj)};
+    hitI = HitRecord::of(frame, inI, n, vi);
+    hitJ = HitRecord::of(frame, inJ, {-n.x, -n.y}, vj);
 }
 
 } // namespace marbles

@@ -71,6 +71,13 @@ struct HitRecord {
     Vec2 velocityOut;        ///< normalised velocity after the reflection
 
     friend bool operator==(const HitRecord &, const HitRecord &) = default;
+
+    /// The record of a hit produced in `frame` that turned velocity `in` into `out` along the
+    /// unit `normal`: both velocities normalised (zero where they have no direction).
+    static HitRecord of(std::int64_t frame, Vec2 in, Vec2 normal, Vec2 out)
+    {
+        return {frame, unitOrZero(in), normal, unitOrZero(out)};
+    }
 };
 
 /// Outcome of one frame.
