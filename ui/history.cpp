@@ -1,6 +1,7 @@
 #include "ui/history.h"
 
 #include <cassert>
+#include <utility>
 
 namespace marbles {
 
@@ -60,10 +61,12 @@ void FrameHistory::noteHitChanges(const World &world)
     m_bytes += newest.byteSize();
 }
 
-void FrameHistory::dropOldest()
+FrameHistory::Frame FrameHistory::takeOldest()
 {
-    m_bytes -= m_frames.front().byteSize();
+    Frame oldest = std::move(m_frames.front());
+    m_bytes -= oldest.byteSize();
     m_frames.pop_front();
+    return oldest;
 }
 
 void FrameHistory::record(const World &world)
@@ -85,9 +88,7 @@ void FrameHistory::record(const World &world)
     // scene then costs one copy per frame, not an allocation, page faults and a free.
     const std::size_t incoming = sizeof(Frame) + static_cast<std::size_t>(world.marbleCount()) * 3 * sizeof(Vec2);
     if (!m_frames.empty() && (m_frames.size() >= m_maxFrames || m_bytes + incoming > m_maxBytes)) {
-        Frame recycled = std::move(m_frames.front());
-        m_bytes -= recycled.byteSize();
-        m_frames.pop_front();
+        Frame recycled = takeOldest();
         recycled.copyFrom(world);
         m_frames.push_back(std::move(recycled));
     } else {
@@ -96,7 +97,7 @@ void FrameHistory::record(const World &world)
     }
     m_bytes += m_frames.back().byteSize();
     while (m_frames.size() > m_maxFrames || (m_bytes > m_maxBytes && m_frames.size() > 1))
-        dropOldest();
+        takeOldest();
 }
 
 bool FrameHistory::canStepBack(const World &world) const

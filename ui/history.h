@@ -68,7 +68,8 @@ private:
     };
 
     void noteHitChanges(const World &world);
-    void dropOldest();
+    /// Removes the oldest kept frame from the history and returns it (its buffers can be reused).
+    Frame takeOldest();
 
     std::size_t m_maxFrames;
     std::size_t m_maxBytes;
