@@ -519,6 +519,7 @@ void ExactModel::beginFrame(World &world)
     // A few bodies are cheaper to test all against all than to track through a grid: at extreme
     // speeds the grid events would outnumber the collisions a hundred to one.
     m_singleCell = items <= singleCellItems;
+    m_prefetchEvents = n >= prefetchEventsFrom;
     const int buckets = m_singleCell ? 1 : m_geometry.bucketCount();
 
     // Renumber the marbles in bucket order (a stable counting sort), so that the marbles of a
@@ -560,13 +561,26 @@ void ExactModel::beginFrame(World &world)
         m_pinGrid.build(m_geometry, world.pins.data(), static_cast<int>(world.pins.size()));
 }
 
+// How many marbles ahead makeReady() and endFrame() request the World's entries: they visit
+// the World in grid order, which after a few hundred frames is a random order in a large crowd.
+constexpr int makeReadyAhead = 16;
+
 void ExactModel::makeReady(int end)
 {
     // Reads marbles m_ready .. end - 1 (internal indices) from the World. The first look calls
     // this just ahead of its pass, so that each record is still in cache when it is first read.
     World &world = *m_world;
     bool finite = m_finite;
+    const int n = static_cast<int>(m_body.size());
     for (int i = m_ready; i < end; ++i) {
+        if (i + makeReadyAhead < n) {
+            const int ahead = m_body[i + makeReadyAhead].id;
+            __builtin_prefetch(&world.position[ahead]);
+            __builtin_prefetch(&world.velocity[ahead]);
+            __builtin_prefetch(&world.acceleration[ahead]);
+            __builtin_prefetch(&world.radius[ahead]);
+            __builtin_prefetch(&world.mass[ahead]);
+        }
         Body &body = m_body[i];
         const int w = body.id;
         // Pushes act at the frame boundary: an instant velocity change. At t = 0, a = p and b = v.
@@ -603,6 +617,11 @@ void ExactModel::endFrame(World &world)
     const double z = world.params.zeroThreshold;
     setNow(1.0);
     for (int i = 0; i < n; ++i) {
+        if (i + makeReadyAhead < n) {
+            const int ahead = m_body[i + makeReadyAhead].id;
+            __builtin_prefetch(&world.position[ahead], 1);
+            __builtin_prefetch(&world.velocity[ahead], 1);
+        }
         Vec2 p;
         Vec2 v;
         stateAt(m_body[i], p, v);
@@ -754,15 +773,29 @@ int ExactModel::calendarFirst()
     }
     // Start loading the records of the next slots' first marble: in a large world its event is
     // likely to come soon, and its records are far from this one's (a hint, no effect on results).
+    // In a world far larger than the caches, look two slots ahead: the records of the second
+    // slot's first marble, and the neighbourhood and partner of the first slot's, whose records
+    // were requested one event ago.
     const int slots = static_cast<int>(m_slotHead.size());
-    for (int s = m_firstSlot + 1; s < slots && s <= m_firstSlot + 4; ++s) {
+    int found = 0;
+    for (int s = m_firstSlot + 1; s < slots && s <= m_firstSlot + 8; ++s) {
         const int k = m_slotHead[static_cast<std::size_t>(s)];
-        if (k >= 0) {
+        if (k < 0)
+            continue;
+        if (found == 0 && m_prefetchEvents) {
+            prefetchNear(k);
+            const Record &rec = m_rec[static_cast<std::size_t>(k)];
+            if (rec.contactKind == EventKind::Pair) {
+                __builtin_prefetch(&m_body[static_cast<std::size_t>(rec.contactOther)]);
+                __builtin_prefetch(&m_rec[static_cast<std::size_t>(rec.contactOther)]);
+            }
+        } else {
             __builtin_prefetch(&m_entry[static_cast<std::size_t>(k)]);
             __builtin_prefetch(&m_body[static_cast<std::size_t>(k)]);
             __builtin_prefetch(&m_rec[static_cast<std::size_t>(k)]);
-            break;
         }
+        if (++found == (m_prefetchEvents ? 2 : 1))
+            break;
     }
     return m_heap.front().marble;
 }
@@ -1027,6 +1060,18 @@ void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int coun
             if (j != i)
                 offerPair(i, j, p, v, best);
         }
+    }
+}
+
+void ExactModel::prefetchNear(int i) const
+{
+    // Requests the records of every marble in i's static neighbourhood (a hint: no effect on
+    // results), so that a scan that follows finds them on their way instead of missing one by one.
+    int ranges[12];
+    const int rangeCount = neighbourRanges(i, ranges);
+    for (int r = 0; r < rangeCount; ++r) {
+        for (int j = ranges[2 * r]; j < ranges[2 * r + 1]; ++j)
+            __builtin_prefetch(&m_body[j]);
     }
 }
 
@@ -1333,6 +1378,10 @@ void ExactModel::step(World &world)
         switch (ev.kind) {
         case EventKind::Pair:
             if (m_rec[ev.other].stamp == ev.stamp) {
+                if (m_prefetchEvents) {
+                    prefetchNear(ev.other);
+                    prefetchNear(i);
+                }
                 collidePair(world, i, ev.other);
                 setContact(ev.other, none);
                 predict(ev.other);

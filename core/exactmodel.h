@@ -48,6 +48,11 @@ public:
     /// position at the start of the frame) before it needs a grid event; grid cells are wider by
     /// twice that margin.
     static constexpr double anchorMargin = 0.25;
+    /// From this many marbles on, each event also requests the records of the marbles that the
+    /// next events will scan, ahead of time. Measured on the crowd at frames 201-220 (one core,
+    /// 1 MB of L2): 5 % slower at 30k marbles (3.8 MB of records, which the caches mostly hold),
+    /// even at 60k, 6 % faster at 100k.
+    static constexpr int prefetchEventsFrom = 1 << 16;
 
     ExactModel();
     ~ExactModel() override;
@@ -130,6 +135,7 @@ private:
     void predictAll();
     void predictOwn(int i, Vec2 p, Vec2 v, Event &best);
     void predict(int i);
+    void prefetchNear(int i) const;
     void scanPins(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const;
     void scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const;
     bool pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi, double horizon, double &tau, bool &recheck) const;
@@ -170,6 +176,7 @@ private:
     GridGeometry m_geometry;
     double m_margin = 0.0;       // how far a marble may stray from its anchor, px
     bool m_singleCell = false;   // no grid: one bucket, no grid events
+    bool m_prefetchEvents = false; // at least prefetchEventsFrom marbles
     bool m_finite = true;        // every marble's state and the parameters are finite
     bool m_anyResting = false;   // some marble is at rest (and there is no gravity)
     int m_ready = 0;             // marbles 0 .. m_ready - 1 (internal) are read from the World
