@@ -785,9 +785,11 @@ int ExactModel::calendarFirst()
         if (found == 0 && m_prefetchEvents) {
             prefetchNear(k);
             const Record &rec = m_rec[static_cast<std::size_t>(k)];
+            __builtin_prefetch(&m_world->lastHit[static_cast<std::size_t>(m_body[static_cast<std::size_t>(k)].id)], 1);
             if (rec.contactKind == EventKind::Pair) {
                 __builtin_prefetch(&m_body[static_cast<std::size_t>(rec.contactOther)]);
                 __builtin_prefetch(&m_rec[static_cast<std::size_t>(rec.contactOther)]);
+                __builtin_prefetch(&m_entry[static_cast<std::size_t>(rec.contactOther)]);
             }
         } else {
             __builtin_prefetch(&m_entry[static_cast<std::size_t>(k)]);
@@ -1379,6 +1381,7 @@ void ExactModel::step(World &world)
         case EventKind::Pair:
             if (m_rec[ev.other].stamp == ev.stamp) {
                 if (m_prefetchEvents) {
+                    __builtin_prefetch(&world.lastHit[static_cast<std::size_t>(m_body[static_cast<std::size_t>(ev.other)].id)], 1);
                     prefetchNear(ev.other);
                     prefetchNear(i);
                 }
