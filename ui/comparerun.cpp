@@ -21,6 +21,7 @@ CompareRun::CompareRun(SceneDocument *document, QObject *parent)
     connect(m_document, &SceneDocument::stepped, this, &CompareRun::onStepped);
     connect(m_document, &SceneDocument::sceneChanged, this, &CompareRun::restart);
     connect(m_document, &SceneDocument::timelineReset, this, &CompareRun::restart);
+    connect(m_document, &SceneDocument::timelineRewound, this, &CompareRun::restart);
 }
 
 CompareRun::~CompareRun()

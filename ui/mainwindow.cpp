@@ -454,6 +454,7 @@ void MainWindow::createDocks()
     connect(m_document, &SceneDocument::frameAdvanced, this,
             [this] { m_plotDock->appendFrame(m_document->world(), m_compare->world()); });
     connect(m_document, &SceneDocument::timelineReset, this, [this] { m_plotDock->reset(m_document->world()); });
+    connect(m_document, &SceneDocument::timelineRewound, m_plotDock, &PlotDock::cutAfter);
 
     for (QDockWidget *dock : {static_cast<QDockWidget *>(m_parametersDock), static_cast<QDockWidget *>(m_inspectorDock),
                               m_historyDock, static_cast<QDockWidget *>(m_plotDock)})

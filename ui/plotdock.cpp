@@ -256,6 +256,27 @@ void PlotDock::reset(const World &world)
     m_dirty = true;
 }
 
+void PlotDock::cutAfter(std::int64_t frame)
+{
+    // Frames grow along the buffer: the samples to forget are the newest ones.
+    std::size_t later = 0;
+    while (later < m_frames.size() && m_frames.at(m_frames.size() - 1 - later) > frame)
+        ++later;
+    if (later == 0)
+        return;
+    m_frames.dropNewest(later);
+    m_kinetic.dropNewest(later);
+    m_momentum.dropNewest(later);
+    m_compareKinetic.dropNewest(later);
+    m_compareMomentum.dropNewest(later);
+    for (Track &t : m_tracks) {
+        t.speed.dropNewest(later);
+        t.compareSpeed.dropNewest(later);
+    }
+    m_hoverLabel->clear();
+    m_dirty = true;
+}
+
 void PlotDock::appendFrame(const World &world, const World *compare)
 {
     if (world.marbleCount() != m_marbleCount) {

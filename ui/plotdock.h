@@ -50,6 +50,9 @@ public:
     /// Forgets every sample and takes marble colours, names and frameMs from `world`
     /// (a new or loaded scene, or a jump back in time). Adds no sample.
     void reset(const World &world);
+    /// Forgets the samples of frames after `frame` (the timeline went back to it: Step Back,
+    /// Rewind); the earlier samples, and the lines they draw, stay.
+    void cutAfter(std::int64_t frame);
     /// Records one sample of `world` as it is now (call once per simulated frame), and of `compare`,
     /// the comparison model's world at the same frame, when comparing (null: no comparison sample).
     /// Costs O(plotted marbles) for the speeds plus one pass for the two totals; never touches the chart.

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <cassert>
 #include <cstddef>
 #include <vector>
@@ -44,6 +45,20 @@ public:
 
     /// The newest entry; the buffer must not be empty.
     const T &last() const { return at(m_data.size() - 1); }
+
+    /// Drops the `count` newest entries (all of them when there are fewer); the capacity stays.
+    /// O(size()) when the buffer has wrapped around, O(1) otherwise.
+    void dropNewest(std::size_t count)
+    {
+        if (count >= m_data.size()) {
+            clear();
+            return;
+        }
+        // Oldest first from index 0 again, so that the next push appends after the newest kept.
+        std::rotate(m_data.begin(), m_data.begin() + static_cast<std::ptrdiff_t>(m_head), m_data.end());
+        m_head = 0;
+        m_data.resize(m_data.size() - count);
+    }
 
     /// Drops every entry; the capacity stays.
     void clear()

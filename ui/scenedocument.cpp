@@ -187,7 +187,7 @@ bool SceneDocument::stepBack()
     if (!m_history.stepBack(m_world))
         return false;
     applyHold();
-    Q_EMIT timelineReset();
+    Q_EMIT timelineRewound(m_world.frame);
     Q_EMIT stepped();
     return true;
 }
@@ -197,7 +197,7 @@ bool SceneDocument::rewind()
     if (!m_history.rewind(m_world))
         return false;
     applyHold();
-    Q_EMIT timelineReset();
+    Q_EMIT timelineRewound(m_world.frame);
     Q_EMIT stepped();
     return true;
 }

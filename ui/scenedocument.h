@@ -122,8 +122,11 @@ Q_SIGNALS:
     void stepped();
     /// The scene changed beyond the dynamic state (new scene, edit, undo): rebuild.
     void sceneChanged(marbles::SceneDocument::Change change);
-    /// The sequence of frames restarted (new scene, jump back, edit): plots start over.
+    /// The sequence of frames restarted (new scene, edit, undo): plots and trails start over.
     void timelineReset();
+    /// The timeline went back to `frame` (Step Back, Rewind): what was recorded of later frames
+    /// is void, what was recorded of `frame` and earlier still holds.
+    void timelineRewound(std::int64_t frame);
     /// The simulation left finite numbers; `message` names the frame and the marble.
     void simulationFailed(const QString &message);
     /// The file name changed (open, save as, new).

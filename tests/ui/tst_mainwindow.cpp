@@ -15,6 +15,7 @@
 #include <QAction>
 #include <QDir>
 #include <QFile>
+#include <QLineSeries>
 #include <QDoubleSpinBox>
 #include <QSettings>
 #include <QStandardPaths>
@@ -409,8 +410,21 @@ void TestMainWindow::plotGetsOneSamplePerFrame()
     QTRY_VERIFY_WITH_TIMEOUT(doc->world().frame >= 60, 5000);
     m_window->runController()->pause();
     QCOMPARE(plot->sampleCount(), static_cast<qsizetype>(doc->world().frame));
-    // A jump back starts the plot over.
+    // A step back forgets the newest frame's sample and keeps the rest of the run plotted.
+    const std::int64_t last = doc->world().frame;
     QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+    QCOMPARE(doc->world().frame, last - 1);
+    QCOMPARE(plot->sampleCount(), static_cast<qsizetype>(last - 1));
+    QCOMPARE(plot->sampleFrame(plot->sampleCount() - 1), last - 1);
+    plot->refreshChart();
+    QCOMPARE(plot->speedSeries(0)->count(), static_cast<int>(last - 1));
+    // Stepping on plots the frame again, once.
+    QTest::keyClick(m_window->stageView(), Qt::Key_Right);
+    QCOMPARE(plot->sampleCount(), static_cast<qsizetype>(last));
+    QCOMPARE(plot->sampleFrame(plot->sampleCount() - 1), last);
+    // Back to the start: no frame after 0 is left.
+    QTest::keyClick(m_window->stageView(), Qt::Key_Home);
+    QCOMPARE(doc->world().frame, std::int64_t(0));
     QCOMPARE(plot->sampleCount(), 0);
 }
 

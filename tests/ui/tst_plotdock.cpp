@@ -30,6 +30,8 @@ private slots:
     void speedsAndTotals_data();
     void speedsAndTotals();
     void resetClears();
+    void cutAfterKeepsEarlierFrames_data();
+    void cutAfterKeepsEarlierFrames();
     void plottedMarbles_data();
     void plottedMarbles();
     void selectionKeepsHistory();
@@ -107,6 +109,29 @@ void TestPlotDock::ringBuffer()
         QCOMPARE(ring.at(static_cast<std::size_t>(i)), pushes - held + 1 + i);
     if (held > 0)
         QCOMPARE(ring.last(), pushes);
+
+    // Dropping the newest entries (a step back) keeps the older ones in order, and later pushes
+    // follow them, whether or not the buffer had wrapped around.
+    for (std::size_t drop : {std::size_t(0), std::size_t(1), std::size_t(3)}) {
+        RingBuffer<int> cut(static_cast<std::size_t>(capacity));
+        for (int v = 1; v <= pushes; ++v)
+            cut.push(v);
+        cut.dropNewest(drop);
+        const int kept = std::max(held - static_cast<int>(drop), 0);
+        QCOMPARE(cut.size(), static_cast<std::size_t>(kept));
+        for (int i = 0; i < kept; ++i)
+            QCOMPARE(cut.at(static_cast<std::size_t>(i)), pushes - held + 1 + i);
+        for (int v = 1; v <= 2; ++v)
+            cut.push(1000 + v);
+        const int after = std::min(kept + 2, capacity);
+        QCOMPARE(cut.size(), static_cast<std::size_t>(after));
+        QCOMPARE(cut.last(), 1002);
+        if (after >= 2)
+            QCOMPARE(cut.at(static_cast<std::size_t>(after - 2)), 1001);
+        if (after > 2)
+            QCOMPARE(cut.at(static_cast<std::size_t>(after - 3)), pushes - held + kept);
+    }
+
     ring.clear();
     QVERIFY(ring.isEmpty());
     QCOMPARE(ring.capacity(), static_cast<std::size_t>(capacity));
@@ -213,6 +238,72 @@ void TestPlotDock::resetClears()
     runFrames(dock, smaller, 5);
     QCOMPARE(dock.sampleCount(), 5);
     QCOMPARE(dock.sampleFrame(0), std::int64_t(1));
+}
+
+void TestPlotDock::cutAfterKeepsEarlierFrames_data()
+{
+    QTest::addColumn<int>("capacity");
+    QTest::addColumn<int>("frames");
+    QTest::addColumn<int>("cutAt");
+
+    QTest::addRow("one frame back") << 100 << 30 << 29;
+    QTest::addRow("ten frames back") << 100 << 30 << 20;
+    QTest::addRow("wrapped buffer") << 16 << 30 << 25;
+    QTest::addRow("before every sample") << 16 << 30 << 10;
+    QTest::addRow("at the newest frame") << 100 << 30 << 30;
+}
+
+void TestPlotDock::cutAfterKeepsEarlierFrames()
+{
+    QFETCH(int, capacity);
+    QFETCH(int, frames);
+    QFETCH(int, cutAt);
+
+    PlotDock dock;
+    dock.setCapacity(capacity);
+    World world = worldWith(3);
+    dock.reset(world);
+    dock.setCompareModel(QStringLiteral("exact"));
+    World compare = world;
+    for (int f = 1; f <= frames; ++f) {
+        world.frame = f;
+        compare.frame = f;
+        for (int i = 0; i < world.marbleCount(); ++i) {
+            world.velocity[static_cast<std::size_t>(i)] = {0.01 * f, -0.5 * i};
+            compare.velocity[static_cast<std::size_t>(i)] = {0.02 * f, 0.0};
+        }
+        dock.appendFrame(world, &compare);
+    }
+    dock.cutAfter(cutAt);
+    // Speeds are |v| of the velocities set above, to rounding.
+    auto close = [](double actual, double expected) {
+        return std::abs(actual - expected) <= 1e-12 * std::max(1.0, std::abs(expected));
+    };
+
+    // Frames first..cutAt stay, first being the oldest frame the buffer held.
+    const int first = std::max(1, frames - capacity + 1);
+    const int kept = std::max(0, cutAt - first + 1);
+    QCOMPARE(dock.sampleCount(), static_cast<qsizetype>(kept));
+    for (int k = 0; k < kept; ++k) {
+        const int f = first + k;
+        QCOMPARE(dock.sampleFrame(k), std::int64_t(f));
+        QVERIFY(close(dock.sampleSpeed(k, 0), 0.01 * f));
+        QVERIFY(close(dock.sampleCompareSpeed(k, 0), 0.02 * f));
+    }
+    dock.refreshChart();
+    QCOMPARE(dock.speedSeries(1)->count(), kept);
+    QCOMPARE(dock.compareSeries(1)->count(), kept);
+
+    // The run goes on from the frame after the cut, every line aligned with the frames.
+    world.frame = cutAt + 1;
+    world.velocity[0] = {7.0, 0.0};
+    compare.velocity[0] = {8.0, 0.0};
+    dock.appendFrame(world, &compare);
+    const qsizetype last = dock.sampleCount() - 1;
+    QCOMPARE(dock.sampleCount(), static_cast<qsizetype>(std::min(kept + 1, capacity)));
+    QCOMPARE(dock.sampleFrame(last), std::int64_t(cutAt + 1));
+    QVERIFY(close(dock.sampleSpeed(last, 0), 7.0));
+    QVERIFY(close(dock.sampleCompareSpeed(last, 0), 8.0));
 }
 
 void TestPlotDock::plottedMarbles_data()

@@ -47,6 +47,7 @@ private Q_SLOTS:
     void stepBackIsBitIdentical_data();
     void stepBackIsBitIdentical();
     void rewindReturnsToFrameZero();
+    void jumpBackRewindsTimelineEditResetsIt();
     void historyIsBounded();
     void stepBackAndForthInterleaved();
     void editUndoesExactly_data();
@@ -105,6 +106,28 @@ void TestSceneDocument::rewindReturnsToFrameZero()
     QCOMPARE(doc.world().frame, 300);
     QVERIFY(doc.rewind());
     QVERIFY(sameDynamicState(doc.world(), start));
+}
+
+void TestSceneDocument::jumpBackRewindsTimelineEditResetsIt()
+{
+    // Plots keep what they hold of the frames up to the one a jump back restores; an edit (or a
+    // new scene) starts them over.
+    SceneDocument doc;
+    doc.resetScene(preset("four-marbles"));
+    doc.advance(12);
+    QSignalSpy rewound(&doc, &SceneDocument::timelineRewound);
+    QSignalSpy reset(&doc, &SceneDocument::timelineReset);
+    QVERIFY(doc.stepBack());
+    QCOMPARE(rewound.count(), 1);
+    QCOMPARE(rewound.takeFirst().at(0).value<std::int64_t>(), std::int64_t(11));
+    QVERIFY(doc.rewind());
+    QCOMPARE(rewound.count(), 1);
+    QCOMPARE(rewound.takeFirst().at(0).value<std::int64_t>(), std::int64_t(0));
+    QCOMPARE(reset.count(), 0);
+
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.25")).isEmpty());
+    QCOMPARE(reset.count(), 1);
+    QCOMPARE(rewound.count(), 0);
 }
 
 void TestSceneDocument::historyIsBounded()
