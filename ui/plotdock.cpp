@@ -229,17 +229,23 @@ PlotDock::PlotDock(QWidget *parent)
     connect(pngButton, &QPushButton::clicked, this, &PlotDock::exportPngInteractive);
 }
 
+template<typename Apply>
+void PlotDock::forEachValueBuffer(Apply &&apply)
+{
+    apply(m_kinetic);
+    apply(m_momentum);
+    apply(m_compareKinetic);
+    apply(m_compareMomentum);
+    for (Track &t : m_tracks) {
+        apply(t.speed);
+        apply(t.compareSpeed);
+    }
+}
+
 void PlotDock::reset(const World &world)
 {
     m_frames.clear();
-    m_kinetic.clear();
-    m_momentum.clear();
-    m_compareKinetic.clear();
-    m_compareMomentum.clear();
-    for (Track &t : m_tracks) {
-        t.speed.clear();
-        t.compareSpeed.clear();
-    }
+    forEachValueBuffer([](RingBuffer<double> &values) { values.clear(); });
 
     m_marbleCount = world.marbleCount();
     m_colors.assign(world.info.size(), QString());
@@ -265,14 +271,7 @@ void PlotDock::cutAfter(std::int64_t frame)
     if (later == 0)
         return;
     m_frames.dropNewest(later);
-    m_kinetic.dropNewest(later);
-    m_momentum.dropNewest(later);
-    m_compareKinetic.dropNewest(later);
-    m_compareMomentum.dropNewest(later);
-    for (Track &t : m_tracks) {
-        t.speed.dropNewest(later);
-        t.compareSpeed.dropNewest(later);
-    }
+    forEachValueBuffer([later](RingBuffer<double> &values) { values.dropNewest(later); });
     m_hoverLabel->clear();
     m_dirty = true;
 }
@@ -338,14 +337,7 @@ void PlotDock::setCapacity(qsizetype samples)
 {
     m_capacity = static_cast<std::size_t>(std::max<qsizetype>(samples, 1));
     m_frames.setCapacity(m_capacity);
-    m_kinetic.setCapacity(m_capacity);
-    m_momentum.setCapacity(m_capacity);
-    m_compareKinetic.setCapacity(m_capacity);
-    m_compareMomentum.setCapacity(m_capacity);
-    for (Track &t : m_tracks) {
-        t.speed.setCapacity(m_capacity);
-        t.compareSpeed.setCapacity(m_capacity);
-    }
+    forEachValueBuffer([this](RingBuffer<double> &values) { values.setCapacity(m_capacity); });
     m_dirty = true;
 }
 

@@ -144,6 +144,9 @@ private:
         QLineSeries *compareSeries = nullptr;
     };
 
+    /// Calls `apply` on every buffer of sample values: all the ring buffers but m_frames.
+    template<typename Apply>
+    void forEachValueBuffer(Apply &&apply);
     void rebuildTracks();
     QLineSeries *addSpeedSeries();
     void startWithGaps(RingBuffer<double> &values) const;
