@@ -70,7 +70,7 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
     connect(m_document, &SceneDocument::stepped, this, &StageView::syncPoses);
     connect(m_document, &SceneDocument::frameAdvanced, this, &StageView::sampleTrail);
     connect(m_document, &SceneDocument::timelineReset, this, &StageView::resetTrail);
-    connect(m_document, &SceneDocument::timelineRewound, this, &StageView::resetTrail);
+    connect(m_document, &SceneDocument::timelineRewound, this, [this](std::int64_t frame) { m_trail->cutAfter(frame); });
     connect(m_document, &SceneDocument::sceneChanged, this, &StageView::rebuild);
     rebuild();
 }

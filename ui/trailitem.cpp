@@ -14,8 +14,9 @@ TrailItem::TrailItem(int length)
 void TrailItem::setLength(int frames)
 {
     m_length = frames > 1 ? frames : 2;
-    for (auto &trail : m_trails) {
-        while (static_cast<int>(trail.size()) > m_length)
+    while (static_cast<int>(m_frames.size()) > m_length) {
+        m_frames.pop_front();
+        for (auto &trail : m_trails)
             trail.pop_front();
     }
     update();
@@ -39,22 +40,51 @@ void TrailItem::setArea(const QRectF &area)
 
 void TrailItem::sample(const World &world)
 {
+    // Every trail holds the positions of the same frames, m_frames.
     const auto n = static_cast<std::size_t>(world.marbleCount());
-    if (m_trails.size() != n)
+    if (m_trails.size() != n) {
         m_trails.assign(n, {});
+        m_frames.clear();
+    }
+    const bool full = static_cast<int>(m_frames.size()) >= m_length;
+    if (full)
+        m_frames.pop_front();
+    m_frames.push_back(world.frame);
     for (std::size_t i = 0; i < n; ++i) {
         auto &trail = m_trails[i];
-        trail.emplace_back(world.position[i].x, world.position[i].y);
-        while (static_cast<int>(trail.size()) > m_length)
+        if (full)
             trail.pop_front();
+        trail.emplace_back(world.position[i].x, world.position[i].y);
     }
     update();
+}
+
+void TrailItem::cutAfter(std::int64_t frame)
+{
+    bool cut = false;
+    while (!m_frames.empty() && m_frames.back() > frame) {
+        m_frames.pop_back();
+        for (auto &trail : m_trails)
+            trail.pop_back();
+        cut = true;
+    }
+    if (cut)
+        update();
 }
 
 void TrailItem::clear()
 {
     m_trails.clear();
+    m_frames.clear();
     update();
+}
+
+std::vector<QPointF> TrailItem::points(int i) const
+{
+    if (i < 0 || static_cast<std::size_t>(i) >= m_trails.size())
+        return {};
+    const auto &trail = m_trails[static_cast<std::size_t>(i)];
+    return {trail.begin(), trail.end()};
 }
 
 QRectF TrailItem::boundingRect() const

@@ -5,6 +5,7 @@
 #include <QGraphicsItem>
 #include <QLineF>
 
+#include <cstdint>
 #include <deque>
 #include <vector>
 
@@ -33,10 +34,15 @@ public:
 
     /// Area the trails may cover (the stage), stage px.
     void setArea(const QRectF &area);
-    /// Appends the marbles' current positions.
+    /// Appends the marbles' current positions (of frame world.frame).
     void sample(const World &world);
+    /// Forgets the positions of frames after `frame` (the timeline went back to it); the older
+    /// part of every trail stays.
+    void cutAfter(std::int64_t frame);
     /// Forgets every trail.
     void clear();
+    /// The trail of marble i, oldest position first (empty when it has none).
+    std::vector<QPointF> points(int i) const;
 
     int type() const override { return Type; }
     QRectF boundingRect() const override;
@@ -50,6 +56,7 @@ private:
     bool m_antialiased = true;
     QRectF m_area;
     std::vector<std::deque<QPointF>> m_trails;
+    std::deque<std::int64_t> m_frames; ///< frame of each position, shared by all trails
     std::vector<std::vector<QLineF>> m_batches; ///< per fade level, kept between paints
 };
 

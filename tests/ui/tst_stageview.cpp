@@ -64,6 +64,7 @@ private Q_SLOTS:
     void batchedDragHoldsAndDrops();
     void batchedVectorsAndSelection();
     void trailsOffForLargeCrowds();
+    void stepBackCutsTrails();
     void vectorsWaitForALegibleZoom();
     void batchedToolTipNamesTheMarble();
 
@@ -452,6 +453,45 @@ void TestStageView::batchedVectorsAndSelection()
     QCOMPARE(m_document->world().marbleCount(), 999);
     QCOMPARE(m_view->selectedMarble(), -1);
     QVERIFY(field == m_view->fieldItem());
+}
+
+void TestStageView::stepBackCutsTrails()
+{
+    // Stepping back shortens every trail to the frame it returns to, and stepping on grows it
+    // again from there; an edit starts the trails over.
+    m_view->setTrailsVisible(true);
+    const QList<TrailItem *> trails = itemsOf<TrailItem>(*m_view);
+    QCOMPARE(trails.size(), 1);
+    const TrailItem *trail = trails.front();
+    std::vector<Vec2> atFrame[13];
+    for (int f = 1; f <= 12; ++f) {
+        m_document->advance(1);
+        atFrame[f] = m_document->world().position;
+    }
+    const int marbles = m_document->world().marbleCount();
+    QCOMPARE(static_cast<int>(trail->points(0).size()), 12);
+    for (int k = 0; k < 3; ++k)
+        QVERIFY(m_document->stepBack());
+    QCOMPARE(m_document->world().frame, std::int64_t(9));
+    for (int i = 0; i < marbles; ++i) {
+        const std::vector<QPointF> points = trail->points(i);
+        QCOMPARE(static_cast<int>(points.size()), 9);
+        for (int f = 1; f <= 9; ++f) {
+            const Vec2 p = atFrame[f][static_cast<std::size_t>(i)];
+            const QPointF q = points[static_cast<std::size_t>(f - 1)];
+            QVERIFY(q.x() == p.x && q.y() == p.y); // copies of the positions: the same bits
+        }
+    }
+    m_document->advance(2);
+    QCOMPARE(static_cast<int>(trail->points(0).size()), 11);
+    const Vec2 newest = m_document->world().position[0];
+    QVERIFY(trail->points(0).back().x() == newest.x && trail->points(0).back().y() == newest.y);
+    QVERIFY(m_document->rewind());
+    QVERIFY(trail->points(0).empty());
+    m_document->advance(3);
+    QCOMPARE(static_cast<int>(trail->points(0).size()), 3);
+    QVERIFY(m_document->setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
+    QVERIFY(trail->points(0).empty());
 }
 
 void TestStageView::trailsOffForLargeCrowds()
