@@ -21,7 +21,7 @@ CompareRun::CompareRun(SceneDocument *document, QObject *parent)
     connect(m_document, &SceneDocument::stepped, this, &CompareRun::onStepped);
     connect(m_document, &SceneDocument::sceneChanged, this, &CompareRun::restart);
     connect(m_document, &SceneDocument::timelineReset, this, &CompareRun::restart);
-    connect(m_document, &SceneDocument::timelineRewound, this, &CompareRun::restart);
+    connect(m_document, &SceneDocument::timelineRewound, this, &CompareRun::rewindTo);
 }
 
 CompareRun::~CompareRun()
@@ -46,6 +46,8 @@ void CompareRun::stop()
         return;
     m_model.reset();
     m_world.reset();
+    m_history = FrameHistory(); // its frames can hold a few hundred MiB
+    m_gaps = {};
     m_problem.clear();
     m_currentGap = 0.0;
     m_currentGapMarble = -1;
@@ -68,11 +70,45 @@ void CompareRun::restart()
     m_largestGap = 0.0;
     m_largestGapMarble = -1;
     m_largestGapFrame = source.frame;
+    m_history.reset(*m_world);
+    m_gaps.clear();
     // The scene's parameters were checked for the document's model only: friction >= 1, say, is
     // the book model's instability on show, but the exact and impulse models cannot run with it.
     m_problem = QString::fromStdString(validateParams(m_world->params));
     updateGhost();
     Q_EMIT restarted();
+}
+
+void CompareRun::rewindTo(std::int64_t frame)
+{
+    // Back to the start, or to a frame before it: a restart there gives the same state.
+    if (!isTracking() || frame <= m_startFrame || m_world->marbleCount() != m_document->world().marbleCount()) {
+        restart();
+        return;
+    }
+    while (m_world->frame > frame && m_history.stepBack(*m_world)) {
+    }
+    const auto kept = static_cast<std::size_t>(frame - m_startFrame);
+    if (m_world->frame != frame || m_gaps.size() < kept) {
+        restart(); // the history no longer holds that frame
+        return;
+    }
+    // The gaps of the frames up to this one, as they were measured then.
+    m_gaps.resize(kept);
+    m_currentGap = m_gaps.back().px;
+    m_currentGapMarble = m_gaps.back().marble;
+    m_largestGap = 0.0;
+    m_largestGapMarble = -1;
+    m_largestGapFrame = m_startFrame;
+    for (std::size_t k = 0; k < m_gaps.size(); ++k) {
+        if (m_gaps[k].px > m_largestGap) {
+            m_largestGap = m_gaps[k].px;
+            m_largestGapMarble = m_gaps[k].marble;
+            m_largestGapFrame = m_startFrame + 1 + static_cast<std::int64_t>(k);
+        }
+    }
+    if (m_ghost)
+        m_ghost->syncFromWorld();
 }
 
 void CompareRun::onFrameAdvanced()
@@ -87,6 +123,7 @@ void CompareRun::onFrameAdvanced()
         restart();
         return;
     }
+    m_history.record(*m_world);
     const StepResult result = m_world->step();
     if (!result.finite) {
         m_problem = tr("the %1 model stopped at frame %2: marble %3 left finite numbers")
@@ -135,6 +172,7 @@ void CompareRun::measureGap()
             m_currentGapMarble = i;
         }
     }
+    m_gaps.push_back({m_currentGap, m_currentGapMarble});
     if (m_currentGap > m_largestGap) {
         m_largestGap = m_currentGap;
         m_largestGapMarble = m_currentGapMarble;

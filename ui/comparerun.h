@@ -1,6 +1,7 @@
 #pragma once
 
 #include "core/world.h"
+#include "ui/history.h"
 
 #include <QObject>
 #include <QPointer>
@@ -9,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <vector>
 
 class QGraphicsScene;
 
@@ -28,12 +30,16 @@ class SceneDocument;
 /// - **Same frames.** Every frame the document simulates, the comparison simulates one frame of
 ///   its own model. Scripted pushes are part of the scene and act in both; a click on a marble
 ///   gives the comparison marble the same push.
-/// - **Restart on anything else.** Stepping back, rewinding, opening a file or a preset, and any
-///   edit (moving, adding or removing a marble or pin, changing a parameter, undo, redo) restart
-///   the comparison from the document's state at that moment: the gap goes back to 0, and
-///   "largest gap" counts from that frame (startFrame()). While a marble is held with the mouse
-///   the comparison follows the document every frame, as the hand moves that marble outside
-///   either model's physics.
+/// - **Step back together.** Step Back (and Back to Start) take the comparison back to the same
+///   frame as the document, in its own state there (it keeps its own step-back history): its
+///   ghosts and plotted lines go on from where they were, and the gaps are those of that frame.
+///   When it did not keep that frame (it started later, or the history's budget forgot it), it
+///   restarts there instead, as below.
+/// - **Restart on anything else.** Opening a file or a preset, and any edit (moving, adding or
+///   removing a marble or pin, changing a parameter, undo, redo) restart the comparison from the
+///   document's state at that moment: the gap goes back to 0, and "largest gap" counts from that
+///   frame (startFrame()). While a marble is held with the mouse the comparison follows the
+///   document every frame, as the hand moves that marble outside either model's physics.
 /// - **When the comparison model cannot run.** If the scene's parameters are invalid for the
 ///   comparison model (friction >= 1 is valid for the book model only), the comparison waits,
 ///   with the reason in problem(), and starts again at the next restart once they are valid. If
@@ -104,7 +110,14 @@ Q_SIGNALS:
     void advanced();
 
 private:
+    /// The largest position gap at one frame, and the marble that had it (-1: none).
+    struct Gap {
+        double px = 0.0;
+        int marble = -1;
+    };
+
     void restart();
+    void rewindTo(std::int64_t frame);
     void onFrameAdvanced();
     void onStepped();
     void measureGap();
@@ -114,6 +127,8 @@ private:
     SceneDocument *m_document;
     std::optional<ModelKind> m_model;
     std::unique_ptr<World> m_world;
+    FrameHistory m_history;    ///< the comparison's own frames since startFrame(), for stepping back
+    std::vector<Gap> m_gaps;   ///< the gap at each frame after startFrame(), oldest first
     QString m_problem;
 
     std::int64_t m_startFrame = 0;
