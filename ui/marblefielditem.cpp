@@ -288,6 +288,7 @@ void MarbleFieldItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *o
     const double dpr = painter->device() ? painter->device()->devicePixelRatio() : 1.0;
     const bool antialias = isAntialiased();
     const bool ghost = m_style == Style::Ghost;
+    const double squareBelow = antialias ? kSmallestSpriteRadiusDevicePx : kTinyRadiusDevicePx;
 
     painter->save();
     // Everything below is placed in device px: sprites are blitted unscaled, lines are hairlines.
@@ -312,7 +313,7 @@ void MarbleFieldItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *o
             continue; // off screen, or not finite
         const QPointF c = map(QPointF(p.x, p.y));
         const double rDevice = r * scale;
-        if (rDevice < kTinyRadiusDevicePx) {
+        if (rDevice < squareBelow) {
             // Whole pixels, so that every tiny marble is a crisp square of the same size as its
             // neighbours of the same radius, not a 1x2 or 2x1 sliver of a rounded fractional rectangle.
             const double side = std::max(1.0, std::round(2.0 * rDevice));

@@ -26,7 +26,8 @@ namespace marbles {
 ///
 /// Each marble is a pre-rendered shaded sprite (the look of MarbleItem), cached per radius on
 /// screen and colour at the device's pixel ratio, so blitting it costs one drawPixmap. Marbles
-/// smaller than kTinyRadiusDevicePx on screen become filled squares. Style::Ghost draws the same
+/// smaller than kSmallestSpriteRadiusDevicePx on screen (kTinyRadiusDevicePx above the antialias
+/// threshold) become filled squares. Style::Ghost draws the same
 /// marbles as dashed, semi-transparent outlines with no fill (a second model running beside the
 /// first, see CompareRun). The Figure 11.12 vectors of World::lastHit (as VectorItem draws
 /// them) can be drawn in the same pass, batched per colour.
@@ -41,8 +42,14 @@ public:
     /// (sprites keep their pre-rendered smooth edges, which cost nothing at draw time; the few
     /// selection rings stay smooth).
     static constexpr int kDefaultAntialiasThreshold = 5000;
-    /// Marbles smaller than this radius on the device (px) are drawn as squares, not sprites.
+    /// Above the antialias threshold, marbles smaller than this radius on the device (px) are
+    /// drawn as squares, not sprites: a large crowd fitted to the window is mostly such marbles,
+    /// and a square costs far less to draw than a sprite.
     static constexpr double kTinyRadiusDevicePx = 2.0;
+    /// Up to the antialias threshold, marbles get sprites down to this radius on the device (px),
+    /// so that the small marbles of a crowd look like its big ones: round, shaded and outlined
+    /// (squares beside them read as another kind of object). Smaller ones are squares.
+    static constexpr double kSmallestSpriteRadiusDevicePx = 0.75;
     /// Sprite radii are rounded to this step, device px (at most half of it off the true size).
     static constexpr double kSpriteRadiusStepDevicePx = 0.25;
     /// The cache is emptied when it holds more sprites than this, or more bytes than

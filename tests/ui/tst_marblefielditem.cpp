@@ -101,6 +101,7 @@ private Q_SLOTS:
     void vectorsOnlyWhenLegible_data();
     void vectorsOnlyWhenLegible();
     void tinyMarblesAreWholePixelSquares();
+    void smallMarblesAreRoundInSmallCrowds();
     void selectionAndHeldRings();
     void boundsCoverMarblesOffTheStage();
     void spritesAreSharedBetweenMarbles();
@@ -225,12 +226,15 @@ void TestMarbleFieldItem::vectorsOnlyWhenLegible()
 
 void TestMarbleFieldItem::tinyMarblesAreWholePixelSquares()
 {
+    // Above the antialias threshold (a large crowd): tiny marbles are squares.
     World w;
     w.stage = {1000, 1000, true};
     w.addMarble({333.3, 517.7}, 30); // 1.5 device px at 0.05: a 3 x 3 square
     w.addMarble({666.6, 250.1}, 20); // 1.0 device px: 2 x 2
     w.addMarble({500.0, 800.0}, 4);  // 0.2 device px: still one pixel
     auto *item = new MarbleFieldItem(&w);
+    item->setAntialiasThreshold(2);
+    QVERIFY(!item->isAntialiased());
     const QImage image = render(item, QSize(50, 50), 0.05);
     const auto pixelsAround = [&](Vec2 p) {
         const QPoint c = imagePoint(p, 0.05);
@@ -244,6 +248,39 @@ void TestMarbleFieldItem::tinyMarblesAreWholePixelSquares()
     QCOMPARE(pixelsAround(w.position[0]), 9);
     QCOMPARE(pixelsAround(w.position[1]), 4);
     QCOMPARE(pixelsAround(w.position[2]), 1);
+    delete item;
+}
+
+void TestMarbleFieldItem::smallMarblesAreRoundInSmallCrowds()
+{
+    // Up to the antialias threshold, marbles of 0.75 device px and more are sprites like the big
+    // ones (shaded, with a dark rim), not flat squares; smaller ones are single pixels.
+    World w;
+    w.stage = {1000, 1000, true};
+    w.addMarble({333.3, 517.7}, 30); // 1.5 device px at 0.05
+    w.addMarble({666.6, 250.1}, 20); // 1.0 device px
+    w.addMarble({500.0, 800.0}, 10); // 0.5 device px: a square of one pixel
+    auto *item = new MarbleFieldItem(&w);
+    QVERIFY(item->isAntialiased());
+    const QImage image = render(item, QSize(50, 50), 0.05);
+    const auto around = [&](Vec2 p, auto counts) {
+        const QPoint c = imagePoint(p, 0.05);
+        int n = 0;
+        for (int y = c.y() - 4; y <= c.y() + 4; ++y) {
+            for (int x = c.x() - 4; x <= c.x() + 4; ++x)
+                n += counts(image.pixelColor(x, y)) ? 1 : 0;
+        }
+        return n;
+    };
+    const auto flat = [](const QColor &c) { return c == MarbleItem::defaultColor(); };
+    const auto dark = [](const QColor &c) { return c.lightness() < MarbleItem::defaultColor().lightness() - 20; };
+    for (int i = 0; i < 2; ++i) {
+        const Vec2 p = w.position[static_cast<std::size_t>(i)];
+        QCOMPARE_LE(around(p, flat), 1);  // not a flat square of the base colour
+        QCOMPARE_GE(around(p, dark), 2);  // the rim of a ball
+    }
+    QCOMPARE(around(w.position[2], flat), 1);
+    QCOMPARE(item->cachedSpriteCount(), 2);
     delete item;
 }
 
