@@ -48,7 +48,7 @@ public:
     explicit PlotDock(QWidget *parent = nullptr);
 
     /// Forgets every sample and takes marble colours, names and frameMs from `world`
-    /// (a new or loaded scene, or a jump back in time). Adds no sample.
+    /// (a new or loaded scene, or an edit; a jump back in time is cutAfter()). Adds no sample.
     void reset(const World &world);
     /// Forgets the samples of frames after `frame` (the timeline went back to it: Step Back,
     /// Rewind); the earlier samples, and the lines they draw, stay.
