@@ -51,7 +51,7 @@ public:
     /// From this many marbles on, each event also requests the records of the marbles that the
     /// next events will scan, ahead of time. Measured on the crowd at frames 201-220 (one core,
     /// 1 MB of L2): 5 % slower at 30k marbles (3.8 MB of records, which the caches mostly hold),
-    /// even at 60k, 6 % faster at 100k.
+    /// no change at 60k, 6 % faster at 100k.
     static constexpr int prefetchEventsFrom = 1 << 16;
 
     ExactModel();
