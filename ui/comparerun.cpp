@@ -49,10 +49,7 @@ void CompareRun::stop()
     m_history = FrameHistory(); // its frames can hold a few hundred MiB
     m_gaps = {};
     m_problem.clear();
-    m_currentGap = 0.0;
-    m_currentGapMarble = -1;
-    m_largestGap = 0.0;
-    m_largestGapMarble = -1;
+    resetGaps(m_startFrame);
     removeGhost();
     Q_EMIT modelChanged();
 }
@@ -65,11 +62,7 @@ void CompareRun::restart()
     *m_world = source;
     m_world->params.model = *m_model;
     m_startFrame = source.frame;
-    m_currentGap = 0.0;
-    m_currentGapMarble = -1;
-    m_largestGap = 0.0;
-    m_largestGapMarble = -1;
-    m_largestGapFrame = source.frame;
+    resetGaps(source.frame);
     m_history.reset(*m_world);
     m_gaps.clear();
     // The scene's parameters were checked for the document's model only: friction >= 1, say, is
@@ -93,20 +86,11 @@ void CompareRun::rewindTo(std::int64_t frame)
         restart(); // the history no longer holds that frame
         return;
     }
-    // The gaps of the frames up to this one, as they were measured then.
+    // The gaps of the frames up to this one, as they were measured then, taken again in order.
     m_gaps.resize(kept);
-    m_currentGap = m_gaps.back().px;
-    m_currentGapMarble = m_gaps.back().marble;
-    m_largestGap = 0.0;
-    m_largestGapMarble = -1;
-    m_largestGapFrame = m_startFrame;
-    for (std::size_t k = 0; k < m_gaps.size(); ++k) {
-        if (m_gaps[k].px > m_largestGap) {
-            m_largestGap = m_gaps[k].px;
-            m_largestGapMarble = m_gaps[k].marble;
-            m_largestGapFrame = m_startFrame + 1 + static_cast<std::int64_t>(k);
-        }
-    }
+    resetGaps(m_startFrame);
+    for (std::size_t k = 0; k < m_gaps.size(); ++k)
+        takeGap(m_gaps[k], m_startFrame + 1 + static_cast<std::int64_t>(k));
     if (m_ghost)
         m_ghost->syncFromWorld();
 }
@@ -162,21 +146,35 @@ void CompareRun::measureGap()
 {
     const World &source = m_document->world();
     const int n = std::min(source.marbleCount(), m_world->marbleCount());
-    m_currentGap = 0.0;
-    m_currentGapMarble = -1;
+    Gap current;
     for (int i = 0; i < n; ++i) {
         const double gap = distance(source.position[i], m_world->position[i]);
         // A strict ">" keeps the first marble among equal gaps, and skips a NaN.
-        if (gap > m_currentGap) {
-            m_currentGap = gap;
-            m_currentGapMarble = i;
-        }
+        if (gap > current.px)
+            current = {gap, i};
     }
-    m_gaps.push_back({m_currentGap, m_currentGapMarble});
-    if (m_currentGap > m_largestGap) {
-        m_largestGap = m_currentGap;
-        m_largestGapMarble = m_currentGapMarble;
-        m_largestGapFrame = m_world->frame;
+    m_gaps.push_back(current);
+    takeGap(current, m_world->frame);
+}
+
+void CompareRun::resetGaps(std::int64_t frame)
+{
+    m_currentGap = 0.0;
+    m_currentGapMarble = -1;
+    m_largestGap = 0.0;
+    m_largestGapMarble = -1;
+    m_largestGapFrame = frame;
+}
+
+void CompareRun::takeGap(const Gap &gap, std::int64_t frame)
+{
+    m_currentGap = gap.px;
+    m_currentGapMarble = gap.marble;
+    // Strict again: the earliest frame keeps the largest gap among equal ones.
+    if (gap.px > m_largestGap) {
+        m_largestGap = gap.px;
+        m_largestGapMarble = gap.marble;
+        m_largestGapFrame = frame;
     }
 }
 

@@ -121,6 +121,10 @@ private:
     void onFrameAdvanced();
     void onStepped();
     void measureGap();
+    /// No gap yet: the current and the largest are 0, the largest "at" `frame`.
+    void resetGaps(std::int64_t frame);
+    /// `gap` is the gap at `frame` (the newest so far): the current one, and the largest if larger.
+    void takeGap(const Gap &gap, std::int64_t frame);
     void updateGhost();
     void removeGhost();
 
