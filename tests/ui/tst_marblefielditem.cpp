@@ -65,6 +65,20 @@ double annulusFraction(const QImage &image, QPointF c, double r0, double r1, Pre
     return inside > 0 ? static_cast<double>(hits) / inside : 0.0;
 }
 
+/// The pixels of `image` within 4 px (a 9 x 9 square) of stage point `p` drawn at `scale` for
+/// which `counts(colour)` holds.
+template <typename Predicate>
+int pixelsAround(const QImage &image, Vec2 p, double scale, Predicate counts)
+{
+    const QPoint c = imagePoint(p, scale);
+    int n = 0;
+    for (int y = c.y() - 4; y <= c.y() + 4; ++y) {
+        for (int x = c.x() - 4; x <= c.x() + 4; ++x)
+            n += counts(image.pixelColor(x, y)) ? 1 : 0;
+    }
+    return n;
+}
+
 /// Pixels within the annulus that differ from the background.
 double changedFraction(const QImage &image, QPointF c, double r0, double r1)
 {
@@ -236,18 +250,10 @@ void TestMarbleFieldItem::tinyMarblesAreWholePixelSquares()
     item->setAntialiasThreshold(2);
     QVERIFY(!item->isAntialiased());
     const QImage image = render(item, QSize(50, 50), 0.05);
-    const auto pixelsAround = [&](Vec2 p) {
-        const QPoint c = imagePoint(p, 0.05);
-        int n = 0;
-        for (int y = c.y() - 4; y <= c.y() + 4; ++y) {
-            for (int x = c.x() - 4; x <= c.x() + 4; ++x)
-                n += image.pixelColor(x, y) == MarbleItem::defaultColor() ? 1 : 0;
-        }
-        return n;
-    };
-    QCOMPARE(pixelsAround(w.position[0]), 9);
-    QCOMPARE(pixelsAround(w.position[1]), 4);
-    QCOMPARE(pixelsAround(w.position[2]), 1);
+    const auto flat = [](const QColor &c) { return c == MarbleItem::defaultColor(); };
+    QCOMPARE(pixelsAround(image, w.position[0], 0.05, flat), 9);
+    QCOMPARE(pixelsAround(image, w.position[1], 0.05, flat), 4);
+    QCOMPARE(pixelsAround(image, w.position[2], 0.05, flat), 1);
     delete item;
 }
 
@@ -263,23 +269,14 @@ void TestMarbleFieldItem::smallMarblesAreRoundInSmallCrowds()
     auto *item = new MarbleFieldItem(&w);
     QVERIFY(item->isAntialiased());
     const QImage image = render(item, QSize(50, 50), 0.05);
-    const auto around = [&](Vec2 p, auto counts) {
-        const QPoint c = imagePoint(p, 0.05);
-        int n = 0;
-        for (int y = c.y() - 4; y <= c.y() + 4; ++y) {
-            for (int x = c.x() - 4; x <= c.x() + 4; ++x)
-                n += counts(image.pixelColor(x, y)) ? 1 : 0;
-        }
-        return n;
-    };
     const auto flat = [](const QColor &c) { return c == MarbleItem::defaultColor(); };
     const auto dark = [](const QColor &c) { return c.lightness() < MarbleItem::defaultColor().lightness() - 20; };
     for (int i = 0; i < 2; ++i) {
         const Vec2 p = w.position[static_cast<std::size_t>(i)];
-        QCOMPARE_LE(around(p, flat), 1);  // not a flat square of the base colour
-        QCOMPARE_GE(around(p, dark), 2);  // the rim of a ball
+        QCOMPARE_LE(pixelsAround(image, p, 0.05, flat), 1);  // not a flat square of the base colour
+        QCOMPARE_GE(pixelsAround(image, p, 0.05, dark), 2);  // the rim of a ball
     }
-    QCOMPARE(around(w.position[2], flat), 1);
+    QCOMPARE(pixelsAround(image, w.position[2], 0.05, flat), 1);
     QCOMPARE(item->cachedSpriteCount(), 2);
     delete item;
 }
