@@ -66,8 +66,9 @@
 //      neighbourhood changed.
 //    At the start of a frame every pair of neighbours is tested once, for both marbles, from the
 //    moving side (without gravity, two marbles at rest cannot meet, so a crowd at rest costs
-//    almost nothing). Ties are broken by (time, kind, lower index, higher index, marble), so
-//    results never depend on anything but the World.
+//    almost nothing). Ties are broken by (time, kind, lower rank, higher rank, marble's rank),
+//    a marble's rank being its place in the bucket order of all the marbles (its index, below),
+//    so results never depend on anything but the World.
 //
 //    The grid. At the start of a frame the marbles are sorted by bucket and renumbered, so the
 //    marbles of a bucket (and of three neighbouring buckets in a row) lie side by side in memory.
@@ -78,6 +79,18 @@
 //    its anchor (its grid event, rare when m exceeds a frame's travel) is anchored afresh where
 //    it is, and if that is in another bucket it joins that bucket's overflow list and looks for
 //    partners in its new neighbourhood. The lattice is folded as described in broadphase.h.
+//
+//    Sleepers. In a large world where nearly every marble is at rest, reading, renumbering and
+//    writing back every marble each frame would cost far more than the few that move. Marbles at
+//    rest (velocity and push exactly +0, no gravity) then stay in a layer of their own, sorted by
+//    bucket and kept from frame to frame, and only the others are renumbered: a sleeper's rank
+//    (above) still counts it, and the first look meets the sleepers of a bucket in their places
+//    among its awake marbles, so every test, tie and pruning happens as if all were renumbered.
+//    A sleeper joins the frame's arrays (at the end, as a marble still in its bucket) as soon as a
+//    moving marble's path may reach it; one that nothing reaches is left as it is, which is what
+//    the frame would do to it. Each frame first checks every sleeper against the World (same
+//    position, radius and mass bits, still at rest, nothing pending); one that changed, or that
+//    the last frame set moving, leaves the layer.
 //
 // 5. Robustness. Contacts are only resolved between approaching bodies. A pair that overlaps (by
 //    rounding, or because the scene put it so) and approaches collides at once; one that overlaps
@@ -434,42 +447,56 @@ void ExactModel::setContact(int i, const Event &e)
     m_body[i].contactTime = e.time;
 }
 
-int ExactModel::neighbourRanges(int i, int out[12]) const
+template<typename Map>
+[[gnu::always_inline]] inline int ExactModel::runsAround(int bucket, int out[12], Map map) const
 {
-    // The 3 x 3 buckets around i's as ranges of internal indices: the three buckets of a row are
-    // consecutive, except where the row wraps around (then two ranges).
-    if (m_singleCell) {
-        out[0] = 0;
-        out[1] = static_cast<int>(m_body.size());
-        return 1;
-    }
+    // The 3 x 3 buckets around `bucket` as runs [first, last) of consecutive buckets, row by row
+    // (the three buckets of a row are consecutive, except where the row wraps around: then two
+    // runs), each end given as map(bucket).
     const int nx = m_geometry.bucketsX();
     const int ny = m_geometry.bucketsY();
-    const int b = m_body[i].bucket;
-    const int by = b / nx;
-    const int bx = b - by * nx;
+    const int by = bucket / nx;
+    const int bx = bucket - by * nx;
     const int rows[3] = {(by == 0 ? ny - 1 : by - 1) * nx, by * nx, (by == ny - 1 ? 0 : by + 1) * nx};
     int count = 0;
     for (const int row : rows) {
         if (bx == 0) {
-            out[2 * count] = m_start[row];
-            out[2 * count + 1] = m_start[row + 2];
+            out[2 * count] = map(row);
+            out[2 * count + 1] = map(row + 2);
             ++count;
-            out[2 * count] = m_start[row + nx - 1];
-            out[2 * count + 1] = m_start[row + nx];
+            out[2 * count] = map(row + nx - 1);
+            out[2 * count + 1] = map(row + nx);
         } else if (bx == nx - 1) {
-            out[2 * count] = m_start[row + nx - 2];
-            out[2 * count + 1] = m_start[row + nx];
+            out[2 * count] = map(row + nx - 2);
+            out[2 * count + 1] = map(row + nx);
             ++count;
-            out[2 * count] = m_start[row];
-            out[2 * count + 1] = m_start[row + 1];
+            out[2 * count] = map(row);
+            out[2 * count + 1] = map(row + 1);
         } else {
-            out[2 * count] = m_start[row + bx - 1];
-            out[2 * count + 1] = m_start[row + bx + 2];
+            out[2 * count] = map(row + bx - 1);
+            out[2 * count + 1] = map(row + bx + 2);
         }
         ++count;
     }
     return count;
+}
+
+int ExactModel::neighbourRanges(int i, int out[12]) const
+{
+    // The 3 x 3 buckets around i's as ranges of internal indices (a run of buckets holds
+    // consecutive indices).
+    if (m_singleCell) {
+        out[0] = 0;
+        out[1] = m_count;
+        return 1;
+    }
+    return runsAround(m_body[i].bucket, out, [&](int b) { return m_start[b]; });
+}
+
+int ExactModel::sleeperRanges(int i, int out[12]) const
+{
+    // The same buckets as ranges of the sleepers' layer.
+    return runsAround(m_body[i].bucket, out, [&](int b) { return m_sleepStart[b]; });
 }
 
 int ExactModel::neighbourBuckets(int i, int out[9]) const
@@ -524,34 +551,49 @@ void ExactModel::beginFrame(World &world)
 
     // Renumber the marbles in bucket order (a stable counting sort), so that the marbles of a
     // bucket, and of a row of buckets, lie side by side in memory. Note on the way whether any
-    // marble rests (see predictAll()).
+    // marble rests (see predictAll()). Sleepers kept in the layer stay out.
     const bool gravity = m_gravity.x != 0.0 || m_gravity.y != 0.0;
-    m_anyResting = false;
     m_sortBucket.resize(n);
+    m_layer = useLayer(world, n);
+    m_anyResting = m_layer && m_layerLive > 0;
     m_start.assign(static_cast<std::size_t>(buckets) + 1, 0);
+    const bool layer = m_layer;
+    const std::uint8_t *inLayer = m_inLayer.data();
+    bool anyResting = m_anyResting;
+    int outsideSleepers = 0;
     for (int w = 0; w < n; ++w) {
+        if (layer && inLayer[w])
+            continue;
         const Vec2 p = world.position[w];
         const int b = m_singleCell ? 0 : m_geometry.bucketAt(p.x, p.y);
         m_sortBucket[w] = b;
         ++m_start[b + 1];
-        if (!gravity && !m_anyResting) {
+        if (!gravity && !anyResting) {
             const Vec2 v = world.velocity[w];
             const Vec2 a = world.acceleration[w];
-            m_anyResting = v.x + a.x == 0.0 && v.y + a.y == 0.0;
+            anyResting = v.x + a.x == 0.0 && v.y + a.y == 0.0;
         }
+        if (layer && sleeps(world, w))
+            ++outsideSleepers;
     }
+    m_anyResting = anyResting;
+    m_outsideSleepers = outsideSleepers;
     for (int b = 0; b < buckets; ++b)
         m_start[b + 1] += m_start[b];
+    m_awake = m_start[buckets];
+    m_count = m_awake;
     m_cursor.assign(m_start.begin(), m_start.end() - 1);
     m_body.resize(n);
     m_rec.resize(n);
-    for (int w = 0; w < n; ++w)
-        m_body[m_cursor[m_sortBucket[w]]++].id = w;
+    for (int w = 0; w < n; ++w) {
+        if (!(layer && inLayer[w]))
+            m_body[m_cursor[m_sortBucket[w]]++].id = w;
+    }
     m_overflowHead.assign(buckets, -1);
     m_overflowCount = 0;
     // A frame ends with an empty calendar (every entry out of its slot) unless it stopped early.
     if (m_entry.size() != static_cast<std::size_t>(n) || m_scheduled != 0) {
-        m_entry.assign(static_cast<std::size_t>(n), Entry{0.0, 0, notScheduled, -1, -1});
+        m_entry.assign(static_cast<std::size_t>(n), Entry{0.0, 0, notScheduled, -1, -1, 0});
         m_scheduled = 0;
     }
     m_heap.clear();
@@ -559,6 +601,195 @@ void ExactModel::beginFrame(World &world)
     m_ready = 0;
     if (!world.pins.empty())
         m_pinGrid.build(m_geometry, world.pins.data(), static_cast<int>(world.pins.size()));
+}
+
+bool ExactModel::sleeps(const World &world, int w)
+{
+    // At rest with nothing pending, in finite numbers, and not at -0 (the frame's end writes
+    // a + 0 = +0 there): the frame would leave it exactly as it is unless something hits it.
+    const Vec2 p = world.position[w];
+    const Vec2 v = world.velocity[w];
+    const Vec2 a = world.acceleration[w];
+    return (std::bit_cast<std::uint64_t>(v.x) | std::bit_cast<std::uint64_t>(v.y) | std::bit_cast<std::uint64_t>(a.x)
+            | std::bit_cast<std::uint64_t>(a.y)) == 0
+        && isFinite(p) && !(p.x == 0.0 && std::signbit(p.x)) && !(p.y == 0.0 && std::signbit(p.y))
+        && std::isfinite(world.radius[w]) && std::isfinite(1.0 / world.mass[w]);
+}
+
+bool ExactModel::useLayer(const World &world, int n)
+{
+    // Whether this frame keeps the sleepers in the layer; brings the layer up to date if so.
+    const bool gravity = m_gravity.x != 0.0 || m_gravity.y != 0.0;
+    const bool possible = m_sleepingUse != Sleeping::Never && !gravity && !m_singleCell
+        && (m_sleepingUse == Sleeping::Always || n >= sleepingLayerFrom);
+    const bool auto_ = m_sleepingUse == Sleeping::Auto;
+    const bool kept = possible && m_inLayer.size() == static_cast<std::size_t>(n) && m_layerGeometry == m_geometry;
+    if (kept)
+        checkLayer(world);
+    if (!possible || (kept && auto_ && m_layerLive < n - n / 8)) {
+        // Not worth it (or not possible): every marble is read as awake, and the layer is dropped.
+        m_inLayer.clear();
+        m_layerLive = 0;
+        return false;
+    }
+    if (!kept) {
+        // Worth building only if nearly all marbles sleep: as many as the last frame left at rest
+        // (or, for a new World, a sample of one in 64).
+        if (auto_) {
+            int awake = 0;
+            int counted = 0;
+            if (m_endedAtRest >= 0 && m_endedCount == n) {
+                awake = n - m_endedAtRest;
+                counted = n;
+            } else {
+                for (int w = 0; w < n; w += 64, ++counted)
+                    awake += !sleeps(world, w);
+            }
+            if (16 * awake > counted)
+                return false;
+        }
+        buildLayer(world, n);
+    } else if (m_layerDead > m_layerLive / 16 || m_outsideSleepers > n / 16) {
+        buildLayer(world, n); // many woke (dead entries), or many came to rest outside it
+    }
+    return true;
+}
+
+void ExactModel::buildLayer(const World &world, int n)
+{
+    // Every marble that sleeps now, sorted by bucket (a stable counting sort).
+    const int buckets = m_geometry.bucketCount();
+    m_inLayer.assign(static_cast<std::size_t>(n), 0);
+    m_sleepStart.assign(static_cast<std::size_t>(buckets) + 1, 0);
+    for (int w = 0; w < n; ++w) {
+        if (!sleeps(world, w))
+            continue;
+        m_inLayer[w] = 1;
+        const Vec2 p = world.position[w];
+        m_sortBucket[w] = m_geometry.bucketAt(p.x, p.y);
+        ++m_sleepStart[m_sortBucket[w] + 1];
+    }
+    for (int b = 0; b < buckets; ++b)
+        m_sleepStart[b + 1] += m_sleepStart[b];
+    m_sleepBefore = m_sleepStart;
+    m_layerLive = m_sleepStart[buckets];
+    m_layerDead = 0;
+    m_sleepers.resize(static_cast<std::size_t>(m_layerLive));
+    m_cursor.assign(m_sleepStart.begin(), m_sleepStart.end() - 1);
+    for (int w = 0; w < n; ++w) {
+        if (!m_inLayer[w])
+            continue;
+        const int b = m_sortBucket[w];
+        m_sleepers[m_cursor[b]++] = {world.position[w], world.radius[w], world.mass[w], w, b, -1};
+    }
+    m_layerGeometry = m_geometry;
+}
+
+void ExactModel::checkLayer(const World &world)
+{
+    // A sleeper still sleeps if the World holds it as the layer does, at rest with nothing
+    // pending; one that the last frame hit, or that was edited or pushed since, wakes (its entry
+    // dies). Counts the live sleepers of the buckets before each bucket on the way.
+    const int buckets = m_layerGeometry.bucketCount();
+    m_sleepBefore.resize(static_cast<std::size_t>(buckets) + 1);
+    int live = 0;
+    int dead = 0;
+    for (int b = 0; b < buckets; ++b) {
+        m_sleepBefore[b] = live;
+        for (int q = m_sleepStart[b]; q < m_sleepStart[b + 1]; ++q) {
+            Sleeper &s = m_sleepers[q];
+            if (s.id < 0) {
+                ++dead;
+                continue;
+            }
+            const int w = s.id;
+            const bool same = std::bit_cast<std::uint64_t>(world.position[w].x) == std::bit_cast<std::uint64_t>(s.p.x)
+                && std::bit_cast<std::uint64_t>(world.position[w].y) == std::bit_cast<std::uint64_t>(s.p.y)
+                && std::bit_cast<std::uint64_t>(world.radius[w]) == std::bit_cast<std::uint64_t>(s.radius)
+                && std::bit_cast<std::uint64_t>(world.mass[w]) == std::bit_cast<std::uint64_t>(s.mass)
+                && (std::bit_cast<std::uint64_t>(world.velocity[w].x) | std::bit_cast<std::uint64_t>(world.velocity[w].y)
+                    | std::bit_cast<std::uint64_t>(world.acceleration[w].x)
+                    | std::bit_cast<std::uint64_t>(world.acceleration[w].y)) == 0;
+            if (s.promoted >= 0)
+                s.promoted = -1;
+            if (!same) {
+                m_inLayer[w] = 0;
+                s.id = -1;
+                ++dead;
+                continue;
+            }
+            ++live;
+        }
+    }
+    m_sleepBefore[buckets] = live;
+    m_layerLive = live;
+    m_layerDead = dead;
+}
+
+int ExactModel::sleepersBelow(int bucket, int id) const
+{
+    // Live sleepers before a marble of World index `id` in `bucket`, in bucket order.
+    int below = m_sleepBefore[bucket];
+    for (int q = m_sleepStart[bucket]; q < m_sleepStart[bucket + 1] && m_sleepers[q].id < id; ++q)
+        below += m_sleepers[q].id >= 0;
+    return below;
+}
+
+[[gnu::always_inline]] inline void ExactModel::startRecords(int k, Vec2 p, Vec2 b, double radius, double mass, int bucket,
+                                                             int id, int rank)
+{
+    // Marble k's records as a frame starts: at p with b = its velocity (t = 0), anchored at p in
+    // the bucket it was sorted into, no event, no collision yet.
+    Body &body = m_body[k];
+    body.a = p;
+    body.b = b;
+    body.radius = radius;
+    body.contactTime = noTime;
+    body.bucket = bucket;
+    body.id = id;
+    body.rank = rank;
+    body.gravityOff = 0;
+    body.frozen = 0;
+    body.moved = 0;
+    Record &rec = m_rec[k];
+    rec.contactKind = EventKind::None;
+    rec.contactOther = -1;
+    rec.contactStamp = 0;
+    rec.crossTime = noTime;
+    rec.anchor = p;
+    rec.invMass = 1.0 / mass;
+    rec.stamp = 0;
+    rec.overflowNext = -1;
+    rec.guard = Guard{};
+    rec.crossSide = 0;
+}
+
+int ExactModel::promote(int q)
+{
+    // Sleeper q joins the frame's arrays (at the end, in the overflow-free state of a marble
+    // still in the bucket it was sorted into): a change of representation only, it is at rest
+    // as before. Its rank counts the awake marbles of its bucket with a lower World index.
+    Sleeper &s = m_sleepers[q];
+    const int k = m_count++;
+    const int b = s.bucket;
+    const int w = s.id;
+    int rank = m_start[b] + m_sleepBefore[b];
+    for (int j = m_start[b]; j < m_start[b + 1]; ++j)
+        rank += m_body[j].id < w;
+    for (int r = m_sleepStart[b]; r < q; ++r)
+        rank += m_sleepers[r].id >= 0;
+    startRecords(k, s.p, {}, s.radius, s.mass, b, w, rank);
+    m_sortBucket[w] = b;
+    s.promoted = k;
+    return k;
+}
+
+bool ExactModel::nearSleeper(const Vec2 &p, const Vec2 &v, double r, int q) const
+{
+    // The first test of pairContact() against sleeper q (at rest at its position, no gravity):
+    // true when a marble at p moving at v may touch it in the rest of the frame.
+    const Sleeper &s = m_sleepers[q];
+    return straightContact(p.x - s.p.x, p.y - s.p.y, v.x, v.y, r + s.radius, m_sLeft) <= m_sLeft;
 }
 
 // How many marbles ahead makeReady() and endFrame() request the World's entries: they visit
@@ -571,7 +802,8 @@ void ExactModel::makeReady(int end)
     // this just ahead of its pass, so that each record is still in cache when it is first read.
     World &world = *m_world;
     bool finite = m_finite;
-    const int n = static_cast<int>(m_body.size());
+    const int n = m_awake;
+    const bool layer = m_layer;
     for (int i = m_ready; i < end; ++i) {
         if (i + makeReadyAhead < n) {
             const int ahead = m_body[i + makeReadyAhead].id;
@@ -581,30 +813,18 @@ void ExactModel::makeReady(int end)
             __builtin_prefetch(&world.radius[ahead]);
             __builtin_prefetch(&world.mass[ahead]);
         }
-        Body &body = m_body[i];
-        const int w = body.id;
+        const int w = m_body[i].id;
         // Pushes act at the frame boundary: an instant velocity change. At t = 0, a = p and b = v.
-        body.a = world.position[w];
-        body.b = {world.velocity[w].x + world.acceleration[w].x, world.velocity[w].y + world.acceleration[w].y};
+        const Vec2 p = world.position[w];
+        const Vec2 b{world.velocity[w].x + world.acceleration[w].x, world.velocity[w].y + world.acceleration[w].y};
         if (std::bit_cast<std::uint64_t>(world.acceleration[w].x) != 0 || std::bit_cast<std::uint64_t>(world.acceleration[w].y) != 0)
             world.acceleration[w] = {}; // (written only when set: most marbles have no push)
-        body.radius = world.radius[w];
-        body.contactTime = noTime;
-        body.bucket = m_sortBucket[w];
-        body.gravityOff = 0;
-        body.frozen = 0;
-        body.moved = 0;
-        Record &rec = m_rec[i];
-        rec.contactKind = EventKind::None;
-        rec.contactOther = -1;
-        rec.contactStamp = 0;
-        rec.crossTime = noTime;
-        rec.anchor = body.a;
-        rec.invMass = 1.0 / world.mass[w];
-        rec.stamp = 0;
-        rec.overflowNext = -1;
-        rec.guard = Guard{};
-        rec.crossSide = 0;
+        const int bucket = m_sortBucket[w];
+        // Its place among all marbles (sleepers included) in bucket order, for the ties.
+        const int rank = layer ? i + sleepersBelow(bucket, w) : i;
+        startRecords(i, p, b, world.radius[w], world.mass[w], bucket, w, rank);
+        const Body &body = m_body[i];
+        const Record &rec = m_rec[i];
         finite = finite && isFinite(body.a) && isFinite(body.b) && std::isfinite(body.radius) && std::isfinite(rec.invMass);
     }
     m_finite = finite;
@@ -613,7 +833,12 @@ void ExactModel::makeReady(int end)
 
 void ExactModel::endFrame(World &world)
 {
-    const int n = world.marbleCount();
+    // The sleepers left in the layer are as they were: a + 0 phi1 = a and velocity +0.
+    const int n = m_count;
+    // How many end at rest: what decides whether the next frame builds the sleepers' layer.
+    const bool countRest = m_sleepingUse != Sleeping::Never && m_gravity.x == 0.0 && m_gravity.y == 0.0
+        && (m_sleepingUse == Sleeping::Always || n >= sleepingLayerFrom);
+    int atRest = 0;
     const double z = world.params.zeroThreshold;
     setNow(1.0);
     for (int i = 0; i < n; ++i) {
@@ -632,27 +857,32 @@ void ExactModel::endFrame(World &world)
             v.x = 0.0;
         if (std::abs(v.y) <= z)
             v.y = 0.0;
+        if (countRest)
+            atRest += (std::bit_cast<std::uint64_t>(v.x) | std::bit_cast<std::uint64_t>(v.y)) == 0;
         world.position[m_body[i].id] = p;
         world.velocity[m_body[i].id] = v;
     }
+    m_endedAtRest = countRest ? atRest + lastSleepingCount() : -1;
+    m_endedCount = world.marbleCount();
     m_world = nullptr;
 }
 
-std::uint64_t ExactModel::tieOf(int i, const Event &e)
+std::uint64_t ExactModel::tieOf(int i, const Event &e) const
 {
-    // (kind, lower index, higher index): for a pair the two marbles, otherwise the marble and the
-    // object (wall, pin or margin side). Indices are below 2^30 (asserted in beginFrame).
-    std::int64_t lo = i;
+    // (kind, lower rank, higher rank): for a pair the two marbles, otherwise the marble and the
+    // object (wall, pin or margin side). Ranks are below 2^30 (asserted in beginFrame).
+    std::int64_t lo = rankOf(i);
     std::int64_t hi = e.other;
     if (e.kind == EventKind::Pair || e.kind == EventKind::RecheckPair) {
-        lo = std::min(i, e.other);
-        hi = std::max(i, e.other);
+        const std::int64_t other = rankOf(e.other);
+        hi = std::max(lo, other);
+        lo = std::min(lo, other);
     }
     return (static_cast<std::uint64_t>(e.kind) << 60) | (static_cast<std::uint64_t>(lo) << 30)
         | static_cast<std::uint64_t>(hi);
 }
 
-bool ExactModel::before(int i, const Event &a, const Event &b)
+bool ExactModel::before(int i, const Event &a, const Event &b) const
 {
     if (a.time != b.time)
         return a.time < b.time;
@@ -681,7 +911,7 @@ ExactModel::Event ExactModel::currentEvent(int i) const
 ExactModel::Key ExactModel::keyOf(int i) const
 {
     const Event e = currentEvent(i);
-    return {e.time, e.kind == EventKind::None ? ~std::uint64_t(0) : tieOf(i, e), i};
+    return {e.time, e.kind == EventKind::None ? ~std::uint64_t(0) : tieOf(i, e), i, rankOf(i)};
 }
 
 bool ExactModel::keyBefore(const Key &a, const Key &b)
@@ -690,7 +920,7 @@ bool ExactModel::keyBefore(const Key &a, const Key &b)
         return a.time < b.time;
     if (a.tie != b.tie)
         return a.tie < b.tie;
-    return a.marble < b.marble;
+    return a.rank < b.rank;
 }
 
 // The calendar queue. Slots are monotone in time (rounding is), so a later slot only holds
@@ -716,7 +946,7 @@ void ExactModel::calendarInsert(const Key &key)
         return;
     }
     std::int32_t &head = m_slotHead[static_cast<std::size_t>(slot)];
-    m_entry[static_cast<std::size_t>(key.marble)] = {key.time, key.tie, slot, head, -1};
+    m_entry[static_cast<std::size_t>(key.marble)] = {key.time, key.tie, slot, head, -1, key.rank};
     if (head >= 0)
         m_entry[static_cast<std::size_t>(head)].prev = key.marble;
     head = key.marble;
@@ -761,7 +991,7 @@ int ExactModel::calendarFirst()
         for (int k = head; k >= 0;) {
             Entry &entry = m_entry[static_cast<std::size_t>(k)];
             const int next = entry.next;
-            m_heap.push_back({entry.time, entry.tie, k});
+            m_heap.push_back({entry.time, entry.tie, k, entry.rank});
             entry.slot = inHeap;
             entry.next = static_cast<int>(m_heap.size()) - 1; // its heap position from now on
             k = next;
@@ -968,7 +1198,9 @@ inline bool ExactModel::pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi
 {
     // The innermost loop of the model, in scalars. Computed with the pair in canonical order
     // (lower index first), so that both marbles of a pair predict bit-identical times; j's state
-    // now is stateAt() written out.
+    // now is stateAt() written out. (On a straight relative path the order only flips every
+    // sign, which leaves the result the same bits: so the index order serves with the sleepers'
+    // layer too, where marbles that join the arrays are numbered out of rank order.)
     const Body &bi = m_body[i];
     const Body &bj = m_body[j];
     const double gix = (bi.gravityOff & 1) ? 0.0 : m_gravity.x;
@@ -1045,7 +1277,7 @@ inline void ExactModel::offerPair(int i, int j, const Vec2 &p, const Vec2 &v, Ev
     }
 }
 
-void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const
+void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best)
 {
     int ranges[12];
     const int rangeCount = neighbourRanges(i, ranges);
@@ -1055,11 +1287,35 @@ void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int coun
                 offerPair(i, j, p, v, best);
         }
     }
+    if (m_layer)
+        scanSleepers(i, p, v, best);
     if (m_overflowCount == 0)
         return;
     for (int nb = 0; nb < count; ++nb) {
         for (int j = m_overflowHead[buckets[nb]]; j >= 0; j = m_rec[j].overflowNext) {
             if (j != i)
+                offerPair(i, j, p, v, best);
+        }
+    }
+}
+
+void ExactModel::scanSleepers(int i, const Vec2 &p, const Vec2 &v, Event &best)
+{
+    // The sleepers around i's bucket: one that joined the arrays this frame is offered like any
+    // marble (unless it left its bucket: then it is in an overflow list), and one within reach
+    // joins them first.
+    int ranges[12];
+    const int rangeCount = sleeperRanges(i, ranges);
+    const double r = m_body[i].radius;
+    for (int k = 0; k < rangeCount; ++k) {
+        for (int q = ranges[2 * k]; q < ranges[2 * k + 1]; ++q) {
+            const Sleeper &s = m_sleepers[q];
+            if (s.id < 0)
+                continue;
+            int j = s.promoted;
+            if (j < 0 && nearSleeper(p, v, r, q))
+                j = promote(q);
+            if (j >= 0 && j != i && !m_body[j].moved)
                 offerPair(i, j, p, v, best);
         }
     }
@@ -1094,9 +1350,85 @@ void ExactModel::predict(int i)
     setContact(i, best);
 }
 
+[[gnu::always_inline]] inline void ExactModel::offerFirstLook(int i, int j, const FirstLook &look, Event &best)
+{
+    // The first look's test of i (moving, at look.p with look.v) and j, offered to both. At t = 0
+    // every marble feels the same gravity, so every relative path is straight (pairContact() with
+    // phi1 = phi2 = 0 and dg = 0, written out, lower index first: on a straight path the order
+    // only flips every sign, which leaves every product and so the result the same bits).
+    const Body &bj = m_body[j];
+    const Vec2 p = look.p;
+    const Vec2 v = look.v;
+    const bool iLow = i < j;
+    const double dx = iLow ? p.x - bj.a.x : bj.a.x - p.x;
+    const double dy = iLow ? p.y - bj.a.y : bj.a.y - p.y;
+    const double dvx = iLow ? v.x - bj.b.x : bj.b.x - v.x;
+    const double dvy = iLow ? v.y - bj.b.y : bj.b.y - v.y;
+    const double s = straightContact(dx, dy, dvx, dvy, look.radius + bj.radius, m_sLeft);
+    if (!(s <= m_sLeft))
+        return;
+    const double tau = phi1Inverse(m_lambda, s);
+    if (!(tau <= std::min({best.time, bj.contactTime, 1.0})))
+        return;
+    const Event ei{tau, EventKind::Pair, j, 0};
+    const Event ej{tau, EventKind::Pair, i, 0};
+    if (before(i, ei, best))
+        best = ei;
+    if (before(j, ej, contactOf(j))) {
+        // A resting marble has no turn of its own: it joins the calendar (see predictAll()).
+        const bool gravity = m_gravity.x != 0.0 || m_gravity.y != 0.0;
+        if (m_rec[j].contactKind == EventKind::None && !gravity && bj.b.x == 0.0 && bj.b.y == 0.0)
+            m_restingHit.push_back(j);
+        setContact(j, ej);
+    }
+}
+
+void ExactModel::firstLookWithSleepers(int i, const FirstLook &look, const int ranges[12], Event &best)
+{
+    const auto resting = [&](int j) { return m_body[j].b.x == 0.0 && m_body[j].b.y == 0.0; }; // (no gravity)
+    // The same partners in the same order, bucket by bucket: the awake marbles of each
+    // bucket and its sleepers, merged by World index (their order among all marbles).
+    // Sleepers rest: they are partners from either side. One within reach joins the arrays.
+    int runs[12];
+    const int runCount = runsAround(m_body[i].bucket, runs, [](int b) { return b; });
+    for (int r = 0; r < runCount; ++r) {
+        if (m_sleepStart[runs[2 * r]] == m_sleepStart[runs[2 * r + 1]]) {
+            for (int j = ranges[2 * r]; j < ranges[2 * r + 1]; ++j) {
+                if (!(j <= i && !(j < i && resting(j))))
+                    offerFirstLook(i, j, look, best);
+            }
+            continue;
+        }
+        for (int b = runs[2 * r]; b < runs[2 * r + 1]; ++b) {
+            int j = m_start[b];
+            int q = m_sleepStart[b];
+            const int jEnd = m_start[b + 1];
+            const int qEnd = m_sleepStart[b + 1];
+            while (j < jEnd || q < qEnd) {
+                if (q < qEnd && m_sleepers[q].id < 0) {
+                    ++q;
+                    continue;
+                }
+                if (q == qEnd || (j < jEnd && m_body[j].id < m_sleepers[q].id)) {
+                    if (!(j <= i && !(j < i && resting(j))))
+                        offerFirstLook(i, j, look, best);
+                    ++j;
+                    continue;
+                }
+                int k = m_sleepers[q].promoted;
+                if (k < 0 && nearSleeper(look.p, look.v, look.radius, q))
+                    k = promote(q);
+                if (k >= 0)
+                    offerFirstLook(i, k, look, best);
+                ++q;
+            }
+        }
+    }
+}
+
 void ExactModel::predictAll()
 {
-    const int n = static_cast<int>(m_body.size());
+    const int n = m_awake;
     // A marble at rest without gravity stays put until something hits it: no wall, pin or grid
     // event, and no contact with another resting marble. The first look costs nothing for it.
     const bool gravity = m_gravity.x != 0.0 || m_gravity.y != 0.0;
@@ -1116,6 +1448,7 @@ void ExactModel::predictAll()
         // At t = 0 the state is (a, b) itself.
         const Vec2 p = m_body[i].a;
         const Vec2 v = m_body[i].b;
+        const FirstLook look{p, v, m_body[i].radius};
         Event best = contactOf(i);
         predictOwn(i, p, v, best);
         if (!m_world->pins.empty()) {
@@ -1129,37 +1462,17 @@ void ExactModel::predictAll()
             if (ranges[2 * r + 1] > m_ready)
                 makeReady(ranges[2 * r + 1]);
         }
-        const double ri = m_body[i].radius;
-        for (int r = 0; r < rangeCount; ++r) {
-            // Partners below i only if some marbles rest (those are not looked at from their side).
-            for (int j = anyResting ? ranges[2 * r] : std::max(ranges[2 * r], i + 1); j < ranges[2 * r + 1]; ++j) {
-                const Body &bj = m_body[j];
-                if (j <= i && !(j < i && resting(j)))
-                    continue;
-                // At t = 0 every marble feels the same gravity, so every relative path is straight
-                // (pairContact() with phi1 = phi2 = 0 and dg = 0, written out, lower index first).
-                const bool iLow = i < j;
-                const double dx = iLow ? p.x - bj.a.x : bj.a.x - p.x;
-                const double dy = iLow ? p.y - bj.a.y : bj.a.y - p.y;
-                const double dvx = iLow ? v.x - bj.b.x : bj.b.x - v.x;
-                const double dvy = iLow ? v.y - bj.b.y : bj.b.y - v.y;
-                const double s = straightContact(dx, dy, dvx, dvy, ri + bj.radius, m_sLeft);
-                if (!(s <= m_sLeft))
-                    continue;
-                const double tau = phi1Inverse(m_lambda, s);
-                if (!(tau <= std::min({best.time, bj.contactTime, 1.0})))
-                    continue;
-                const Event ei{tau, EventKind::Pair, j, 0};
-                const Event ej{tau, EventKind::Pair, i, 0};
-                if (before(i, ei, best))
-                    best = ei;
-                if (before(j, ej, contactOf(j))) {
-                    // A resting marble has no turn of its own: it joins the calendar below.
-                    if (m_rec[j].contactKind == EventKind::None && resting(j))
-                        m_restingHit.push_back(j);
-                    setContact(j, ej);
+        if (!m_layer) {
+            for (int r = 0; r < rangeCount; ++r) {
+                // Partners below i only if some marbles rest (those are not looked at from their side).
+                for (int j = anyResting ? ranges[2 * r] : std::max(ranges[2 * r], i + 1); j < ranges[2 * r + 1]; ++j) {
+                    if (j <= i && !(j < i && resting(j)))
+                        continue;
+                    offerFirstLook(i, j, look, best);
                 }
             }
+        } else {
+            firstLookWithSleepers(i, look, ranges, best);
         }
         setContact(i, best);
         // Its event (keyOf) is the earlier of that contact and its grid event: inside the frame

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <numbers>
 
 using namespace marbles;
@@ -148,6 +149,11 @@ private slots:
     void fewMovingAmongResting();
     void nonFiniteWorldCarriedAlong_data();
     void nonFiniteWorldCarriedAlong();
+    void sleepersLayerSameBits_data();
+    void sleepersLayerSameBits();
+    void sleepersLayerFollowsEdits();
+    void sleepersLayerBreaksTiesAlike();
+    void sleepersLayerUsedWhenMostRest();
 };
 
 void TestExactModel::dragOnly_data()
@@ -812,4 +818,176 @@ void TestExactModel::nonFiniteWorldCarriedAlong()
 }
 
 QTEST_APPLESS_MAIN(TestExactModel)
+namespace {
+
+// Everything a frame changes, compared bit for bit: positions, velocities, pending pushes and
+// last hits.
+bool sameState(const World &a, const World &b)
+{
+    auto same = [](const std::vector<Vec2> &x, const std::vector<Vec2> &y) {
+        return x.size() == y.size() && std::memcmp(x.data(), y.data(), sizeof(Vec2) * x.size()) == 0;
+    };
+    return same(a.position, b.position) && same(a.velocity, b.velocity) && same(a.acceleration, b.acceleration)
+        && a.lastHit == b.lastHit;
+}
+
+// Steps `w` with the sleepers kept in their layer (`layered`) and a copy of it with every
+// marble read every frame, and checks that each frame comes out the same bits, with the same
+// events. Returns the marbles that woke (at rest before a frame, moving after it) in frames the
+// layer was in use: the ones the layer had to hand over to the moving marbles.
+// `edit(world, frame, which)`, when given, changes each world (0: layered, 1: plain) before each frame.
+int compareWithoutLayer(World &w, ExactModel &layered, int frames,
+                        const std::function<void(World &, int, int)> &edit = {})
+{
+    World plain = w;
+    ExactModel reference;
+    reference.setSleeping(ExactModel::Sleeping::Never);
+    int woken = 0;
+    for (int f = 0; f < frames; ++f) {
+        if (edit) {
+            edit(w, f, 0);
+            edit(plain, f, 1);
+        }
+        std::vector<char> resting(static_cast<std::size_t>(w.marbleCount()));
+        for (int i = 0; i < w.marbleCount(); ++i)
+            resting[i] = w.velocity[i] == Vec2{};
+        run(w, layered, 1);
+        run(plain, reference, 1);
+        if (!sameState(w, plain) || layered.lastEventCount() != reference.lastEventCount()
+            || layered.lastCollisionCount() != reference.lastCollisionCount()) {
+            qWarning("frame %d differs", f + 1);
+            return -1;
+        }
+        if (layered.lastSleepingCount() > 0) {
+            for (int i = 0; i < w.marbleCount(); ++i)
+                woken += resting[i] && !(w.velocity[i] == Vec2{});
+        }
+    }
+    return woken;
+}
+
+} // namespace
+
+void TestExactModel::sleepersLayerSameBits_data()
+{
+    QTest::addColumn<int>("marbles");
+    QTest::addColumn<double>("movingFraction");
+    QTest::addColumn<double>("speedScale");
+    QTest::addColumn<double>("friction");
+    QTest::addColumn<double>("restitution");
+    QTest::addColumn<bool>("walls");
+    QTest::addColumn<int>("pins");
+    QTest::addRow("2%% moving") << 2000 << 0.02 << 1.0 << 0.0 << 1.0 << true << 0;
+    // Fast marbles leave their anchors: woken sleepers move bucket and come back.
+    QTest::addRow("10%% moving, 5x speed, no walls") << 2000 << 0.1 << 5.0 << 0.0 << 1.0 << false << 0;
+    // Marbles come to rest (friction and threshold), so the layer is built again as they do.
+    QTest::addRow("friction, pins") << 2000 << 0.3 << 3.0 << 0.05 << 1.0 << true << 30;
+    QTest::addRow("e = 0.5") << 1500 << 0.1 << 3.0 << 0.0 << 0.5 << true << 0;
+}
+
+void TestExactModel::sleepersLayerSameBits()
+{
+    // The layer is a way of storing the marbles at rest: with it or without it, every frame must
+    // come out the same bits (PHYSICS.md, determinism; issue 5: each skip gives the same results).
+    QFETCH(int, marbles);
+    QFETCH(double, movingFraction);
+    QFETCH(double, speedScale);
+    QFETCH(double, friction);
+    QFETCH(double, restitution);
+    QFETCH(bool, walls);
+    QFETCH(int, pins);
+    World w = makeCrowd(marbles, 11, movingFraction);
+    for (Vec2 &v : w.velocity)
+        v = {v.x * speedScale, v.y * speedScale};
+    w.params.friction = friction;
+    w.params.zeroThreshold = friction > 0.0 ? 0.05 : 0.0;
+    w.params.restitution = restitution;
+    w.stage.walls = walls;
+    for (int k = 0; k < pins; ++k)
+        w.addPin({w.stage.width * ((k * 37) % 101) / 101.0, w.stage.height * ((k * 53) % 97) / 97.0});
+    ExactModel layered;
+    layered.setSleeping(ExactModel::Sleeping::Always);
+    const int woken = compareWithoutLayer(w, layered, 80);
+    QCOMPARE_GE(woken, 20); // the layer was used, and marbles in it were hit
+}
+
+void TestExactModel::sleepersLayerFollowsEdits()
+{
+    // Between frames the World may change under the layer: a sleeper moved, resized or pushed, a
+    // marble removed, an earlier frame restored (Step Back). Each must be seen.
+    World w = makeCrowd(1500, 5, 0.05);
+    const World start = w;
+    ExactModel layered;
+    layered.setSleeping(ExactModel::Sleeping::Always);
+    World saved[2];
+    auto edit = [&](World &x, int f, int which) {
+        // Every frame some marbles at rest move a few px or change size (enough of them that
+        // moving marbles run into some), and one gets a push.
+        for (int e = 0; e < 30; ++e) {
+            const int k = ((f * 30 + e) * 7919) % x.marbleCount();
+            if (!(x.velocity[k] == Vec2{}))
+                continue;
+            if (e % 2 == 0)
+                x.position[k].x += 3.0;
+            else
+                x.setRadius(k, x.radius[k] * (e % 4 == 1 ? 1.15 : 0.8));
+        }
+        const int k = (f * 104729) % x.marbleCount();
+        if (f % 3 == 0)
+            x.push(k, {x.position[k].x - 3.0, x.position[k].y + 1.0});
+        if (f == 20)
+            x.removeMarble(7);
+        if (f == 30)
+            saved[which] = x;
+        if (f == 45)
+            x = saved[which]; // back to frame 30, as Step Back does
+    };
+    QCOMPARE_GE(compareWithoutLayer(w, layered, 70, edit), 20);
+    QVERIFY(!sameState(w, start));
+}
+
+void TestExactModel::sleepersLayerBreaksTiesAlike()
+{
+    // Ties between events at the same instant are broken by each marble's place among all
+    // marbles in bucket order, sleepers included, as if every marble were in the arrays. Here a
+    // moving marble reaches two resting ones at exactly the same time (mirror images): one a
+    // sleeper, the other awake (its velocity is -0, at rest but not asleep). Which it hits first
+    // decides where all three go. Many sleepers lie in earlier buckets, so an awake marble's
+    // index among the awake ones alone is far below its place among all.
+    World w = bareWorld(0.0, true);
+    for (int k = 0; k < 150; ++k)
+        w.addMarble({15.0 + 25.0 * (k % 30), 15.0 + 25.0 * (k / 30)}, 10.0);
+    for (int t = 0; t < 6; ++t) {
+        const double x = 60.0 + 120.0 * t;
+        w.addMarble({x, 300.0}, 10.0, {2.0, 0.0});
+        w.addMarble({x + 30.0, 288.0}, 10.0);
+        w.addMarble({x + 30.0, 312.0}, 10.0, {-0.0, 0.0});
+    }
+    ExactModel layered;
+    layered.setSleeping(ExactModel::Sleeping::Always);
+    QCOMPARE_GE(compareWithoutLayer(w, layered, 30), 12);
+}
+
+void TestExactModel::sleepersLayerUsedWhenMostRest()
+{
+    // By default the layer is used only in large worlds where nearly every marble rests.
+    World few = makeCrowd(ExactModel::sleepingLayerFrom, 2, 0.01);
+    ExactModel model;
+    QCOMPARE_GE(compareWithoutLayer(few, model, 3), 0);
+    QCOMPARE_GT(model.lastSleepingCount(), ExactModel::sleepingLayerFrom / 2);
+    // Once many are awake again, every marble is read every frame.
+    for (int i = 0; i < few.marbleCount(); i += 4)
+        few.velocity[i] = {0.5, -0.25};
+    QCOMPARE_GE(compareWithoutLayer(few, model, 2), 0);
+    QCOMPARE(model.lastSleepingCount(), 0);
+    World many = makeCrowd(ExactModel::sleepingLayerFrom, 2, 0.5);
+    ExactModel busy;
+    QCOMPARE_GE(compareWithoutLayer(many, busy, 3), 0);
+    QCOMPARE(busy.lastSleepingCount(), 0);
+    World small = makeCrowd(ExactModel::sleepingLayerFrom / 2, 2, 0.01);
+    ExactModel smallModel;
+    QCOMPARE_GE(compareWithoutLayer(small, smallModel, 3), 0);
+    QCOMPARE(smallModel.lastSleepingCount(), 0);
+}
+
 #include "tst_exactmodel.moc"
