@@ -246,10 +246,13 @@ struct Row {
 
 void printTable(const std::vector<Row> &rows, bool scale)
 {
-    std::printf("%-16s %-8s %-12s %12s %12s %12s %12s %12s%s\n", "scene", "model", "setting", "ms/frame",
+    int sceneWidth = 16; // as wide as the longest scene name
+    for (const Row &r : rows)
+        sceneWidth = std::max(sceneWidth, static_cast<int>(r.scene.size()));
+    std::printf("%-*s %-8s %-12s %12s %12s %12s %12s %12s%s\n", sceneWidth, "scene", "model", "setting", "ms/frame",
                 "pos err px", "energy err", "momentum err", "overlap px", scale ? "      escapes     moving %" : "");
     for (const Row &r : rows) {
-        std::printf("%-16s %-8s %-12s %12s %12s %12s %12s %12s", r.scene.c_str(), r.model.c_str(), r.setting.c_str(),
+        std::printf("%-*s %-8s %-12s %12s %12s %12s %12s %12s", sceneWidth, r.scene.c_str(), r.model.c_str(), r.setting.c_str(),
                     formatNumber(r.ms, "%.4g").c_str(), formatNumber(r.positionError).c_str(), formatNumber(r.energyError).c_str(),
                     formatNumber(r.momentumError).c_str(), formatNumber(r.overlap).c_str());
         if (scale)
@@ -402,8 +405,10 @@ std::vector<Row> scaleBench(int frames, int repeats, int maxN)
         if (n <= largest)
             cases.push_back({crowdName(n), n, 1.0});
     }
-    // The largest crowd again with 1 % of its marbles moving.
+    // The largest crowd again with 1 % of its marbles moving, and with all of them at rest (what
+    // a frame costs when every marble sleeps).
     cases.push_back({crowdName(largest) + "-1%", largest, 0.01});
+    cases.push_back({crowdName(largest) + "-rest", largest, 0.0});
 
     std::vector<Row> rows;
     for (const ScaleCase &c : cases) {

@@ -345,7 +345,7 @@ void TestCli::genCrowdIsDeterministic()
 
 void TestCli::benchScaleReportsCostAndMovingShare()
 {
-    // The smallest scale run: the 1k crowd, all moving and 1 % moving, in each model.
+    // The smallest scale run: the 1k crowd, all moving, 1 % moving and at rest, in each model.
     QTemporaryDir dir;
     const QString csvPath = dir.filePath("scale.csv");
     constexpr int frames = 20;
@@ -358,7 +358,7 @@ void TestCli::benchScaleReportsCostAndMovingShare()
     const QList<QByteArray> lines = file.readAll().trimmed().split('\n');
     QCOMPARE(lines.value(0), QByteArray("scene,model,setting,ms_per_frame,position_error_px,energy_error,momentum_error,"
                                         "max_overlap_px,escapes,moving_share"));
-    QCOMPARE(lines.size(), 7);
+    QCOMPARE(lines.size(), 10);
 
     // The moving share the core gives for the 1 % crowd in the exact model, frame by frame.
     World w = makeCrowd(1000, 1, 0.01);
@@ -384,6 +384,8 @@ void TestCli::benchScaleReportsCostAndMovingShare()
         const double moving = f[9].toDouble();
         if (scene == "crowd-1000")
             QVERIFY2(moving > 0.99 && moving <= 1.0, lines[k].constData());
+        else if (scene == "crowd-1000-rest")
+            QCOMPARE(moving, 0.0);
         else
             QCOMPARE(scene, QByteArray("crowd-1000-1%"));
         if (model == "exact") {

@@ -970,7 +970,8 @@ void TestExactModel::sleepersLayerBreaksTiesAlike()
 
 void TestExactModel::sleepersLayerUsedWhenMostRest()
 {
-    // By default the layer is used only in large worlds where nearly every marble rests.
+    // By default the layer is used from sleepingLayerFrom marbles on, where nearly every marble
+    // rests.
     World few = makeCrowd(ExactModel::sleepingLayerFrom, 2, 0.01);
     ExactModel model;
     QCOMPARE_GE(compareWithoutLayer(few, model, 3), 0);
