@@ -645,8 +645,10 @@ bool ExactModel::useLayer(const World &world, int n)
                 for (int w = 0; w < n; w += 64, ++counted)
                     awake += !sleeps(world, w);
             }
-            if (16 * awake > counted)
+            if (16 * awake > counted) {
+                m_inLayer.clear();
                 return false;
+            }
         }
         buildLayer(world, n);
     } else if (m_layerDead > m_layerLive / 16 || m_outsideSleepers > n / 16) {
