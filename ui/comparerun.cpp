@@ -72,6 +72,13 @@ void CompareRun::restart()
     Q_EMIT restarted();
 }
 
+const std::vector<Vec2> *CompareRun::velocitiesAt(std::int64_t frame) const
+{
+    if (!isTracking())
+        return nullptr;
+    return frame == m_world->frame ? &m_world->velocity : m_history.velocitiesAt(frame);
+}
+
 void CompareRun::rewindTo(std::int64_t frame)
 {
     // Back to the start, or to a frame before it: a restart there gives the same state.

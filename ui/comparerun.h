@@ -78,6 +78,9 @@ public:
     const World *world() const { return isTracking() ? m_world.get() : nullptr; }
     /// Frame the comparison last (re)started from.
     std::int64_t startFrame() const { return m_startFrame; }
+    /// The comparison marbles' velocities at `frame` (the current one, or one it keeps for
+    /// stepping back), or null when it has no such frame or is not tracking.
+    const std::vector<Vec2> *velocitiesAt(std::int64_t frame) const;
 
     /// Position gap at the latest frame, px: max over marbles of |p_document - p_comparison|.
     double currentGapPx() const { return m_currentGap; }

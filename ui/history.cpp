@@ -100,6 +100,17 @@ void FrameHistory::record(const World &world)
         takeOldest();
 }
 
+const std::vector<Vec2> *FrameHistory::velocitiesAt(std::int64_t frame) const
+{
+    if (frame == m_start.frame)
+        return &m_start.velocity;
+    // The kept frames follow one another, newest last.
+    if (m_frames.empty() || frame < m_frames.front().frame || frame > m_frames.back().frame)
+        return nullptr;
+    const Frame &kept = m_frames[static_cast<std::size_t>(frame - m_frames.front().frame)];
+    return kept.frame == frame ? &kept.velocity : nullptr;
+}
+
 bool FrameHistory::canStepBack(const World &world) const
 {
     return !m_frames.empty() && m_frames.back().frame + 1 == world.frame

@@ -45,6 +45,9 @@ public:
     std::size_t size() const { return m_frames.size(); }
     /// Bytes held by the step-back frames.
     std::size_t byteSize() const { return m_bytes; }
+    /// The marbles' velocities at `frame` as kept (the start of the timeline or a step-back
+    /// frame), or null when that frame is not kept.
+    const std::vector<Vec2> *velocitiesAt(std::int64_t frame) const;
 
 private:
     /// One kept frame: the state a step changes, except the last-hit records, of which only

@@ -455,6 +455,13 @@ void MainWindow::createDocks()
             [this] { m_plotDock->appendFrame(m_document->world(), m_compare->world()); });
     connect(m_document, &SceneDocument::timelineReset, this, [this] { m_plotDock->reset(m_document->world()); });
     connect(m_document, &SceneDocument::timelineRewound, m_plotDock, &PlotDock::cutAfter);
+    // A marble selected after a run is plotted from as far back as Step Back can go.
+    m_plotDock->setVelocityLookup(
+        [this](std::int64_t frame) -> const std::vector<Vec2> * {
+            const World &world = m_document->world();
+            return frame == world.frame ? &world.velocity : m_document->history().velocitiesAt(frame);
+        },
+        [this](std::int64_t frame) { return m_compare->velocitiesAt(frame); });
 
     for (QDockWidget *dock : {static_cast<QDockWidget *>(m_parametersDock), static_cast<QDockWidget *>(m_inspectorDock),
                               m_historyDock, static_cast<QDockWidget *>(m_plotDock)})

@@ -648,10 +648,11 @@ void PlotDock::rebuildTracks()
             old->marble = -1;
             continue;
         }
-        // A marble plotted from now on: no speed for the samples already held.
+        // A marble plotted from now on: its speeds for the samples already held, as far as the
+        // run still knows them.
         Track t;
         t.marble = marble;
-        startWithGaps(t.speed);
+        startFrom(t.speed, marble, m_documentVelocities);
         t.series = addSpeedSeries();
         if (!m_compareModel.isEmpty())
             addCompareTrack(t);
@@ -699,18 +700,28 @@ void PlotDock::addCompareTrack(Track &t)
 {
     if (t.compareSeries)
         return;
-    // The comparison starts now: no comparison speed for the samples already held.
-    startWithGaps(t.compareSpeed);
+    // The comparison's speeds for the samples already held, as far as it keeps them (a
+    // comparison that starts now has only the newest).
+    startFrom(t.compareSpeed, t.marble, m_compareVelocities);
     t.compareSeries = addSpeedSeries();
 }
 
-void PlotDock::startWithGaps(RingBuffer<double> &values) const
+void PlotDock::startFrom(RingBuffer<double> &values, int marble, const VelocityLookup &lookup) const
 {
-    // A line plotted from now on: a gap for every sample already held, so that it stays aligned
-    // sample for sample with m_frames.
+    // A line plotted from now on: a value for every sample already held (a gap where the lookup
+    // does not know the frame), so that it stays aligned sample for sample with m_frames.
     values.setCapacity(m_capacity); // also drops what it held
-    for (std::size_t i = 0; i < m_frames.size(); ++i)
-        values.push(kNaN);
+    const auto i = static_cast<std::size_t>(marble);
+    for (std::size_t k = 0; k < m_frames.size(); ++k) {
+        const std::vector<Vec2> *velocities = lookup ? lookup(m_frames.at(k)) : nullptr;
+        values.push(velocities && i < velocities->size() ? length((*velocities)[i]) : kNaN);
+    }
+}
+
+void PlotDock::setVelocityLookup(VelocityLookup document, VelocityLookup compare)
+{
+    m_documentVelocities = std::move(document);
+    m_compareVelocities = std::move(compare);
 }
 
 void PlotDock::removeCompareTrack(Track &t)

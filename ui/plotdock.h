@@ -10,6 +10,7 @@
 #include <QString>
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 class QCheckBox;
@@ -57,8 +58,15 @@ public:
     /// the comparison model's world at the same frame, when comparing (null: no comparison sample).
     /// Costs O(plotted marbles) for the speeds plus one pass for the two totals; never touches the chart.
     void appendFrame(const World &world, const World *compare = nullptr);
+    /// The velocities of a run's marbles at a frame, or null when that frame is not known.
+    using VelocityLookup = std::function<const std::vector<Vec2> *(std::int64_t frame)>;
+    /// Where the speeds of a newly plotted marble come from for the samples already held: the
+    /// document's frames (`document`) and the comparison model's (`compare`), as far as they
+    /// keep them (Step Back's history). Without them, its line starts at the next sample.
+    void setVelocityLookup(VelocityLookup document, VelocityLookup compare);
     /// Marbles to plot, by scene index; empty plots all of them, up to kMaxPlottedMarbles.
-    /// Marbles that stay plotted keep their history; newly plotted ones start from the next sample.
+    /// Marbles that stay plotted keep their history; newly plotted ones get the speeds of the
+    /// samples held from the velocity lookup (a gap where it has none), and go on from there.
     void setSelectedMarbles(const QList<int> &indices);
     /// Samples held now: one per appendFrame() since reset(), at most capacity().
     qsizetype sampleCount() const;
@@ -149,7 +157,8 @@ private:
     void forEachValueBuffer(Apply &&apply);
     void rebuildTracks();
     QLineSeries *addSpeedSeries();
-    void startWithGaps(RingBuffer<double> &values) const;
+    void startFrom(RingBuffer<double> &values, int marble, const VelocityLookup &lookup) const;
+    void startWithGaps(RingBuffer<double> &values) const { startFrom(values, 0, {}); }
     void addCompareTrack(Track &t);
     void removeCompareTrack(Track &t);
     QLineSeries *addTotalSeries(QColor colour);
@@ -174,6 +183,8 @@ private:
     RingBuffer<double> m_compareKinetic;  ///< while comparing, aligned with m_frames
     RingBuffer<double> m_compareMomentum; ///< while comparing, aligned with m_frames
     std::vector<Track> m_tracks;
+    VelocityLookup m_documentVelocities; ///< may be empty (no earlier speeds for new lines)
+    VelocityLookup m_compareVelocities;  ///< may be empty
 
     QList<int> m_selected;
     int m_marbleCount = 0;

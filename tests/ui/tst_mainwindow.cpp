@@ -87,6 +87,7 @@ private Q_SLOTS:
     void unsavedChangesAreAskedAbout_data();
     void unsavedChangesAreAskedAbout();
     void plotGetsOneSamplePerFrame();
+    void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
     void autosaveIsRecoveredAfterCrash();
     void layoutIsRestored();
@@ -426,6 +427,41 @@ void TestMainWindow::plotGetsOneSamplePerFrame()
     QTest::keyClick(m_window->stageView(), Qt::Key_Home);
     QCOMPARE(doc->world().frame, std::int64_t(0));
     QCOMPARE(plot->sampleCount(), 0);
+}
+
+void TestMainWindow::selectingAMarblePlotsItsWholeRun()
+{
+    // A teacher watches marble 1, runs, then clicks marble 2: its line covers the frames run so
+    // far (as far as Step Back could go), not only the frames after the click.
+    PlotDock *plot = m_window->plotDock();
+    SceneDocument *doc = m_window->document();
+    StageView *view = m_window->stageView();
+    World reference = doc->world();
+    std::vector<double> speeds; // marble 2's speed at frames 1..30, stepped apart
+    for (int f = 0; f < 30; ++f) {
+        reference.step();
+        speeds.push_back(length(reference.velocity[2]));
+    }
+    view->selectMarble(1);
+    QCOMPARE(plot->plottedMarbles(), QList<int>{1});
+    for (int k = 0; k < 30; ++k)
+        QTest::keyClick(view, Qt::Key_Right);
+    QCOMPARE(doc->world().frame, std::int64_t(30));
+    QVERIFY(std::isnan(plot->sampleSpeed(0, 2)));
+
+    view->selectMarble(2);
+    QCOMPARE(plot->plottedMarbles(), QList<int>{2});
+    QCOMPARE(plot->sampleCount(), 30);
+    for (qsizetype k = 0; k < 30; ++k) {
+        QCOMPARE(plot->sampleFrame(k), std::int64_t(k + 1));
+        QVERIFY(plot->sampleSpeed(k, 2) == speeds[static_cast<std::size_t>(k)]); // deterministic: same bits
+    }
+    plot->refreshChart();
+    QCOMPARE(plot->speedSeries(2)->count(), 30);
+    // And it goes on from there.
+    QTest::keyClick(view, Qt::Key_Right);
+    reference.step();
+    QVERIFY(plot->sampleSpeed(30, 2) == length(reference.velocity[2]));
 }
 
 void TestMainWindow::runKeepsRealTimeAndStopsOnNonFinite()

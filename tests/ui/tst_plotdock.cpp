@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 
 using namespace marbles;
 
@@ -35,6 +36,7 @@ private slots:
     void plottedMarbles_data();
     void plottedMarbles();
     void selectionKeepsHistory();
+    void newLineTakesEarlierSpeeds();
     void lineColours();
     void chartGetsSamples();
     void liveRefresh();
@@ -372,6 +374,53 @@ void TestPlotDock::selectionKeepsHistory()
     dock.refreshChart();
     QCOMPARE(dock.speedSeries(2)->count(), 1); // no points for the frames it was not plotted
     QCOMPARE(dock.speedSeries(0)->count(), 11);
+}
+
+void TestPlotDock::newLineTakesEarlierSpeeds()
+{
+    // With a velocity lookup (Step Back's history), a marble plotted later gets its speeds for
+    // the samples already held; frames the lookup does not know stay gaps.
+    PlotDock dock;
+    World world = worldWith(3);
+    std::map<std::int64_t, std::vector<Vec2>> kept;        // the document's frames 4..10
+    std::map<std::int64_t, std::vector<Vec2>> compareKept; // the comparison's frames 9..10
+    auto lookupIn = [](const std::map<std::int64_t, std::vector<Vec2>> &frames) {
+        return [&frames](std::int64_t frame) -> const std::vector<Vec2> * {
+            const auto it = frames.find(frame);
+            return it == frames.end() ? nullptr : &it->second;
+        };
+    };
+    dock.setVelocityLookup(lookupIn(kept), lookupIn(compareKept));
+    dock.reset(world);
+    dock.setSelectedMarbles({0});
+    for (int f = 1; f <= 10; ++f) {
+        world.frame = f;
+        for (int i = 0; i < 3; ++i)
+            world.velocity[static_cast<std::size_t>(i)] = {0.01 * f, -0.5 * i};
+        if (f >= 4)
+            kept[f] = world.velocity;
+        if (f >= 9)
+            compareKept[f] = {{0.0, 0.0}, {0.0, 0.0}, {3.0, 4.0 * f}};
+        dock.appendFrame(world);
+    }
+
+    dock.setSelectedMarbles({2, 0});
+    for (qsizetype k = 0; k < 10; ++k) {
+        const double f = static_cast<double>(k + 1);
+        if (k < 3)
+            QVERIFY(std::isnan(dock.sampleSpeed(k, 2)));
+        else
+            QVERIFY(dock.sampleSpeed(k, 2) == length({0.01 * f, -1.0})); // the same arithmetic
+        QVERIFY(dock.sampleSpeed(k, 0) == 0.01 * f); // kept its own samples
+    }
+    dock.refreshChart();
+    QCOMPARE(dock.speedSeries(2)->count(), 7);
+
+    // A comparison starting now: its speeds where it knows the frames, gaps before.
+    dock.setCompareModel(QStringLiteral("exact"));
+    QVERIFY(std::isnan(dock.sampleCompareSpeed(7, 2)));
+    QVERIFY(dock.sampleCompareSpeed(8, 2) == length({3.0, 36.0}));
+    QVERIFY(dock.sampleCompareSpeed(9, 2) == length({3.0, 40.0}));
 }
 
 void TestPlotDock::lineColours()
