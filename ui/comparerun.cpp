@@ -47,7 +47,8 @@ void CompareRun::stop()
     m_model.reset();
     m_world.reset();
     m_history = FrameHistory(); // its frames can hold a few hundred MiB
-    m_gaps = {};
+    clearGapList(m_startFrame);
+    m_gaps.shrink_to_fit();
     m_problem.clear();
     resetGaps(m_startFrame);
     removeGhost();
@@ -63,8 +64,8 @@ void CompareRun::restart()
     m_world->params.model = *m_model;
     m_startFrame = source.frame;
     resetGaps(source.frame);
+    clearGapList(source.frame);
     m_history.reset(*m_world);
-    m_gaps.clear();
     // The scene's parameters were checked for the document's model only: friction >= 1, say, is
     // the book model's instability on show, but the exact and impulse models cannot run with it.
     m_problem = QString::fromStdString(validateParams(m_world->params));
@@ -88,16 +89,20 @@ void CompareRun::rewindTo(std::int64_t frame)
     }
     while (m_world->frame > frame && m_history.stepBack(*m_world)) {
     }
-    const auto kept = static_cast<std::size_t>(frame - m_startFrame);
-    if (m_world->frame != frame || m_gaps.size() < kept) {
+    // The gaps kept up to this frame (its own included).
+    const std::int64_t kept = frame - m_firstGapFrame + 1;
+    if (m_world->frame != frame || kept < 1 || kept > static_cast<std::int64_t>(m_gaps.size())) {
         restart(); // the history no longer holds that frame
         return;
     }
-    // The gaps of the frames up to this one, as they were measured then, taken again in order.
-    m_gaps.resize(kept);
+    // The largest gap of the frames forgotten, then the gaps of the frames up to this one, as
+    // they were measured then, taken again in order.
+    m_gaps.resize(static_cast<std::size_t>(kept));
     resetGaps(m_startFrame);
+    if (m_earlierLargest.px > 0.0)
+        takeGap(m_earlierLargest, m_earlierLargestFrame);
     for (std::size_t k = 0; k < m_gaps.size(); ++k)
-        takeGap(m_gaps[k], m_startFrame + 1 + static_cast<std::int64_t>(k));
+        takeGap(m_gaps[k], m_firstGapFrame + static_cast<std::int64_t>(k));
     if (m_ghost)
         m_ghost->syncFromWorld();
 }
@@ -162,6 +167,25 @@ void CompareRun::measureGap()
     }
     m_gaps.push_back(current);
     takeGap(current, m_world->frame);
+    // Only the frames the history can still step back to need their own gap; of the others the
+    // largest is enough (the history forgets its oldest frames past its budget).
+    const std::int64_t oldest = m_world->frame - static_cast<std::int64_t>(m_history.size());
+    while (m_firstGapFrame < oldest && !m_gaps.empty()) {
+        if (m_gaps.front().px > m_earlierLargest.px) {
+            m_earlierLargest = m_gaps.front();
+            m_earlierLargestFrame = m_firstGapFrame;
+        }
+        m_gaps.pop_front();
+        ++m_firstGapFrame;
+    }
+}
+
+void CompareRun::clearGapList(std::int64_t start)
+{
+    m_gaps.clear();
+    m_firstGapFrame = start + 1;
+    m_earlierLargest = {};
+    m_earlierLargestFrame = start;
 }
 
 void CompareRun::resetGaps(std::int64_t frame)

@@ -8,6 +8,7 @@
 #include <QString>
 
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -92,6 +93,9 @@ public:
     int largestGapMarble() const { return m_largestGapMarble; }
     /// Frame at which the largest gap happened (startFrame() while it is 0).
     std::int64_t largestGapFrame() const { return m_largestGapFrame; }
+    /// Frames whose own gap is kept for stepping back: those its history can return to (the
+    /// gaps of older frames leave only their largest).
+    std::size_t keptGapCount() const { return m_gaps.size(); }
 
     /// One line for the status bar: "Compare: exact - largest gap 12.3 px (marble 2, frame 57)",
     /// ending " since frame S" after a restart at frame S > 0; "" while off.
@@ -126,6 +130,8 @@ private:
     void measureGap();
     /// No gap yet: the current and the largest are 0, the largest "at" `frame`.
     void resetGaps(std::int64_t frame);
+    /// No gap kept: the next one measured is that of frame start + 1.
+    void clearGapList(std::int64_t start);
     /// `gap` is the gap at `frame` (the newest so far): the current one, and the largest if larger.
     void takeGap(const Gap &gap, std::int64_t frame);
     void updateGhost();
@@ -135,7 +141,12 @@ private:
     std::optional<ModelKind> m_model;
     std::unique_ptr<World> m_world;
     FrameHistory m_history;    ///< the comparison's own frames since startFrame(), for stepping back
-    std::vector<Gap> m_gaps;   ///< the gap at each frame after startFrame(), oldest first
+    /// The gap at each frame it can still step back to (m_firstGapFrame on), oldest first; the
+    /// frames the history forgot leave only their largest gap, in m_earlierLargest.
+    std::deque<Gap> m_gaps;
+    std::int64_t m_firstGapFrame = 1;
+    Gap m_earlierLargest;
+    std::int64_t m_earlierLargestFrame = 0;
     QString m_problem;
 
     std::int64_t m_startFrame = 0;

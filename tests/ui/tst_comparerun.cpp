@@ -125,6 +125,7 @@ private Q_SLOTS:
     void restartsFromDocument_data();
     void restartsFromDocument();
     void stepsBackWithTheDocument();
+    void forgottenFramesKeepOnlyTheLargestGap();
     void clickPushesBothModels();
     void heldMarbleIsFollowed();
     void waitsWhileParamsInvalid();
@@ -352,6 +353,44 @@ void TestCompareRun::stepsBackWithTheDocument()
     QCOMPARE(restarted.count(), 1);
     QVERIFY(sameDynamics(*compare.world(), seen[0].world));
     QVERIFY(compare.largestGapPx() == 0.0);
+}
+
+void TestCompareRun::forgottenFramesKeepOnlyTheLargestGap()
+{
+    // A long run of a large scene: the comparison's history forgets its oldest frames past its
+    // byte budget, and so does its list of gaps, but Step Back still finds the gaps it had.
+    SceneDocument doc;
+    World crowd = makeCrowd(20000, 3);
+    crowd.params.model = ModelKind::Book;
+    doc.resetScene(crowd);
+    CompareRun compare(&doc);
+    compare.setModel(ModelKind::Exact);
+    struct Seen {
+        double gap;
+        double largest;
+        std::int64_t largestFrame;
+    };
+    std::vector<Seen> seen(1, Seen{0.0, 0.0, 0});
+    constexpr int frames = 330;
+    for (int f = 1; f <= frames; ++f) {
+        doc.advance(1);
+        seen.push_back({compare.currentGapPx(), compare.largestGapPx(), compare.largestGapFrame()});
+    }
+    QVERIFY(compare.isTracking());
+    const auto kept = static_cast<std::int64_t>(doc.history().size());
+    QCOMPARE_LT(kept, frames); // the document's history forgot some frames (the comparison's too)
+    // Its own history keeps more frames than the document's (the book model's frames carry
+    // more collision records), but not all of them, and neither does the list of gaps.
+    QCOMPARE_GE(compare.keptGapCount(), std::size_t(kept));
+    QCOMPARE_LT(compare.keptGapCount(), std::size_t(frames));
+    QSignalSpy restarted(&compare, &CompareRun::restarted);
+    for (std::int64_t f = frames - 1; f >= frames - kept + 5; --f) {
+        QVERIFY(doc.stepBack());
+        QVERIFY(compare.currentGapPx() == seen[static_cast<std::size_t>(f)].gap);
+        QVERIFY(compare.largestGapPx() == seen[static_cast<std::size_t>(f)].largest);
+        QCOMPARE(compare.largestGapFrame(), seen[static_cast<std::size_t>(f)].largestFrame);
+    }
+    QCOMPARE(restarted.count(), 0);
 }
 
 void TestCompareRun::restartsFromDocument()
