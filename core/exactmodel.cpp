@@ -677,12 +677,14 @@ void ExactModel::buildLayer(const World &world, int n)
     m_layerLive = m_sleepStart[buckets];
     m_layerDead = 0;
     m_sleepers.resize(static_cast<std::size_t>(m_layerLive));
+    m_sleeperMass.resize(static_cast<std::size_t>(m_layerLive));
     m_cursor.assign(m_sleepStart.begin(), m_sleepStart.end() - 1);
     for (int w = 0; w < n; ++w) {
         if (!m_inLayer[w])
             continue;
         const int b = m_sortBucket[w];
-        m_sleepers[m_cursor[b]++] = {world.position[w], world.radius[w], world.mass[w], w, b, -1};
+        m_sleeperMass[m_cursor[b]] = world.mass[w];
+        m_sleepers[m_cursor[b]++] = {world.position[w], world.radius[w], w, -1};
     }
     m_layerGeometry = m_geometry;
 }
@@ -708,7 +710,7 @@ void ExactModel::checkLayer(const World &world)
             const bool same = std::bit_cast<std::uint64_t>(world.position[w].x) == std::bit_cast<std::uint64_t>(s.p.x)
                 && std::bit_cast<std::uint64_t>(world.position[w].y) == std::bit_cast<std::uint64_t>(s.p.y)
                 && std::bit_cast<std::uint64_t>(world.radius[w]) == std::bit_cast<std::uint64_t>(s.radius)
-                && std::bit_cast<std::uint64_t>(world.mass[w]) == std::bit_cast<std::uint64_t>(s.mass)
+                && std::bit_cast<std::uint64_t>(world.mass[w]) == std::bit_cast<std::uint64_t>(m_sleeperMass[q])
                 && (std::bit_cast<std::uint64_t>(world.velocity[w].x) | std::bit_cast<std::uint64_t>(world.velocity[w].y)
                     | std::bit_cast<std::uint64_t>(world.acceleration[w].x)
                     | std::bit_cast<std::uint64_t>(world.acceleration[w].y)) == 0;
@@ -773,14 +775,14 @@ int ExactModel::promote(int q)
     // as before. Its rank counts the awake marbles of its bucket with a lower World index.
     Sleeper &s = m_sleepers[q];
     const int k = m_count++;
-    const int b = s.bucket;
+    const int b = m_geometry.bucketAt(s.p.x, s.p.y); // where the layer sorted it (same lattice)
     const int w = s.id;
     int rank = m_start[b] + m_sleepBefore[b];
     for (int j = m_start[b]; j < m_start[b + 1]; ++j)
         rank += m_body[j].id < w;
     for (int r = m_sleepStart[b]; r < q; ++r)
         rank += m_sleepers[r].id >= 0;
-    startRecords(k, s.p, {}, s.radius, s.mass, b, w, rank);
+    startRecords(k, s.p, {}, s.radius, m_sleeperMass[q], b, w, rank);
     m_sortBucket[w] = b;
     s.promoted = k;
     return k;

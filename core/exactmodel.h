@@ -290,18 +290,18 @@ private:
     // The sleepers' layer (see Sleeping): the sleepers sorted by bucket (ascending World index
     // within a bucket), kept from frame to frame for the lattice m_layerGeometry. A sleeper that
     // wakes keeps its place as a dead entry (id -1) until the layer is built again.
+    // What the scans read of a sleeper, in half a cache line; its mass is in m_sleeperMass.
     struct Sleeper {
         Vec2 p;
         double radius = 0.0;
-        double mass = 0.0;
         int id = -1;       // index in the World; -1: dead (woke in an earlier frame)
-        int bucket = 0;
         int promoted = -1; // its index in the frame's arrays once it joined them this frame
     };
-    static_assert(sizeof(Sleeper) == 48);
+    static_assert(sizeof(Sleeper) == 32);
     Sleeping m_sleepingUse = Sleeping::Auto;
     bool m_layer = false;              // this frame keeps the sleepers in the layer
     std::vector<Sleeper> m_sleepers;
+    std::vector<double> m_sleeperMass; // per entry
     std::vector<int> m_sleepStart;     // per bucket: first entry; then the entry count
     std::vector<int> m_sleepBefore;    // per bucket: live sleepers in the buckets before it
     std::vector<std::uint8_t> m_inLayer; // per World marble: a live sleeper
