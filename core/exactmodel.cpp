@@ -603,25 +603,41 @@ void ExactModel::beginFrame(World &world)
         m_pinGrid.build(m_geometry, world.pins.data(), static_cast<int>(world.pins.size()));
 }
 
+namespace {
+
+// Marble w's velocity and pending push are exactly +0.
+bool stillWithNothingPending(const World &world, int w)
+{
+    const Vec2 v = world.velocity[w];
+    const Vec2 a = world.acceleration[w];
+    return (std::bit_cast<std::uint64_t>(v.x) | std::bit_cast<std::uint64_t>(v.y) | std::bit_cast<std::uint64_t>(a.x)
+            | std::bit_cast<std::uint64_t>(a.y))
+        == 0;
+}
+
+} // namespace
+
 bool ExactModel::sleeps(const World &world, int w)
 {
     // At rest with nothing pending, in finite numbers, and not at -0 (the frame's end writes
     // a + 0 = +0 there): the frame would leave it exactly as it is unless something hits it.
     const Vec2 p = world.position[w];
-    const Vec2 v = world.velocity[w];
-    const Vec2 a = world.acceleration[w];
-    return (std::bit_cast<std::uint64_t>(v.x) | std::bit_cast<std::uint64_t>(v.y) | std::bit_cast<std::uint64_t>(a.x)
-            | std::bit_cast<std::uint64_t>(a.y)) == 0
-        && isFinite(p) && !(p.x == 0.0 && std::signbit(p.x)) && !(p.y == 0.0 && std::signbit(p.y))
+    return stillWithNothingPending(world, w) && isFinite(p) && !(p.x == 0.0 && std::signbit(p.x)) && !(p.y == 0.0 && std::signbit(p.y))
         && std::isfinite(world.radius[w]) && std::isfinite(1.0 / world.mass[w]);
+}
+
+bool ExactModel::layerAllowed(int n) const
+{
+    // Sleepers need a world without gravity, and a grid (below singleCellItems bodies there is
+    // none); by default, many marbles.
+    return m_sleepingUse != Sleeping::Never && m_gravity.x == 0.0 && m_gravity.y == 0.0 && !m_singleCell
+        && (m_sleepingUse == Sleeping::Always || n >= sleepingLayerFrom);
 }
 
 bool ExactModel::useLayer(const World &world, int n)
 {
     // Whether this frame keeps the sleepers in the layer; brings the layer up to date if so.
-    const bool gravity = m_gravity.x != 0.0 || m_gravity.y != 0.0;
-    const bool possible = m_sleepingUse != Sleeping::Never && !gravity && !m_singleCell
-        && (m_sleepingUse == Sleeping::Always || n >= sleepingLayerFrom);
+    const bool possible = layerAllowed(n);
     const bool auto_ = m_sleepingUse == Sleeping::Auto;
     const bool kept = possible && m_inLayer.size() == static_cast<std::size_t>(n) && m_layerGeometry == m_geometry;
     if (kept)
@@ -711,9 +727,7 @@ void ExactModel::checkLayer(const World &world)
                 && std::bit_cast<std::uint64_t>(world.position[w].y) == std::bit_cast<std::uint64_t>(s.p.y)
                 && std::bit_cast<std::uint64_t>(world.radius[w]) == std::bit_cast<std::uint64_t>(s.radius)
                 && std::bit_cast<std::uint64_t>(world.mass[w]) == std::bit_cast<std::uint64_t>(m_sleeperMass[q])
-                && (std::bit_cast<std::uint64_t>(world.velocity[w].x) | std::bit_cast<std::uint64_t>(world.velocity[w].y)
-                    | std::bit_cast<std::uint64_t>(world.acceleration[w].x)
-                    | std::bit_cast<std::uint64_t>(world.acceleration[w].y)) == 0;
+                && stillWithNothingPending(world, w);
             if (s.promoted >= 0)
                 s.promoted = -1;
             if (!same) {
@@ -777,11 +791,9 @@ int ExactModel::promote(int q)
     const int k = m_count++;
     const int b = m_geometry.bucketAt(s.p.x, s.p.y); // where the layer sorted it (same lattice)
     const int w = s.id;
-    int rank = m_start[b] + m_sleepBefore[b];
+    int rank = m_start[b] + sleepersBelow(b, w);
     for (int j = m_start[b]; j < m_start[b + 1]; ++j)
         rank += m_body[j].id < w;
-    for (int r = m_sleepStart[b]; r < q; ++r)
-        rank += m_sleepers[r].id >= 0;
     startRecords(k, s.p, {}, s.radius, m_sleeperMass[q], b, w, rank);
     m_sortBucket[w] = b;
     s.promoted = k;
@@ -840,8 +852,7 @@ void ExactModel::endFrame(World &world)
     // The sleepers left in the layer are as they were: a + 0 phi1 = a and velocity +0.
     const int n = m_count;
     // How many end at rest: what decides whether the next frame builds the sleepers' layer.
-    const bool countRest = m_sleepingUse != Sleeping::Never && m_gravity.x == 0.0 && m_gravity.y == 0.0
-        && (m_sleepingUse == Sleeping::Always || n >= sleepingLayerFrom);
+    const bool countRest = layerAllowed(world.marbleCount());
     int atRest = 0;
     const double z = world.params.zeroThreshold;
     setNow(1.0);
@@ -1380,8 +1391,7 @@ void ExactModel::predict(int i)
         best = ei;
     if (before(j, ej, contactOf(j))) {
         // A resting marble has no turn of its own: it joins the calendar (see predictAll()).
-        const bool gravity = m_gravity.x != 0.0 || m_gravity.y != 0.0;
-        if (m_rec[j].contactKind == EventKind::None && !gravity && bj.b.x == 0.0 && bj.b.y == 0.0)
+        if (m_rec[j].contactKind == EventKind::None && resting(j))
             m_restingHit.push_back(j);
         setContact(j, ej);
     }
@@ -1389,7 +1399,6 @@ void ExactModel::predict(int i)
 
 void ExactModel::firstLookWithSleepers(int i, const FirstLook &look, const int ranges[12], Event &best)
 {
-    const auto resting = [&](int j) { return m_body[j].b.x == 0.0 && m_body[j].b.y == 0.0; }; // (no gravity)
     // The same partners in the same order, bucket by bucket: the awake marbles of each
     // bucket and its sleepers, merged by World index (their order among all marbles).
     // Sleepers rest: they are partners from either side. One within reach joins the arrays.
@@ -1398,7 +1407,7 @@ void ExactModel::firstLookWithSleepers(int i, const FirstLook &look, const int r
     for (int r = 0; r < runCount; ++r) {
         if (m_sleepStart[runs[2 * r]] == m_sleepStart[runs[2 * r + 1]]) {
             for (int j = ranges[2 * r]; j < ranges[2 * r + 1]; ++j) {
-                if (!(j <= i && !(j < i && resting(j))))
+                if (testedFrom(i, j))
                     offerFirstLook(i, j, look, best);
             }
             continue;
@@ -1414,7 +1423,7 @@ void ExactModel::firstLookWithSleepers(int i, const FirstLook &look, const int r
                     continue;
                 }
                 if (q == qEnd || (j < jEnd && m_body[j].id < m_sleepers[q].id)) {
-                    if (!(j <= i && !(j < i && resting(j))))
+                    if (testedFrom(i, j))
                         offerFirstLook(i, j, look, best);
                     ++j;
                     continue;
@@ -1435,8 +1444,6 @@ void ExactModel::predictAll()
     const int n = m_awake;
     // A marble at rest without gravity stays put until something hits it: no wall, pin or grid
     // event, and no contact with another resting marble. The first look costs nothing for it.
-    const bool gravity = m_gravity.x != 0.0 || m_gravity.y != 0.0;
-    auto resting = [&](int i) { return !gravity && m_body[i].b.x == 0.0 && m_body[i].b.y == 0.0; };
     const bool anyResting = m_anyResting;
     m_firstKeys.clear();
     m_restingHit.clear();
@@ -1470,9 +1477,8 @@ void ExactModel::predictAll()
             for (int r = 0; r < rangeCount; ++r) {
                 // Partners below i only if some marbles rest (those are not looked at from their side).
                 for (int j = anyResting ? ranges[2 * r] : std::max(ranges[2 * r], i + 1); j < ranges[2 * r + 1]; ++j) {
-                    if (j <= i && !(j < i && resting(j)))
-                        continue;
-                    offerFirstLook(i, j, look, best);
+                    if (testedFrom(i, j))
+                        offerFirstLook(i, j, look, best);
                 }
             }
         } else {

@@ -166,7 +166,16 @@ private:
     int runsAround(int bucket, int out[12], Map map) const;
     int sleeperRanges(int i, int out[12]) const;
     int neighbourRanges(int i, int out[12]) const;
+    bool layerAllowed(int n) const;
     bool useLayer(const World &world, int n);
+    /// A marble at rest without gravity: it stays put until something hits it.
+    bool resting(int i) const
+    {
+        return m_gravity.x == 0.0 && m_gravity.y == 0.0 && m_body[i].b.x == 0.0 && m_body[i].b.y == 0.0;
+    }
+    /// Whether the first look tests the pair (i, j) in i's turn (i moving): each pair of moving
+    /// marbles once, from the lower index; a resting j from i's side, as it has no turn.
+    bool testedFrom(int i, int j) const { return j > i || (j < i && resting(j)); }
     void buildLayer(const World &world, int n);
     void checkLayer(const World &world);
     static bool sleeps(const World &world, int w);
