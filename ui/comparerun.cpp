@@ -75,9 +75,7 @@ void CompareRun::restart()
 
 const std::vector<Vec2> *CompareRun::velocitiesAt(std::int64_t frame) const
 {
-    if (!isTracking())
-        return nullptr;
-    return frame == m_world->frame ? &m_world->velocity : m_history.velocitiesAt(frame);
+    return isTracking() ? m_history.velocitiesAt(frame, *m_world) : nullptr;
 }
 
 void CompareRun::rewindTo(std::int64_t frame)

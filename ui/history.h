@@ -48,6 +48,11 @@ public:
     /// The marbles' velocities at `frame` as kept (the start of the timeline or a step-back
     /// frame), or null when that frame is not kept.
     const std::vector<Vec2> *velocitiesAt(std::int64_t frame) const;
+    /// The same, with `now` (the world this history follows) answering for its own frame.
+    const std::vector<Vec2> *velocitiesAt(std::int64_t frame, const World &now) const
+    {
+        return frame == now.frame ? &now.velocity : velocitiesAt(frame);
+    }
 
 private:
     /// One kept frame: the state a step changes, except the last-hit records, of which only

@@ -457,10 +457,7 @@ void MainWindow::createDocks()
     connect(m_document, &SceneDocument::timelineRewound, m_plotDock, &PlotDock::cutAfter);
     // A marble selected after a run is plotted from as far back as Step Back can go.
     m_plotDock->setVelocityLookup(
-        [this](std::int64_t frame) -> const std::vector<Vec2> * {
-            const World &world = m_document->world();
-            return frame == world.frame ? &world.velocity : m_document->history().velocitiesAt(frame);
-        },
+        [this](std::int64_t frame) { return m_document->history().velocitiesAt(frame, m_document->world()); },
         [this](std::int64_t frame) { return m_compare->velocitiesAt(frame); });
 
     for (QDockWidget *dock : {static_cast<QDockWidget *>(m_parametersDock), static_cast<QDockWidget *>(m_inspectorDock),
