@@ -479,6 +479,11 @@ void MainWindow::createStatusBar()
     m_countLabel = addLabel(QStringLiteral("countLabel"), tr("Marbles and pins on the stage"));
     m_physicsLabel = addLabel(QStringLiteral("physicsLabel"), tr("Time the model takes to compute a frame (average of the last 30 or so; keeping the frame for stepping back is not counted)"));
     m_fpsLabel = addLabel(QStringLiteral("fpsLabel"), tr("Times per second the stage was redrawn (0 while nothing moves)"));
+    m_slowLabel = addLabel(QStringLiteral("slowLabel"),
+                           tr("This computer takes longer to compute a frame than the frame lasts, so the run goes\n"
+                              "slower than the chosen speed and the stage keeps moving smoothly instead of jumping.\n"
+                              "Fewer marbles, no comparison, or the book or impulse model run faster."));
+    m_slowLabel->setVisible(false);
     m_energyLabel = addLabel(QStringLiteral("energyLabel"), tr("Total kinetic energy, sum of m v² / 2"));
     m_momentumLabel = addLabel(QStringLiteral("momentumLabel"), tr("Total momentum, sum of m v"));
     // The comparison readout comes first, where the eye lands after the stage; shown while comparing.
@@ -762,6 +767,7 @@ void MainWindow::onRunningChanged(bool running)
     m_playAction->setText(running ? tr("&Pause") : tr("&Play"));
     m_playAction->setIcon(running ? themeIcon(QStringLiteral("media-playback-pause"), QStyle::SP_MediaPause)
                                   : themeIcon(QStringLiteral("media-playback-start"), QStyle::SP_MediaPlay));
+    updateSlowLabel();
 }
 
 void MainWindow::onSimulationFailed(const QString &message)
@@ -921,9 +927,18 @@ void MainWindow::updateStatistics()
     if (elapsed > 0)
         m_fpsLabel->setText(tr("display %1 fps").arg(static_cast<double>(paints - m_lastPaintCount) * 1000.0 / elapsed, 0, 'f', 0));
     m_lastPaintCount = paints;
+    updateSlowLabel();
     const Vec2 p = world.momentum();
     m_energyLabel->setText(tr("KE %1").arg(world.kineticEnergy(), 0, 'g', 5));
     m_momentumLabel->setText(tr("p = (%1, %2)").arg(p.x, 0, 'g', 4).arg(p.y, 0, 'g', 4));
+}
+
+void MainWindow::updateSlowLabel()
+{
+    const bool slow = m_run->isFallingBehind();
+    if (slow)
+        m_slowLabel->setText(tr("running at %1× (cannot keep up)").arg(m_run->achievedSpeed(), 0, 'f', 2));
+    m_slowLabel->setVisible(slow);
 }
 
 void MainWindow::updateEditActions()

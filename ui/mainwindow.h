@@ -121,6 +121,7 @@ private:
     void updateTitle();
     void updateFrameDisplay();
     void updateStatistics();
+    void updateSlowLabel();
     void updateEditActions();
 
     SceneDocument *m_document = nullptr;
@@ -177,6 +178,7 @@ private:
     QLabel *m_countLabel = nullptr;
     QLabel *m_physicsLabel = nullptr;
     QLabel *m_fpsLabel = nullptr;
+    QLabel *m_slowLabel = nullptr; // shown while the run cannot keep up with its speed
     QLabel *m_energyLabel = nullptr;
     QLabel *m_momentumLabel = nullptr;
     QTimer *m_statisticsTimer = nullptr;

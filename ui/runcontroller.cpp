@@ -36,6 +36,24 @@ void RunController::setSpeed(double speed)
     updateInterval();
 }
 
+void RunController::setTickBudgetMs(double ms)
+{
+    m_tickBudgetMs = std::isfinite(ms) && ms > 0.0 ? ms : kDefaultTickBudgetMs;
+}
+
+bool RunController::isFallingBehind() const
+{
+    return isRunning() && m_achievedSpeed > 0.0 && m_achievedSpeed < 0.95 * m_speed;
+}
+
+int RunController::framesForTick(int owed, double workMsPerFrame, double budgetMs)
+{
+    int frames = std::min(owed, kMaxFramesPerTick);
+    if (workMsPerFrame > 0.0 && frames * workMsPerFrame > budgetMs)
+        frames = static_cast<int>(std::clamp(std::floor(budgetMs / workMsPerFrame), 1.0, static_cast<double>(frames)));
+    return std::max(frames, 0);
+}
+
 void RunController::updateInterval()
 {
     // One frame per tick at the scene's frameMs and speed, but not faster than the display.
@@ -49,6 +67,9 @@ void RunController::play()
         return;
     updateInterval();
     m_clock.start();
+    m_speedClock.start();
+    m_windowSimulatedMs = 0.0;
+    m_achievedSpeed = 0.0;
     m_timer.start();
     Q_EMIT runningChanged(true);
     // The first frame follows at once: pressing Play shows motion without waiting a tick.
@@ -75,20 +96,31 @@ void RunController::toggle()
 void RunController::tick()
 {
     // Simulated time owed = wall time since the last tick times the speed; whole frames are run,
-    // the remainder waits for the next tick.
+    // the remainder waits for the next tick. What the budget leaves out is dropped, not owed:
+    // a run that cannot keep up goes slower, it does not fall further and further behind.
     m_accumulatedMs += static_cast<double>(m_clock.nsecsElapsed()) / 1.0e6 * m_speed;
     m_clock.restart();
     const double ms = frameMs();
-    int frames = static_cast<int>(std::floor(m_accumulatedMs / ms));
-    if (frames > kMaxFramesPerTick) {
-        frames = kMaxFramesPerTick;
+    const int owed = static_cast<int>(std::min(std::floor(m_accumulatedMs / ms), 1.0e6));
+    const int frames = framesForTick(owed, m_workMsPerFrame, m_tickBudgetMs);
+    if (frames < owed)
         m_accumulatedMs = 0.0;
-    } else {
+    else
         m_accumulatedMs -= frames * ms;
+    if (frames > 0) {
+        QElapsedTimer work;
+        work.start();
+        const int done = m_document->advance(frames);
+        if (done > 0)
+            m_workMsPerFrame = static_cast<double>(work.nsecsElapsed()) / 1.0e6 / done;
+        m_windowSimulatedMs += done * ms;
     }
-    if (frames <= 0)
-        return;
-    m_document->advance(frames);
+    const qint64 window = m_speedClock.elapsed();
+    if (window >= kSpeedWindowMs) {
+        m_achievedSpeed = m_windowSimulatedMs / static_cast<double>(window);
+        m_windowSimulatedMs = 0.0;
+        m_speedClock.restart();
+    }
 }
 
 } // namespace marbles

@@ -17,12 +17,14 @@
 #include <QFile>
 #include <QLineSeries>
 #include <QDoubleSpinBox>
+#include <QLabel>
 #include <QSettings>
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QTest>
 #include <QToolBar>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -89,6 +91,9 @@ private Q_SLOTS:
     void plotGetsOneSamplePerFrame();
     void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
+    void tickRunsWhatFitsItsBudget_data();
+    void tickRunsWhatFitsItsBudget();
+    void runThatCannotKeepUpSlowsDownAndSaysSo();
     void autosaveIsRecoveredAfterCrash();
     void layoutIsRestored();
     void toolbarsFitTheWindow();
@@ -495,6 +500,73 @@ void TestMainWindow::runKeepsRealTimeAndStopsOnNonFinite()
     const QString message = m_window->barMessage();
     QVERIFY2(message.contains(QStringLiteral("frame %1").arg(doc->world().frame)), qPrintable(message));
     QVERIFY2(message.contains(QStringLiteral("marble %1").arg(bad)), qPrintable(message));
+}
+
+void TestMainWindow::tickRunsWhatFitsItsBudget_data()
+{
+    QTest::addColumn<int>("owed");
+    QTest::addColumn<double>("workMs");
+    QTest::addColumn<int>("frames");
+    // Budget 33 ms. Cheap frames: all that are owed, at most kMaxFramesPerTick.
+    QTest::newRow("cheap") << 3 << 0.5 << 3;
+    QTest::newRow("cheap, capped") << 40 << 0.5 << RunController::kMaxFramesPerTick;
+    QTest::newRow("not measured yet") << 5 << 0.0 << 5;
+    QTest::newRow("nothing owed") << 0 << 50.0 << 0;
+    // Dear frames: as many as fit in the budget, at least one.
+    QTest::newRow("two fit") << 5 << 15.0 << 2;
+    QTest::newRow("exactly fits") << 3 << 11.0 << 3;
+    QTest::newRow("one does not fit") << 4 << 50.0 << 1;
+}
+
+void TestMainWindow::tickRunsWhatFitsItsBudget()
+{
+    QFETCH(int, owed);
+    QFETCH(double, workMs);
+    QFETCH(int, frames);
+    QCOMPARE(RunController::framesForTick(owed, workMs, 33.0), frames);
+}
+
+void TestMainWindow::runThatCannotKeepUpSlowsDownAndSaysSo()
+{
+    // A teacher opens a scene too big for the machine: the run goes slower than asked, one frame
+    // per tick (each redrawn) instead of bursts of catching up, and the status bar says so.
+    SceneDocument *doc = m_window->document();
+    RunController *run = m_window->runController();
+    auto *slow = m_window->findChild<QLabel *>(QStringLiteral("slowLabel"));
+    QVERIFY(slow);
+    std::vector<std::int64_t> framesPerAdvance;
+    std::int64_t lastFrame = doc->world().frame;
+    const QMetaObject::Connection counting = connect(doc, &SceneDocument::stepped, this, [&] {
+        framesPerAdvance.push_back(doc->world().frame - lastFrame);
+        lastFrame = doc->world().frame;
+    });
+
+    // Every frame costs more than the budget: at 4x (about 3 frames owed per 16 ms tick) each
+    // tick still runs one.
+    run->setTickBudgetMs(1e-9);
+    run->setSpeed(4.0);
+    run->play();
+    QTest::qWait(static_cast<int>(RunController::kSpeedWindowMs) + 400);
+    QTRY_VERIFY(slow->isVisible());
+    run->pause();
+    QCOMPARE_GE(framesPerAdvance.size(), std::size_t(20));
+    QVERIFY(std::all_of(framesPerAdvance.begin(), framesPerAdvance.end(), [](std::int64_t f) { return f == 1; }));
+    QCOMPARE_GT(run->achievedSpeed(), 0.0);
+    QCOMPARE_LT(run->achievedSpeed(), 0.95 * 4.0);
+    QVERIFY2(slow->text().contains(QStringLiteral("%1×").arg(run->achievedSpeed(), 0, 'f', 2)), qPrintable(slow->text()));
+    QVERIFY(!slow->isVisible()); // paused: nothing to keep up with
+
+    // The default budget on the four-marble scene: ticks catch up several frames at once and the
+    // run keeps its speed.
+    framesPerAdvance.clear();
+    run->setTickBudgetMs(RunController::kDefaultTickBudgetMs);
+    run->play();
+    QTest::qWait(static_cast<int>(RunController::kSpeedWindowMs) + 400);
+    run->pause();
+    QVERIFY(std::any_of(framesPerAdvance.begin(), framesPerAdvance.end(), [](std::int64_t f) { return f > 1; }));
+    QCOMPARE_GE(run->achievedSpeed(), 0.95 * 4.0);
+    QVERIFY(!slow->isVisible());
+    disconnect(counting);
 }
 
 void TestMainWindow::autosaveIsRecoveredAfterCrash()
