@@ -937,7 +937,7 @@ void MainWindow::updateSlowLabel()
 {
     const bool slow = m_run->isFallingBehind();
     if (slow)
-        m_slowLabel->setText(tr("running at %1× (cannot keep up)").arg(m_run->achievedSpeed(), 0, 'f', 2));
+        m_slowLabel->setText(tr("slowed to %1×").arg(m_run->achievedSpeed(), 0, 'f', 2));
     m_slowLabel->setVisible(slow);
 }
 
