@@ -497,6 +497,11 @@ void MainWindow::createStatusBar()
            "scene as it is then."));
     m_compareLabel->setVisible(false);
     statusBar()->insertPermanentWidget(0, m_compareLabel);
+    // The run toolbar shows the frame and the time in large type; the status bar repeats them
+    // only while that toolbar is hidden, which leaves room for the comparison's readout.
+    if (auto *runBar = findChild<QToolBar *>(QStringLiteral("runToolBar")))
+        connect(runBar, &QToolBar::visibilityChanged, this, &MainWindow::updateFrameLabelsShown);
+    updateFrameLabelsShown();
     m_statisticsClock.start();
     m_statisticsTimer = new QTimer(this);
     m_statisticsTimer->setInterval(250);
@@ -513,6 +518,7 @@ void MainWindow::readSettings()
     if (!restoreState(settings.value(QStringLiteral("window/state")).toByteArray())) {
         m_firstLayout = true;
     }
+    updateFrameLabelsShown();
     m_vectorsAction->setChecked(settings.value(QStringLiteral("view/vectors"), true).toBool());
     m_trailsAction->setChecked(settings.value(QStringLiteral("view/trails"), false).toBool());
     const int speed = settings.value(QStringLiteral("run/speedIndex"), kRealTimeSpeedIndex).toInt();
@@ -914,6 +920,14 @@ void MainWindow::updateFrameDisplay()
     m_frameDisplay->setText(tr("Frame %1   t = %2 s").arg(world.frame).arg(seconds, 0, 'f', 2));
     m_frameLabel->setText(tr("Frame %1").arg(world.frame));
     m_timeLabel->setText(tr("t = %1 s").arg(seconds, 0, 'f', 3));
+}
+
+void MainWindow::updateFrameLabelsShown()
+{
+    const auto *runBar = findChild<QToolBar *>(QStringLiteral("runToolBar"));
+    const bool repeat = !runBar || runBar->isHidden();
+    m_frameLabel->setVisible(repeat);
+    m_timeLabel->setVisible(repeat);
 }
 
 void MainWindow::updateStatistics()

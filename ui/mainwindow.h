@@ -122,6 +122,7 @@ private:
     void updateFrameDisplay();
     void updateStatistics();
     void updateSlowLabel();
+    void updateFrameLabelsShown();
     void updateEditActions();
 
     SceneDocument *m_document = nullptr;

@@ -97,6 +97,7 @@ private Q_SLOTS:
     void autosaveIsRecoveredAfterCrash();
     void layoutIsRestored();
     void toolbarsFitTheWindow();
+    void statusBarRepeatsTheFrameOnlyWithoutTheRunToolbar();
 
 private:
     void makeWindow();
@@ -627,6 +628,36 @@ void TestMainWindow::toolbarsFitTheWindow()
         }
     }
     QCOMPARE(m_window->findChild<QAction *>(QStringLiteral("actionFit"))->iconText(), QStringLiteral("Fit"));
+}
+
+void TestMainWindow::statusBarRepeatsTheFrameOnlyWithoutTheRunToolbar()
+{
+    // The run toolbar shows the frame and time; the status bar keeps its room for the
+    // comparison's readout, and repeats them only when that toolbar is hidden.
+    auto *runBar = m_window->findChild<QToolBar *>(QStringLiteral("runToolBar"));
+    auto *frameLabel = m_window->findChild<QLabel *>(QStringLiteral("frameLabel"));
+    auto *timeLabel = m_window->findChild<QLabel *>(QStringLiteral("timeLabel"));
+    QVERIFY(runBar && frameLabel && timeLabel);
+    QTest::keyClick(m_window->stageView(), Qt::Key_Right);
+    QVERIFY(runBar->isVisible());
+    QVERIFY(!frameLabel->isVisible() && !timeLabel->isVisible());
+    QVERIFY(m_window->frameText().contains(QStringLiteral("Frame 1")));
+    runBar->toggleViewAction()->trigger();
+    QVERIFY(!runBar->isVisible());
+    QVERIFY(frameLabel->isVisible() && timeLabel->isVisible());
+    QCOMPARE(frameLabel->text(), QStringLiteral("Frame 1"));
+    runBar->toggleViewAction()->trigger();
+    QVERIFY(!frameLabel->isVisible() && !timeLabel->isVisible());
+
+    // Hidden when the window closes, hidden when it opens again: the labels follow.
+    runBar->toggleViewAction()->trigger();
+    m_window->close();
+    makeWindow();
+    runBar = m_window->findChild<QToolBar *>(QStringLiteral("runToolBar"));
+    QVERIFY(!runBar->isVisible());
+    QVERIFY(m_window->findChild<QLabel *>(QStringLiteral("frameLabel"))->isVisible());
+    runBar->toggleViewAction()->trigger();
+    QVERIFY(!m_window->findChild<QLabel *>(QStringLiteral("frameLabel"))->isVisible());
 }
 
 QTEST_MAIN(TestMainWindow)
