@@ -31,6 +31,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+/// Ticks on the time axis before the nice numbers adjust them (QValueAxis's default).
+constexpr int kAxisTicks = 5;
+
 /// Above this many samples a line is thinned before it reaches the chart: each bucket of
 /// samples becomes its lowest and its highest point, so spikes (collisions) stay visible.
 constexpr qsizetype kMaxPointsPerLine = 2000;
@@ -119,6 +122,19 @@ void setNiceRange(QValueAxis *axis, double lo, double hi)
     }
     axis->setRange(lo, hi);
     axis->applyNiceNumbers();
+}
+
+/// Frames are whole numbers: where the nice range would put ticks less than a frame apart (the
+/// first few frames of a run), the range is widened to whole frames with a tick at each.
+void setWholeTicks(QValueAxis *axis)
+{
+    const int ticks = axis->tickCount();
+    if (ticks < 2 || (axis->max() - axis->min()) / (ticks - 1) >= 1.0)
+        return;
+    const double lo = std::floor(axis->min());
+    const double hi = std::max(std::ceil(axis->max()), lo + 1.0);
+    axis->setRange(lo, hi);
+    axis->setTickCount(static_cast<int>(hi - lo) + 1);
 }
 
 } // namespace
@@ -516,10 +532,13 @@ void PlotDock::refreshChart()
         refreshTotal(m_compareMomentumSeries, m_compareMomentum, m_showMomentum->isChecked());
 
     // Speeds and the totals are never negative: both axes start at zero.
+    m_axisX->setTickCount(kAxisTicks); // the nice numbers start from the same tick count each time
     if (n > 0)
         setNiceRange(m_axisX, x(0), x(n - 1));
     else
         setNiceRange(m_axisX, 0.0, xOf(100));
+    if (!m_timeInSeconds)
+        setWholeTicks(m_axisX);
     setNiceRange(m_axisSpeed, 0.0, std::isfinite(speedMax) ? std::max(speedMax, 0.0) : 1.0);
     setNiceRange(m_axisTotals, 0.0, std::isfinite(totalMax) ? std::max(totalMax, 0.0) : 1.0);
     m_dirty = false;

@@ -42,6 +42,8 @@ private slots:
     void liveRefresh();
     void thinningKeepsSpikes();
     void secondsAxis();
+    void frameAxisTicksAreWholeFrames_data();
+    void frameAxisTicksAreWholeFrames();
     void totalsOnRequest();
     void hoverShowsExactValues_data();
     void hoverShowsExactValues();
@@ -528,6 +530,49 @@ void TestPlotDock::secondsAxis()
     dock.refreshChart();
     QCOMPARE_LE(std::abs(line->at(7).x() - 8.0), 1e-15);
     QCOMPARE(xAxis->titleText(), QStringLiteral("frame"));
+}
+
+void TestPlotDock::frameAxisTicksAreWholeFrames_data()
+{
+    QTest::addColumn<int>("frames");
+    for (int n : {0, 1, 2, 3, 4, 5, 7, 12, 250})
+        QTest::addRow("%d frames", n) << n;
+}
+
+void TestPlotDock::frameAxisTicksAreWholeFrames()
+{
+    // A teacher stepping the first frames one by one reads frame numbers under the plot, never
+    // "1.5"; the axis still covers every sample, and grows back to its usual ticks later.
+    QFETCH(int, frames);
+    PlotDock dock;
+    World world = worldWith(1);
+    dock.reset(world);
+    runFrames(dock, world, frames);
+    dock.refreshChart();
+    auto *xAxis = qobject_cast<QValueAxis *>(dock.speedSeries(0)->attachedAxes().at(0));
+    QVERIFY(xAxis);
+    const auto checkTicks = [xAxis](int last) {
+        QCOMPARE_GE(xAxis->tickCount(), 2);
+        const double step = (xAxis->max() - xAxis->min()) / (xAxis->tickCount() - 1);
+        for (int k = 0; k < xAxis->tickCount(); ++k) {
+            const double tick = xAxis->min() + k * step;
+            QVERIFY2(std::abs(tick - std::round(tick)) < 1e-9, qPrintable(QStringLiteral("tick %1").arg(tick)));
+        }
+        QCOMPARE_LE(xAxis->min(), last > 0 ? 1.0 : 0.0);
+        QCOMPARE_GE(xAxis->max(), double(std::max(last, 1)));
+        QCOMPARE_LE(xAxis->tickCount(), 6);
+    };
+    checkTicks(frames);
+    if (QTest::currentTestFailed())
+        return;
+    // Later in the run the axis is back to its usual few ticks.
+    for (int f = frames + 1; f <= frames + 300; ++f) {
+        world.frame = f;
+        dock.appendFrame(world);
+    }
+    dock.refreshChart();
+    checkTicks(frames + 300);
+    QCOMPARE_GE(xAxis->tickCount(), 4);
 }
 
 void TestPlotDock::totalsOnRequest()
