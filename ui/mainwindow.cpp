@@ -23,6 +23,7 @@
 #include <QLabel>
 #include <QMenu>
 #include <QMenuBar>
+#include <QScreen>
 #include <QSettings>
 #include <QShowEvent>
 #include <QSignalBlocker>
@@ -514,7 +515,7 @@ void MainWindow::readSettings()
     QSettings settings;
     const QByteArray geometry = settings.value(QStringLiteral("window/geometry")).toByteArray();
     if (geometry.isEmpty() || !restoreGeometry(geometry))
-        resize(1400, 900);
+        fitFirstWindow();
     if (!restoreState(settings.value(QStringLiteral("window/state")).toByteArray())) {
         m_firstLayout = true;
     }
@@ -524,6 +525,21 @@ void MainWindow::readSettings()
     const int speed = settings.value(QStringLiteral("run/speedIndex"), kRealTimeSpeedIndex).toInt();
     if (speed >= 0 && speed < m_speedBox->count())
         m_speedBox->setCurrentIndex(speed);
+}
+
+void MainWindow::fitFirstWindow()
+{
+    // 1400 x 900 where it fits; on a smaller screen (a classroom projector at 1024 x 768) the
+    // window takes the whole screen instead of opening with its docks beyond the edges.
+    const QSize preferred(1400, 900);
+    const QScreen *where = screen();
+    const QSize available = where ? where->availableGeometry().size() : preferred;
+    if (preferred.width() <= available.width() && preferred.height() <= available.height()) {
+        resize(preferred);
+        return;
+    }
+    resize(preferred.boundedTo(available));
+    setWindowState(windowState() | Qt::WindowMaximized);
 }
 
 void MainWindow::writeSettings()
@@ -710,6 +726,21 @@ void MainWindow::showEvent(QShowEvent *event)
     // First start (no saved layout): the stage gets most of the room, the plot a strip below it.
     // Dock sizes only apply once the window has its size, hence here and not in the constructor.
     m_firstLayout = false;
+    // On a narrow screen a toolbar that would not fit in the row goes to a new row, rather than
+    // its tools behind an overflow menu.
+    const int width = isMaximized() && screen() ? screen()->availableGeometry().width() : this->width();
+    int row = 0;
+    for (const QString &name : {QStringLiteral("fileToolBar"), QStringLiteral("runToolBar"), QStringLiteral("toolsToolBar")}) {
+        auto *bar = findChild<QToolBar *>(name);
+        if (!bar || bar->isHidden())
+            continue;
+        const int barWidth = bar->sizeHint().width();
+        if (row > 0 && row + barWidth > width) {
+            insertToolBarBreak(bar);
+            row = 0;
+        }
+        row += barWidth;
+    }
     resizeDocks({m_parametersDock, m_inspectorDock}, {350, 350}, Qt::Horizontal);
     resizeDocks({m_parametersDock, m_inspectorDock}, {560, 260}, Qt::Vertical);
     resizeDocks({m_plotDock}, {210}, Qt::Vertical);

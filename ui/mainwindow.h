@@ -123,6 +123,7 @@ private:
     void updateStatistics();
     void updateSlowLabel();
     void updateFrameLabelsShown();
+    void fitFirstWindow();
     void updateEditActions();
 
     SceneDocument *m_document = nullptr;

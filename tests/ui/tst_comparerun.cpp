@@ -759,6 +759,8 @@ std::unique_ptr<MainWindow> TestCompareRun::makeWindow()
 {
     auto window = std::make_unique<MainWindow>();
     window->setPrompts(std::make_unique<DiscardPrompts>());
+    // Qt's offscreen screen is smaller than the window's first size, which opens maximized there.
+    window->setWindowState(Qt::WindowNoState);
     window->resize(1400, 900);
     window->show();
     if (!QTest::qWaitForWindowExposed(window.get()))
