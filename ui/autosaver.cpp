@@ -10,6 +10,8 @@
 #include <QSaveFile>
 #include <QStandardPaths>
 
+#include <chrono>
+
 namespace marbles {
 
 AutoSaver::AutoSaver(SceneDocument *document, const QString &directory, QObject *parent)
@@ -21,10 +23,13 @@ AutoSaver::AutoSaver(SceneDocument *document, const QString &directory, QObject 
     QDir().mkpath(m_directory);
     m_lock = std::make_unique<QLockFile>(QDir(m_directory).filePath(QStringLiteral("autosave.lock")));
     m_active = m_lock->tryLock(0);
-    connect(&m_timer, &QTimer::timeout, this, &AutoSaver::saveNow);
+    connect(&m_timer, &QTimer::timeout, this, &AutoSaver::saveInBackground);
 }
 
-AutoSaver::~AutoSaver() = default;
+AutoSaver::~AutoSaver()
+{
+    waitForBackgroundSave();
+}
 
 QString AutoSaver::scenePath() const
 {
@@ -43,23 +48,55 @@ void AutoSaver::start(int intervalMs)
     m_timer.start(intervalMs);
 }
 
-bool AutoSaver::saveNow()
+bool AutoSaver::writeFiles(const QString &scenePath, const std::string &json, const QString &sourcePath,
+                           const QByteArray &sourceName)
 {
-    if (!m_active)
-        return false;
-    if (!m_document->isModified()) {
-        discard();
-        return true;
-    }
-    const std::string json = sceneToJson(m_document->world());
-    QSaveFile scene(scenePath());
+    QSaveFile scene(scenePath);
     if (!scene.open(QIODevice::WriteOnly)
         || scene.write(json.data(), static_cast<qint64>(json.size())) != static_cast<qint64>(json.size())
         || !scene.commit())
         return false;
-    QSaveFile source(sourcePath());
-    const QByteArray name = m_document->fileName().toUtf8();
-    return source.open(QIODevice::WriteOnly) && source.write(name) == name.size() && source.commit();
+    QSaveFile source(sourcePath);
+    return source.open(QIODevice::WriteOnly) && source.write(sourceName) == sourceName.size() && source.commit();
+}
+
+bool AutoSaver::saveNow()
+{
+    if (!m_active)
+        return false;
+    waitForBackgroundSave();
+    if (!m_document->isModified()) {
+        discard();
+        return true;
+    }
+    return writeFiles(scenePath(), sceneToJson(m_document->world()), sourcePath(), m_document->fileName().toUtf8());
+}
+
+bool AutoSaver::saveInBackground()
+{
+    if (!m_active)
+        return false;
+    if (m_background.valid() && m_background.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+        return false; // still writing the last one: the next tick tries again
+    waitForBackgroundSave();
+    if (!m_document->isModified()) {
+        discard();
+        return false;
+    }
+    // The copy is the only work done here; turning it into JSON and writing it is the worker's.
+    m_background = std::async(std::launch::async,
+                              [world = m_document->world(), scene = scenePath(), source = sourcePath(),
+                               name = m_document->fileName().toUtf8()] {
+                                  return writeFiles(scene, sceneToJson(world), source, name);
+                              });
+    return true;
+}
+
+bool AutoSaver::waitForBackgroundSave()
+{
+    if (!m_background.valid())
+        return true;
+    return m_background.get();
 }
 
 bool AutoSaver::hasRecovery() const
@@ -100,6 +137,7 @@ void AutoSaver::discard()
 {
     if (!m_active)
         return;
+    waitForBackgroundSave();
     QFile::remove(scenePath());
     QFile::remove(sourcePath());
 }

@@ -4,6 +4,7 @@
 #include <QString>
 #include <QTimer>
 
+#include <future>
 #include <memory>
 
 class QLockFile;
@@ -16,6 +17,8 @@ class SceneDocument;
 /// QStandardPaths::AppDataLocation. On the next start a leftover autosave means the last session
 /// did not end cleanly, and the scene can be recovered; a clean exit deletes it. A lock file
 /// keeps a second running instance from writing over (or recovering) the first one's autosave.
+/// The timer's saves take a copy of the world and write it on a worker thread, so that a large
+/// scene (100,000 marbles: 16 MB of JSON, about 0.3 s) does not stall a running window.
 class AutoSaver : public QObject {
     Q_OBJECT
 
@@ -32,27 +35,37 @@ public:
     /// Starts the timer.
     void start(int intervalMs = kDefaultIntervalMs);
     /// Writes the scene now if it has unsaved edits (or deletes the autosave if it has none).
-    /// Returns false when writing failed.
+    /// Returns false when writing failed. Waits for a background save first.
     bool saveNow();
+    /// Same, but the writing happens on a worker thread (the timer's way); does nothing while the
+    /// previous background save is still writing. Returns false when nothing was started.
+    bool saveInBackground();
+    /// Waits for a background save to end; returns whether it wrote its files (true if none ran).
+    bool waitForBackgroundSave();
     /// True when an autosave from an earlier session is waiting to be recovered.
     bool hasRecovery() const;
     /// The file the autosaved scene came from ("" for an untitled scene).
     QString recoverySource() const;
     /// Loads the autosave into the document (modified, named after its source); false with `error` on failure.
     bool recover(QString *error);
-    /// Deletes the autosave (a clean exit, or the user declined recovery).
+    /// Deletes the autosave (a clean exit, or the user declined recovery), after waiting for a
+    /// background save, which would otherwise write it again.
     void discard();
     /// Path of the autosaved scene.
     QString scenePath() const;
 
 private:
     QString sourcePath() const;
+    /// Writes the autosave files (any thread).
+    static bool writeFiles(const QString &scenePath, const std::string &json, const QString &sourcePath,
+                           const QByteArray &sourceName);
 
     SceneDocument *m_document;
     QString m_directory;
     QTimer m_timer;
     std::unique_ptr<QLockFile> m_lock;
     bool m_active = false;
+    std::future<bool> m_background; // the background save in flight, if any
 };
 
 } // namespace marbles

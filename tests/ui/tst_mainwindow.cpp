@@ -96,6 +96,7 @@ private Q_SLOTS:
     void tickRunsWhatFitsItsBudget();
     void runThatCannotKeepUpSlowsDownAndSaysSo();
     void autosaveIsRecoveredAfterCrash();
+    void autosaveWritesInTheBackground();
     void layoutIsRestored();
     void toolbarsFitTheWindow();
     void statusBarRepeatsTheFrameOnlyWithoutTheRunToolbar();
@@ -604,6 +605,39 @@ void TestMainWindow::autosaveIsRecoveredAfterCrash()
     makeWindow();
     m_window->offerRecovery();
     QCOMPARE(m_prompts->recoverQuestions, 0);
+}
+
+void TestMainWindow::autosaveWritesInTheBackground()
+{
+    // The timer's autosave copies the world and writes it on a worker thread: a large scene
+    // keeps running meanwhile, and the file holds the scene as it was when the save began.
+    SceneDocument *doc = m_window->document();
+    AutoSaver *saver = m_window->autoSaver();
+    QVERIFY(saver->isActive());
+    doc->resetScene(makeCrowd(20000, 5, 1.0));
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.25")).isEmpty());
+    const std::string atStart = sceneToJson(doc->world());
+    QVERIFY(saver->saveInBackground());
+    QVERIFY(!saver->saveInBackground()); // 3 MB of JSON to write: the first one is still at it
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.5")).isEmpty());
+    doc->advance(3);
+    QVERIFY(saver->waitForBackgroundSave());
+    QFile file(saver->scenePath());
+    QVERIFY(file.open(QIODevice::ReadOnly));
+    QCOMPARE(file.readAll().toStdString(), atStart);
+    file.close();
+
+    // Discarding waits for a save in flight, which would otherwise write the file again.
+    QVERIFY(saver->saveInBackground());
+    saver->discard();
+    saver->waitForBackgroundSave();
+    QVERIFY(!QFile::exists(saver->scenePath()));
+
+    // The timer saves this way.
+    saver->start(20);
+    QTRY_VERIFY(QFile::exists(saver->scenePath()));
+    QVERIFY(saver->waitForBackgroundSave());
+    saver->start();
 }
 
 void TestMainWindow::layoutIsRestored()
