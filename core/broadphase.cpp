@@ -5,6 +5,34 @@
 
 namespace marbles {
 
+double largestOf(std::span<const double> values, double floor)
+{
+    // For values that are not NaN, max is exact, associative and commutative, and a value equal
+    // to the running maximum never replaces it (a -0 never replaces a +0, nor the reverse), so
+    // the lanes folded in order give the sequential result bit for bit.
+    double lane[4] = {floor, floor, floor, floor};
+    const std::size_t n = values.size();
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        for (int k = 0; k < 4; ++k)
+            lane[k] = std::max(lane[k], values[i + static_cast<std::size_t>(k)]);
+    }
+    for (; i < n; ++i)
+        lane[0] = std::max(lane[0], values[i]);
+    return std::max(std::max(lane[0], lane[1]), std::max(lane[2], lane[3]));
+}
+
+void accumulateCounts(std::span<int> counts)
+{
+    if (counts.empty())
+        return;
+    int sum = counts[0];
+    for (std::size_t b = 1; b < counts.size(); ++b) {
+        sum += counts[b];
+        counts[b] = sum;
+    }
+}
+
 GridGeometry GridGeometry::fit(double contactPx, double widthPx, double heightPx, int itemCount)
 {
     GridGeometry g;
@@ -98,8 +126,7 @@ void UniformGrid::build(const GridGeometry &geometry, const Vec2 *points, int co
         m_bucketOf[i] = geometry.bucket(m_cellX[i], m_cellY[i]);
         ++m_start[m_bucketOf[i] + 1];
     }
-    for (int b = 0; b < buckets; ++b)
-        m_start[b + 1] += m_start[b];
+    accumulateCounts(m_start);
     // Place using a running cursor per bucket: reuse m_start shifted by one, then restore.
     for (int i = 0; i < count; ++i)
         m_items[m_start[m_bucketOf[i]]++] = i;

@@ -7,6 +7,7 @@
 #include <bit>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 // The "exact" model, derived for teachers.
@@ -509,6 +510,27 @@ int ExactModel::neighbourBuckets(int i, int out[9]) const
     return 9;
 }
 
+namespace {
+
+// The first marble at or after w whose flag (0 or 1) is 0, or n: eight flags at a time while
+// they are all set.
+int nextOutsideLayer(const std::uint8_t *inLayer, int w, int n)
+{
+    constexpr std::uint64_t allSet = 0x0101010101010101;
+    while (w + 8 <= n) {
+        std::uint64_t eight;
+        std::memcpy(&eight, inLayer + w, sizeof eight);
+        if (eight != allSet)
+            break;
+        w += 8;
+    }
+    while (w < n && inLayer[w])
+        ++w;
+    return w;
+}
+
+} // namespace
+
 void ExactModel::beginFrame(World &world)
 {
     const int n = world.marbleCount();
@@ -531,9 +553,7 @@ void ExactModel::beginFrame(World &world)
     m_restSpeed = std::sqrt(2.0 * length(m_gravity) * restHeightPx);
     setNow(0.0);
 
-    double rMax = 0.0;
-    for (int w = 0; w < n; ++w)
-        rMax = std::max(rMax, world.radius[w]);
+    const double rMax = largestOf(world.radius);
     // Contacts happen at centre distances up to 2 rMax (marble-marble) or rMax (pins). A marble
     // stays within the margin of its anchor (or gets a new anchor): two marbles whose anchor cells
     // are not neighbours are then more than cell - 2 margin = 2 rMax apart.
@@ -561,9 +581,9 @@ void ExactModel::beginFrame(World &world)
     const std::uint8_t *inLayer = m_inLayer.data();
     bool anyResting = m_anyResting;
     int outsideSleepers = 0;
-    for (int w = 0; w < n; ++w) {
-        if (layer && inLayer[w])
-            continue;
+    // The marbles outside the layer, in World order (at rest, eight flags are passed at a time).
+    const auto nextAwake = [layer, inLayer, n](int w) { return layer ? nextOutsideLayer(inLayer, w, n) : w; };
+    for (int w = nextAwake(0); w < n; w = nextAwake(w + 1)) {
         const Vec2 p = world.position[w];
         const int b = m_singleCell ? 0 : m_geometry.bucketAt(p.x, p.y);
         m_sortBucket[w] = b;
@@ -578,17 +598,14 @@ void ExactModel::beginFrame(World &world)
     }
     m_anyResting = anyResting;
     m_outsideSleepers = outsideSleepers;
-    for (int b = 0; b < buckets; ++b)
-        m_start[b + 1] += m_start[b];
+    accumulateCounts(m_start);
     m_awake = m_start[buckets];
     m_count = m_awake;
     m_cursor.assign(m_start.begin(), m_start.end() - 1);
     m_body.resize(n);
     m_rec.resize(n);
-    for (int w = 0; w < n; ++w) {
-        if (!(layer && inLayer[w]))
-            m_body[m_cursor[m_sortBucket[w]]++].id = w;
-    }
+    for (int w = nextAwake(0); w < n; w = nextAwake(w + 1))
+        m_body[m_cursor[m_sortBucket[w]]++].id = w;
     m_overflowHead.assign(buckets, -1);
     m_overflowCount = 0;
     // A frame ends with an empty calendar (every entry out of its slot) unless it stopped early.
@@ -687,8 +704,7 @@ void ExactModel::buildLayer(const World &world, int n)
         m_sortBucket[w] = m_geometry.bucketAt(p.x, p.y);
         ++m_sleepStart[m_sortBucket[w] + 1];
     }
-    for (int b = 0; b < buckets; ++b)
-        m_sleepStart[b + 1] += m_sleepStart[b];
+    accumulateCounts(m_sleepStart);
     m_sleepBefore = m_sleepStart;
     m_layerLive = m_sleepStart[buckets];
     m_layerDead = 0;

@@ -83,8 +83,7 @@ void ImpulseModel::sortAll(const World &world)
         m_bucketOf[i] = b;
         ++m_start[b + 1];
     }
-    for (int b = 0; b < buckets; ++b)
-        m_start[b + 1] += m_start[b];
+    accumulateCounts(m_start);
     // Place with a running cursor per bucket (m_start shifted by one), then shift it back.
     for (int i = 0; i < n; ++i) {
         const int slot = m_start[m_bucketOf[i]]++;
