@@ -338,6 +338,14 @@ int stressCommand(const std::vector<std::string> &args)
             throw InvalidInput{"stress: unknown option or missing value '" + args[k] + "'"};
     }
 
+    std::vector<StressRow> rows = stressRows(quick);
+    if (!only.empty()) {
+        std::erase_if(rows, [&only](const StressRow &row) { return row.name.find(only) == std::string::npos; });
+        if (rows.empty())
+            throw InvalidInput{"stress: --only '" + only + "' matches no row's name (e.g. '"
+                               + stressRows(quick).front().name + "')"};
+    }
+
     std::printf("marbles-cli stress%s: each row states its expectation; exit 0 only if all are met\n",
                 quick ? " --quick" : "");
     std::printf("%-44s %-8s %9s %8s %10s %12s %12s %12s  %s\n", "row", "model", "frames", "escapes", "overlap px",
@@ -345,9 +353,7 @@ int stressCommand(const std::vector<std::string> &args)
     std::string csv = "row,model,frames,blew_up_at,escapes,max_overlap_px,energy_drift,momentum_drift,frames_per_second,verdict\n";
     int failures = 0;
     int ran = 0;
-    for (const StressRow &row : stressRows(quick)) {
-        if (!only.empty() && row.name.find(only) == std::string::npos)
-            continue;
+    for (const StressRow &row : rows) {
         const Outcome o = runRow(row);
         ++ran;
         failures += o.verdict.rfind("FAIL", 0) == 0;

@@ -250,6 +250,8 @@ void TestCli::invalidInputExitsTwo_data()
                                        << QByteArray() << "model";
     QTest::addRow("check invalid") << QStringList{"check", "-"}
                                    << QByteArray(R"({"format":"marbles-scene","version":7})") << "version";
+    QTest::addRow("stress row filter matching nothing") << QStringList{"stress", "--quick", "--only", "no such row"}
+                                                        << QByteArray() << "no such row";
     QTest::addRow("out into missing folder")
         << QStringList{"run", "preset:pins", "--out", "/nonexistent/dir/rows.csv"} << QByteArray()
         << "/nonexistent/dir/rows.csv";
