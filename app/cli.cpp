@@ -292,11 +292,22 @@ void writeScene(const Options &o, const World &w)
         std::cout << json;
 }
 
+// What a command was given where it expected one word: "nothing" or the words, quoted.
+std::string given(const std::vector<std::string> &positional)
+{
+    if (positional.empty())
+        return "nothing";
+    std::string words;
+    for (const std::string &word : positional)
+        words += (words.empty() ? "'" : " '") + word + "'";
+    return words;
+}
+
 int presetCommand(const std::vector<std::string> &args)
 {
     const Options o = parseOptions(args, {"--out"});
     if (o.positional.size() != 1)
-        throw InvalidInput{"preset: expected 'list' or a preset ID"};
+        throw InvalidInput{"preset: expected 'list' or one preset ID, got " + given(o.positional)};
     if (o.positional.front() == "list") {
         for (const PresetInfo &p : presets())
             std::cout << p.id << '\t' << p.title << '\t' << p.description << '\n';
@@ -311,7 +322,7 @@ int genCommand(const std::vector<std::string> &args)
 {
     const Options o = parseOptions(args, {"--n", "--seed", "--moving", "--out"});
     if (o.positional.size() != 1 || o.positional.front() != "crowd")
-        throw InvalidInput{"gen: expected 'crowd'"};
+        throw InvalidInput{"gen: expected 'crowd', got " + given(o.positional)};
     if (!o.last("--n"))
         throw InvalidInput{"gen crowd: --n is required"};
     const long long n = parseInteger("--n", *o.last("--n"), 0);

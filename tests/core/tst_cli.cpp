@@ -250,6 +250,9 @@ void TestCli::invalidInputExitsTwo_data()
                                        << QByteArray() << "model";
     QTest::addRow("check invalid") << QStringList{"check", "-"}
                                    << QByteArray(R"({"format":"marbles-scene","version":7})") << "version";
+    QTest::addRow("preset with two IDs") << QStringList{"preset", "pins", "masses"} << QByteArray()
+                                         << "got 'pins' 'masses'";
+    QTest::addRow("gen without a kind") << QStringList{"gen", "--n", "5"} << QByteArray() << "got nothing";
     QTest::addRow("stress row filter matching nothing") << QStringList{"stress", "--quick", "--only", "no such row"}
                                                         << QByteArray() << "no such row";
     QTest::addRow("out into missing folder")
