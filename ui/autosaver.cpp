@@ -11,6 +11,7 @@
 #include <QStandardPaths>
 
 #include <chrono>
+#include <system_error>
 
 namespace marbles {
 
@@ -84,11 +85,15 @@ bool AutoSaver::saveInBackground()
         return false;
     }
     // The copy is the only work done here; turning it into JSON and writing it is the worker's.
-    m_background = std::async(std::launch::async,
-                              [world = m_document->world(), scene = scenePath(), source = sourcePath(),
-                               name = m_document->fileName().toUtf8()] {
-                                  return writeFiles(scene, sceneToJson(world), source, name);
-                              });
+    try {
+        m_background = std::async(std::launch::async,
+                                  [world = m_document->world(), scene = scenePath(), source = sourcePath(),
+                                   name = m_document->fileName().toUtf8()] {
+                                      return writeFiles(scene, sceneToJson(world), source, name);
+                                  });
+    } catch (const std::system_error &) {
+        return saveNow(); // no thread to be had: write it here rather than not at all
+    }
     return true;
 }
 
