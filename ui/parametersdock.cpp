@@ -15,23 +15,94 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 namespace marbles {
 
+/// A number typed into a spin box beyond its range, refused when the edit ended.
+class Refusing {
+public:
+    virtual ~Refusing() = default;
+    /// The number last refused (the box kept its value), if any; reading it clears it.
+    std::optional<double> takeRefused() { return std::exchange(m_refused, std::nullopt); }
+    /// The box's range and value, and a value as the box shows it (suffix included).
+    virtual double low() const = 0;
+    virtual double high() const = 0;
+    virtual double current() const = 0;
+    virtual QString shown(double value) const = 0;
+
+protected:
+    mutable std::optional<double> m_refused;
+};
+
 namespace {
+
+/// A spin box that keeps a number typed beyond its range as typed, instead of dropping the
+/// keystroke that took it there (which turned "1.5" into ".5", a friction of 0.5 where friction
+/// must stay below 1, and "5000" into "500"); ending the edit then refuses it, keeps the value
+/// and notes the number for the dock to explain. A lone minus may start such a number.
+template<typename Base>
+class RefusingSpinBox : public Base, public Refusing {
+public:
+    explicit RefusingSpinBox(QWidget *parent = nullptr)
+        : Base(parent)
+    {
+        // valueChanged only on Enter, focus loss, arrows or the wheel: typing "0.25" is one edit,
+        // not three ("0", "0.2", "0.25").
+        this->setKeyboardTracking(false);
+        this->setAccelerated(true);
+    }
+
+    QValidator::State validate(QString &text, int &pos) const override
+    {
+        const QValidator::State state = Base::validate(text, pos);
+        if (state != QValidator::Invalid)
+            return state;
+        const QString bare = bareText(text);
+        bool number = false;
+        const double value = this->locale().toDouble(bare, &number);
+        if ((number && outside(value)) || (bare == this->locale().negativeSign() && low() >= 0.0))
+            return QValidator::Intermediate;
+        return state;
+    }
+
+    void fixup(QString &input) const override
+    {
+        // Called when an edit ends on text that is not a value of the box.
+        Base::fixup(input);
+        bool number = false;
+        const double value = this->locale().toDouble(bareText(input), &number);
+        if (number && outside(value))
+            m_refused = value;
+    }
+
+    double low() const override { return static_cast<double>(this->minimum()); }
+    double high() const override { return static_cast<double>(this->maximum()); }
+    double current() const override { return static_cast<double>(this->value()); }
+
+private:
+    bool outside(double value) const { return value < low() || value > high(); }
+
+    QString bareText(const QString &text) const
+    {
+        QString bare = text;
+        if (!this->prefix().isEmpty() && bare.startsWith(this->prefix()))
+            bare.remove(0, this->prefix().size());
+        if (!this->suffix().isEmpty() && bare.endsWith(this->suffix()))
+            bare.chop(this->suffix().size());
+        return bare.trimmed();
+    }
+};
 
 /// A double spin box that keeps many decimals internally but shows only the ones that matter:
 /// 0.01 reads "0.01", 20 reads "20", 0.125 reads "0.125" (up to decimals() digits).
-class AdaptiveSpinBox : public QDoubleSpinBox {
+class AdaptiveSpinBox : public RefusingSpinBox<QDoubleSpinBox> {
 public:
     explicit AdaptiveSpinBox(QWidget *parent = nullptr)
-        : QDoubleSpinBox(parent)
+        : RefusingSpinBox<QDoubleSpinBox>(parent)
     {
         setDecimals(6);
-        // valueChanged only on Enter, focus loss, arrows or the wheel: typing "0.25" is one edit,
-        // not three ("0", "0.2", "0.25").
-        setKeyboardTracking(false);
-        setAccelerated(true);
     }
 
     QString textFromValue(double value) const override
@@ -49,6 +120,15 @@ public:
         }
         return text;
     }
+
+    QString shown(double value) const override { return textFromValue(value) + suffix(); }
+};
+
+/// A whole-number spin box with the same refusal of numbers beyond its range.
+class CountSpinBox : public RefusingSpinBox<QSpinBox> {
+public:
+    using RefusingSpinBox<QSpinBox>::RefusingSpinBox;
+    QString shown(double value) const override { return textFromValue(static_cast<int>(value)) + suffix(); }
 };
 
 /// The text setParam() reads for a number: the shortest decimal that round-trips, C locale.
@@ -106,6 +186,29 @@ void ParametersDock::buildUi()
         auto *help = explanationLabel(explanation, page);
         help->setObjectName(field->objectName() + QStringLiteral("Help"));
         form->addRow(help);
+        // A number refused by the field (or by one of its boxes) is explained in this line.
+        QList<QAbstractSpinBox *> spins = field->findChildren<QAbstractSpinBox *>();
+        spins.append(qobject_cast<QAbstractSpinBox *>(field));
+        for (QAbstractSpinBox *spin : spins) {
+            auto *box = dynamic_cast<Refusing *>(spin); // no Q_OBJECT, so no qobject_cast
+            if (!box)
+                continue;
+            // Shown until the field takes a value (leaving the field does not hide it unread).
+            connect(spin, &QAbstractSpinBox::editingFinished, this, [this, spin, box, help] {
+                if (const std::optional<double> refused = box->takeRefused()) {
+                    help->setText(refusalText(spin, *box, *refused));
+                    help->setStyleSheet(QStringLiteral("QLabel { color: #c62828; }"));
+                }
+            });
+            const auto explain = [help, explanation] {
+                help->setText(explanation);
+                help->setStyleSheet(QString());
+            };
+            if (auto *real = qobject_cast<QDoubleSpinBox *>(spin))
+                connect(real, &QDoubleSpinBox::valueChanged, this, explain);
+            else if (auto *whole = qobject_cast<QSpinBox *>(spin))
+                connect(whole, &QSpinBox::valueChanged, this, explain);
+        }
     };
     auto makeSpin = [&](const char *name, double min, double max, double step, const QString &suffix) {
         auto *spin = new AdaptiveSpinBox(page);
@@ -177,11 +280,9 @@ void ParametersDock::buildUi()
     addField(tr("&Gravity"), gravity, gravityFormula,
              tr("A steady pull on every marble, in px/frame\u00b2; y points down the screen."));
 
-    m_substeps = new QSpinBox(page);
+    m_substeps = new CountSpinBox(page);
     m_substeps->setObjectName(QStringLiteral("substepsEdit"));
     m_substeps->setRange(1, 1000);
-    m_substeps->setKeyboardTracking(false);
-    m_substeps->setAccelerated(true);
     addField(tr("&Substeps"), m_substeps, tr("h = 1 / substeps frame"),
              tr("Smaller steps inside each frame: more accurate, but slower."));
 
@@ -222,6 +323,21 @@ void ParametersDock::buildUi()
         emit paramEdited(QStringLiteral("shortCircuit"), on ? QStringLiteral("true") : QStringLiteral("false"));
     });
     connect(m_model, &QComboBox::activated, this, &ParametersDock::onModelActivated);
+}
+
+QString ParametersDock::refusalText(const QAbstractSpinBox *spin, const Refusing &box, double refused) const
+{
+    QLocale loc = spin->locale();
+    loc.setNumberOptions(loc.numberOptions() | QLocale::OmitGroupSeparator);
+    const QString typed = loc.toString(refused, 'g', 12);
+    const QString kept = box.shown(box.current());
+    if (spin == m_friction && shownModel() != ModelKind::Book && refused >= 1.0)
+        return tr("Exact and impulse need friction below 1: %1 was refused, it stays %2 (book: up to %3).")
+            .arg(typed, kept, box.shown(kBookFrictionMax));
+    // Short enough for the two lines the field's explanation has.
+    if (refused > box.high())
+        return tr("%1 is above this field's most (%2): it stays %3.").arg(typed, box.shown(box.high()), kept);
+    return tr("%1 is below this field's least (%2): it stays %3.").arg(typed, box.shown(box.low()), kept);
 }
 
 void ParametersDock::setParams(const Params &params)

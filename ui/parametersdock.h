@@ -7,11 +7,14 @@
 
 class QCheckBox;
 class QComboBox;
+class QAbstractSpinBox;
 class QDoubleSpinBox;
 class QLabel;
 class QSpinBox;
 
 namespace marbles {
+
+class Refusing;
 
 /// The Parameters dock: one field per scene parameter, each with its formula in a tooltip and
 /// a one-line explanation for a teacher. Edits apply at once (no Apply button): every user
@@ -50,6 +53,8 @@ private:
     ModelKind shownModel() const;
 
     void onDoubleEdited(const QString &key, double value);
+    /// Why a number typed into `spin` was refused (out of its range); the box kept its value.
+    QString refusalText(const QAbstractSpinBox *spin, const Refusing &box, double refused) const;
     void onGravityEdited();
     void onModelActivated(int index);
 

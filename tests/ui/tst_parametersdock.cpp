@@ -30,6 +30,7 @@ private slots:
     void decimalsShown();
     void invalidValuesRefused_data();
     void invalidValuesRefused();
+    void refusalIsExplainedUntilTheNextEdit();
     void frictionWarning_data();
     void frictionWarning();
     void typedFrictionWarns();
@@ -278,23 +279,74 @@ void TestParametersDock::invalidValuesRefused()
         const std::string verdict = coreVerdict(before, edit.at(0).toString(), edit.at(1).toString());
         QVERIFY2(verdict.empty(), verdict.c_str());
     }
-    // A spin box drops the keystrokes that cannot lead to a valid value (typing "-1" into a field
-    // that must be >= 0 leaves "1"): the typed number itself never reaches the field.
+    // A number out of range is refused whole: the field keeps its value (no other number made
+    // of the keystrokes it could take, such as 0.5 from "1.5" or 1 from "-1"), and the line under
+    // it says what was typed and why it was not taken.
     double fieldValue = 0.0;
-    if (auto *d = qobject_cast<QDoubleSpinBox *>(spin))
+    double valueBefore = 0.0;
+    if (auto *d = qobject_cast<QDoubleSpinBox *>(spin)) {
         fieldValue = d->value();
-    else if (auto *i = qobject_cast<QSpinBox *>(spin))
+        valueBefore = field == QLatin1String("frictionEdit") ? before.friction
+            : field == QLatin1String("massScaleEdit")        ? before.massScale
+            : field == QLatin1String("zeroThresholdEdit")    ? before.zeroThreshold
+            : field == QLatin1String("frameMsEdit")          ? before.frameMs
+                                                              : before.restitution;
+    } else if (auto *i = qobject_cast<QSpinBox *>(spin)) {
         fieldValue = i->value();
-    else
+        valueBefore = before.substeps;
+    } else {
         QFAIL("not a spin box");
+    }
     bool isNumber = false;
-    const double typedValue = typed.toDouble(&isNumber);
-    if (isNumber)
-        QVERIFY(fieldValue != typedValue);
+    typed.toDouble(&isNumber);
+    if (isNumber) {
+        QCOMPARE(spy.count(), 0);
+        QCOMPARE(fieldValue, valueBefore);
+        const QString help = dock.findChild<QLabel *>(field + QStringLiteral("Help"))->text();
+        QVERIFY2(help.contains(typed) && help.contains(QStringLiteral("it stays")), qPrintable(help));
+        if (field == QLatin1String("frictionEdit") && model != QLatin1String("book"))
+            QVERIFY2(help.contains(QStringLiteral("need friction below 1")), qPrintable(help));
+    }
     const Params after = dock.shownParams();
     World world;
     world.params = after;
     QCOMPARE(validateParams(world.params), std::string());
+}
+
+void TestParametersDock::refusalIsExplainedUntilTheNextEdit()
+{
+    // A teacher on the exact model types 1.5 for the friction: the field stays 0.1 and says why;
+    // typing 0.3 then takes it, and the line under the field explains the field again.
+    ParametersDock dock;
+    dock.setParams(paramsWithModel(QStringLiteral("exact")));
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    auto *friction = dock.findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit"));
+    auto *help = dock.findChild<QLabel *>(QStringLiteral("frictionEditHelp"));
+    QVERIFY(friction && help);
+    const QString explanation = help->text();
+    QSignalSpy spy(&dock, &ParametersDock::paramEdited);
+
+    typeInto(friction, QStringLiteral("1.5"));
+    QCOMPARE(spy.count(), 0);
+    QCOMPARE(friction->text(), QStringLiteral("0.1"));
+    QCOMPARE(help->text(), QStringLiteral("Exact and impulse need friction below 1: 1.5 was refused, it stays 0.1 (book: up to 3)."));
+
+    // Leaving the field leaves the explanation up; a value taken replaces it.
+    dock.findChild<QDoubleSpinBox *>(QStringLiteral("zeroThresholdEdit"))->setFocus();
+    QVERIFY(help->text().contains(QStringLiteral("1.5 was refused")));
+    typeInto(friction, QStringLiteral("0.3"));
+    QCOMPARE(spy.count(), 1);
+    QCOMPARE(spy.last().at(0).toString(), QStringLiteral("friction"));
+    QCOMPARE(spy.last().at(1).toString(), QStringLiteral("0.3"));
+    QCOMPARE(help->text(), explanation);
+
+    // The mass scale's upper end: 5000 is not cut to 500.
+    auto *massScale = dock.findChild<QDoubleSpinBox *>(QStringLiteral("massScaleEdit"));
+    typeInto(massScale, QStringLiteral("5000"));
+    QCOMPARE(spy.count(), 1);
+    QCOMPARE(dock.findChild<QLabel *>(QStringLiteral("massScaleEditHelp"))->text(),
+             QStringLiteral("5000 is above this field's most (1000 per px): it stays 1.25 per px."));
 }
 
 void TestParametersDock::frictionWarning_data()
