@@ -1,5 +1,6 @@
 #include "ui/inspectordock.h"
 
+#include "ui/refusingspinbox.h"
 #include "ui/scenedocument.h"
 
 #include <QCheckBox>
@@ -15,14 +16,13 @@ namespace {
 
 QDoubleSpinBox *makeBox(double min, double max, int decimals, const QString &suffix, const QString &tip)
 {
-    auto *box = new QDoubleSpinBox();
+    // Typed values apply on Enter or when the field loses focus, not at every keystroke; a
+    // number beyond the range is refused whole (see onRefused), not cut to one within it.
+    auto *box = new RefusingDoubleSpinBox();
     box->setRange(min, max);
     box->setDecimals(decimals);
     box->setSuffix(suffix);
     box->setToolTip(tip);
-    // Typed values apply on Enter or when the field loses focus, not at every keystroke.
-    box->setKeyboardTracking(false);
-    box->setAccelerated(true);
     return box;
 }
 
@@ -80,6 +80,13 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     layout->addStretch(1);
     setWidget(body);
 
+    for (QDoubleSpinBox *box : {m_radius, m_mass, m_x, m_y, m_vx, m_vy}) {
+        connect(box, &QAbstractSpinBox::editingFinished, this, [this, box] {
+            auto *refusing = dynamic_cast<Refusing *>(box);
+            if (const std::optional<double> refused = refusing ? refusing->takeRefused() : std::nullopt)
+                m_error->setText(refusalMessage(*refusing, *refused, box->locale()));
+        });
+    }
     connect(m_radius, &QDoubleSpinBox::valueChanged, this, &InspectorDock::onRadius);
     connect(m_mass, &QDoubleSpinBox::valueChanged, this, &InspectorDock::onMass);
     connect(m_autoMass, &QCheckBox::toggled, this, &InspectorDock::onAutoMass);

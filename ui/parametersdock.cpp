@@ -1,5 +1,7 @@
 #include "ui/parametersdock.h"
 
+#include "ui/refusingspinbox.h"
+
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
@@ -20,87 +22,14 @@
 
 namespace marbles {
 
-/// A number typed into a spin box beyond its range, refused when the edit ended.
-class Refusing {
-public:
-    virtual ~Refusing() = default;
-    /// The number last refused (the box kept its value), if any; reading it clears it.
-    std::optional<double> takeRefused() { return std::exchange(m_refused, std::nullopt); }
-    /// The box's range and value, and a value as the box shows it (suffix included).
-    virtual double low() const = 0;
-    virtual double high() const = 0;
-    virtual double current() const = 0;
-    virtual QString shown(double value) const = 0;
-
-protected:
-    mutable std::optional<double> m_refused;
-};
-
 namespace {
-
-/// A spin box that keeps a number typed beyond its range as typed, instead of dropping the
-/// keystroke that took it there (which turned "1.5" into ".5", a friction of 0.5 where friction
-/// must stay below 1, and "5000" into "500"); ending the edit then refuses it, keeps the value
-/// and notes the number for the dock to explain. A lone minus may start such a number.
-template<typename Base>
-class RefusingSpinBox : public Base, public Refusing {
-public:
-    explicit RefusingSpinBox(QWidget *parent = nullptr)
-        : Base(parent)
-    {
-        // valueChanged only on Enter, focus loss, arrows or the wheel: typing "0.25" is one edit,
-        // not three ("0", "0.2", "0.25").
-        this->setKeyboardTracking(false);
-        this->setAccelerated(true);
-    }
-
-    QValidator::State validate(QString &text, int &pos) const override
-    {
-        const QValidator::State state = Base::validate(text, pos);
-        if (state != QValidator::Invalid)
-            return state;
-        const QString bare = bareText(text);
-        bool number = false;
-        const double value = this->locale().toDouble(bare, &number);
-        if ((number && outside(value)) || (bare == this->locale().negativeSign() && low() >= 0.0))
-            return QValidator::Intermediate;
-        return state;
-    }
-
-    void fixup(QString &input) const override
-    {
-        // Called when an edit ends on text that is not a value of the box.
-        Base::fixup(input);
-        bool number = false;
-        const double value = this->locale().toDouble(bareText(input), &number);
-        if (number && outside(value))
-            m_refused = value;
-    }
-
-    double low() const override { return static_cast<double>(this->minimum()); }
-    double high() const override { return static_cast<double>(this->maximum()); }
-    double current() const override { return static_cast<double>(this->value()); }
-
-private:
-    bool outside(double value) const { return value < low() || value > high(); }
-
-    QString bareText(const QString &text) const
-    {
-        QString bare = text;
-        if (!this->prefix().isEmpty() && bare.startsWith(this->prefix()))
-            bare.remove(0, this->prefix().size());
-        if (!this->suffix().isEmpty() && bare.endsWith(this->suffix()))
-            bare.chop(this->suffix().size());
-        return bare.trimmed();
-    }
-};
 
 /// A double spin box that keeps many decimals internally but shows only the ones that matter:
 /// 0.01 reads "0.01", 20 reads "20", 0.125 reads "0.125" (up to decimals() digits).
-class AdaptiveSpinBox : public RefusingSpinBox<QDoubleSpinBox> {
+class AdaptiveSpinBox : public RefusingDoubleSpinBox {
 public:
     explicit AdaptiveSpinBox(QWidget *parent = nullptr)
-        : RefusingSpinBox<QDoubleSpinBox>(parent)
+        : RefusingDoubleSpinBox(parent)
     {
         setDecimals(6);
     }
@@ -120,16 +49,8 @@ public:
         }
         return text;
     }
-
-    QString shown(double value) const override { return textFromValue(value) + suffix(); }
 };
 
-/// A whole-number spin box with the same refusal of numbers beyond its range.
-class CountSpinBox : public RefusingSpinBox<QSpinBox> {
-public:
-    using RefusingSpinBox<QSpinBox>::RefusingSpinBox;
-    QString shown(double value) const override { return textFromValue(static_cast<int>(value)) + suffix(); }
-};
 
 /// The text setParam() reads for a number: the shortest decimal that round-trips, C locale.
 QString numberText(double value)
@@ -327,17 +248,13 @@ void ParametersDock::buildUi()
 
 QString ParametersDock::refusalText(const QAbstractSpinBox *spin, const Refusing &box, double refused) const
 {
-    QLocale loc = spin->locale();
-    loc.setNumberOptions(loc.numberOptions() | QLocale::OmitGroupSeparator);
-    const QString typed = loc.toString(refused, 'g', 12);
-    const QString kept = box.shown(box.current());
-    if (spin == m_friction && shownModel() != ModelKind::Book && refused >= 1.0)
+    if (spin == m_friction && shownModel() != ModelKind::Book && refused >= 1.0) {
+        QLocale loc = spin->locale();
+        loc.setNumberOptions(loc.numberOptions() | QLocale::OmitGroupSeparator);
         return tr("Exact and impulse need friction below 1: %1 was refused, it stays %2 (book: up to %3).")
-            .arg(typed, kept, box.shown(kBookFrictionMax));
-    // Short enough for the two lines the field's explanation has.
-    if (refused > box.high())
-        return tr("%1 is above this field's most (%2): it stays %3.").arg(typed, box.shown(box.high()), kept);
-    return tr("%1 is below this field's least (%2): it stays %3.").arg(typed, box.shown(box.low()), kept);
+            .arg(loc.toString(refused, 'g', 12), box.shown(box.current()), box.shown(kBookFrictionMax));
+    }
+    return refusalMessage(box, refused, spin->locale());
 }
 
 void ParametersDock::setParams(const Params &params)

@@ -1,0 +1,144 @@
+// The Inspector dock on a real SceneDocument: what it shows of the selected marble, and what
+// typing into its fields does to the scene (through undoable edits, or not at all).
+
+#include "core/presets.h"
+#include "ui/inspectordock.h"
+#include "ui/scenedocument.h"
+
+#include <QCheckBox>
+#include <QDoubleSpinBox>
+#include <QLabel>
+#include <QSignalSpy>
+#include <QTest>
+
+#include <memory>
+
+using namespace marbles;
+
+namespace {
+
+/// Replaces the text of a spin box as a user would: select it all, type, press Enter.
+void typeInto(QAbstractSpinBox *spin, const QString &text)
+{
+    spin->setFocus();
+    spin->selectAll();
+    QTest::keyClicks(spin, text);
+    QTest::keyClick(spin, Qt::Key_Return);
+}
+
+/// The red line under the fields.
+QString errorText(const InspectorDock &dock)
+{
+    for (const QLabel *label : dock.findChildren<QLabel *>()) {
+        if (label->styleSheet().contains(QStringLiteral("color")))
+            return label->text();
+    }
+    return QStringLiteral("<no error line>");
+}
+
+} // namespace
+
+class TestInspectorDock : public QObject {
+    Q_OBJECT
+
+private Q_SLOTS:
+    void init();
+    void cleanup();
+    void showsTheSelectedMarble();
+    void typedValuesAreUndoableEdits();
+    void outOfRangeNumbersAreRefusedWhole_data();
+    void outOfRangeNumbersAreRefusedWhole();
+
+private:
+    std::unique_ptr<SceneDocument> m_document;
+    std::unique_ptr<InspectorDock> m_dock;
+};
+
+void TestInspectorDock::init()
+{
+    m_document = std::make_unique<SceneDocument>();
+    m_document->resetScene(defaultScene()); // the chapter's four marbles
+    m_dock = std::make_unique<InspectorDock>(m_document.get());
+    m_dock->show();
+    QVERIFY(QTest::qWaitForWindowExposed(m_dock.get()));
+}
+
+void TestInspectorDock::cleanup()
+{
+    m_dock.reset();
+    m_document.reset();
+}
+
+void TestInspectorDock::showsTheSelectedMarble()
+{
+    // Nothing selected: no fields (no stale numbers). Marble 2 selected: its numbers.
+    QVERIFY(!m_dock->field(QStringLiteral("radius"))->isVisible());
+    m_dock->setMarble(2);
+    const World &world = m_document->world();
+    QVERIFY(m_dock->field(QStringLiteral("radius"))->isVisible());
+    QCOMPARE_LE(std::abs(m_dock->field(QStringLiteral("radius"))->value() - world.radius[2]), 0.005);
+    QCOMPARE_LE(std::abs(m_dock->field(QStringLiteral("x"))->value() - world.position[2].x), 0.005);
+    QCOMPARE_LE(std::abs(m_dock->field(QStringLiteral("y"))->value() - world.position[2].y), 0.005);
+    QCOMPARE_LE(std::abs(m_dock->field(QStringLiteral("mass"))->value() - world.mass[2]), 0.0005);
+    // A frame later (pushed first, so it moves), the fields follow.
+    m_document->pushMarble(2, {world.position[2].x - 10.0, world.position[2].y});
+    m_document->advance(1);
+    QCOMPARE_LE(std::abs(m_dock->field(QStringLiteral("x"))->value() - m_document->world().position[2].x), 0.005);
+    QCOMPARE_LE(std::abs(m_dock->field(QStringLiteral("vx"))->value() - m_document->world().velocity[2].x), 0.0005);
+    QCOMPARE_GT(m_document->world().velocity[2].x, 0.0);
+    m_dock->setMarble(-1);
+    QVERIFY(!m_dock->field(QStringLiteral("radius"))->isVisible());
+}
+
+void TestInspectorDock::typedValuesAreUndoableEdits()
+{
+    m_dock->setMarble(1);
+    const World before = m_document->world();
+    typeInto(m_dock->field(QStringLiteral("radius")), QStringLiteral("25"));
+    QCOMPARE(m_document->world().radius[1], 25.0);
+    // The mass follows the radius (massScale x r) while it is not set by hand.
+    QCOMPARE(m_document->world().mass[1], before.params.massScale * 25.0);
+    typeInto(m_dock->field(QStringLiteral("vx")), QStringLiteral("-3.5"));
+    QCOMPARE(m_document->world().velocity[1].x, -3.5);
+    QCOMPARE(m_document->world().velocity[1].y, before.velocity[1].y); // the other component as it was
+    QCOMPARE(m_document->undoStack()->count(), 2);
+    m_document->undoStack()->undo();
+    m_document->undoStack()->undo();
+    QCOMPARE(m_document->world().radius[1], before.radius[1]);
+    QCOMPARE(m_document->world().mass[1], before.mass[1]);
+    QCOMPARE(m_document->world().velocity[1].x, before.velocity[1].x);
+    QCOMPARE_LE(std::abs(m_dock->field(QStringLiteral("radius"))->value() - before.radius[1]), 0.005);
+}
+
+void TestInspectorDock::outOfRangeNumbersAreRefusedWhole_data()
+{
+    QTest::addColumn<QString>("field");
+    QTest::addColumn<QString>("typed");
+    QTest::addColumn<QString>("message");
+    // Without the refusal these came through as 600 px and 0.3 kept the old radius silently.
+    QTest::newRow("radius above") << "radius" << "6000" << "6000 is above this field's most (5000.00 px)";
+    QTest::newRow("radius below") << "radius" << "0.3" << "0.3 is below this field's least (0.50 px)";
+    QTest::newRow("speed above") << "vx" << "200000" << "200000 is above this field's most (100000.000 px/frame)";
+}
+
+void TestInspectorDock::outOfRangeNumbersAreRefusedWhole()
+{
+    QFETCH(QString, field);
+    QFETCH(QString, typed);
+    QFETCH(QString, message);
+    m_dock->setMarble(0);
+    const World before = m_document->world();
+    typeInto(m_dock->field(field), typed);
+    QCOMPARE(m_document->undoStack()->count(), 0);
+    QCOMPARE(m_document->world().radius[0], before.radius[0]);
+    QCOMPARE(m_document->world().velocity[0].x, before.velocity[0].x);
+    QVERIFY2(errorText(*m_dock).startsWith(message) && errorText(*m_dock).contains(QStringLiteral("it stays")),
+             qPrintable(errorText(*m_dock)));
+    // A value the field takes clears the line.
+    typeInto(m_dock->field(QStringLiteral("radius")), QStringLiteral("30"));
+    QCOMPARE(m_document->world().radius[0], 30.0);
+    QCOMPARE(errorText(*m_dock), QString());
+}
+
+QTEST_MAIN(TestInspectorDock)
+#include "tst_inspectordock.moc"

@@ -1,0 +1,20 @@
+#include "ui/refusingspinbox.h"
+
+#include <QCoreApplication>
+
+namespace marbles {
+
+QString refusalMessage(const Refusing &box, double refused, const QLocale &locale)
+{
+    QLocale loc = locale;
+    loc.setNumberOptions(loc.numberOptions() | QLocale::OmitGroupSeparator);
+    const QString typed = loc.toString(refused, 'g', 12);
+    const QString kept = box.shown(box.current());
+    if (refused > box.high())
+        return QCoreApplication::translate("marbles", "%1 is above this field's most (%2): it stays %3.")
+            .arg(typed, box.shown(box.high()), kept);
+    return QCoreApplication::translate("marbles", "%1 is below this field's least (%2): it stays %3.")
+        .arg(typed, box.shown(box.low()), kept);
+}
+
+} // namespace marbles
