@@ -17,6 +17,7 @@
 #include <QSaveFile>
 #include <QTimer>
 #include <QToolTip>
+#include <QFontMetrics>
 #include <QValueAxis>
 #include <QVBoxLayout>
 
@@ -213,6 +214,7 @@ PlotDock::PlotDock(QWidget *parent)
     m_chartView->setObjectName(QStringLiteral("plotChartView"));
     m_chartView->setRenderHint(QPainter::Antialiasing);
     m_chartView->setMinimumSize(240, 220);
+    m_chartView->installEventFilter(this);
     column->addWidget(m_chartView, 1);
 
     m_hoverLabel = new QLabel(page);
@@ -589,7 +591,7 @@ QString PlotDock::describePoint(const QLineSeries *series, QPointF point) const
     for (const Track &t : m_tracks) {
         if (t.series == series)
             return tr("%1: %2, speed %3 px/frame")
-                .arg(when, t.series->name(), QString::number(t.speed.at(lo), 'g', 6));
+                .arg(when, marbleLabel(t.marble), QString::number(t.speed.at(lo), 'g', 6));
         if (t.compareSeries && t.compareSeries == series)
             return tr("%1: %2, speed %3 px/frame")
                 .arg(when, t.compareSeries->name(), QString::number(t.compareSpeed.at(lo), 'g', 6));
@@ -789,6 +791,7 @@ void PlotDock::showTotal(QLineSeries *series, bool shown)
     const bool listed = series == m_kineticSeries || series == m_momentumSeries;
     for (QLegendMarker *marker : m_chart->legend()->markers(series))
         marker->setVisible(shown && listed);
+    updateLegendLabels();
 }
 
 void PlotDock::styleSeries()
@@ -828,6 +831,48 @@ void PlotDock::styleSeries()
         m_compareKineticSeries->setName(tr("kinetic energy, %1").arg(m_compareModel));
         m_compareMomentumSeries->setName(tr("|momentum|, %1").arg(m_compareModel));
     }
+    updateLegendLabels();
+}
+
+void PlotDock::updateLegendLabels()
+{
+    // The legend is one row under the chart, and Qt cuts a label that does not fit its share of
+    // the row ("marb…"): a crowd's twelve marbles and a comparison's two keys no longer told
+    // which line was which. Where the full labels do not fit, the marbles get short ones ("#3",
+    // or a named marble's name); hovering a line still gives its full label.
+    if (!m_chartView)
+        return;
+    for (Track &t : m_tracks)
+        t.series->setName(marbleLabel(t.marble));
+    const QFontMetrics metrics(m_chart->legend()->font());
+    int needed = 0;
+    const auto entry = [&](const QString &label) { needed += metrics.horizontalAdvance(label) + 3 * metrics.height(); };
+    for (const Track &t : m_tracks)
+        entry(marbleLabel(t.marble));
+    for (const QLineSeries *key : {m_modelKey, m_compareKey}) {
+        if (key)
+            entry(key->name());
+    }
+    for (const QLineSeries *total : {m_kineticSeries, m_momentumSeries}) {
+        if (total && total->isVisible())
+            entry(total->name());
+    }
+    const int available = m_chartView->width() - 2 * metrics.height();
+    m_compactLegend = needed > available;
+    if (!m_compactLegend)
+        return;
+    for (Track &t : m_tracks) {
+        const auto i = static_cast<std::size_t>(t.marble);
+        const bool named = i < m_names.size() && !m_names[i].isEmpty();
+        t.series->setName(named ? m_names[i] : tr("#%1").arg(t.marble));
+    }
+}
+
+bool PlotDock::eventFilter(QObject *watched, QEvent *event)
+{
+    if (watched == m_chartView && event->type() == QEvent::Resize)
+        updateLegendLabels();
+    return QDockWidget::eventFilter(watched, event);
 }
 
 QList<int> PlotDock::wantedMarbles() const

@@ -132,6 +132,8 @@ public:
     QString describePoint(const QLineSeries *series, QPointF point) const;
     /// The text the hover label shows now ("" when nothing is hovered).
     QString hoverText() const;
+    /// True while the legend gives the marbles short labels ("#3"), the full ones not fitting.
+    bool legendIsCompact() const { return m_compactLegend; }
 
     /// Writes every held sample as CSV: frame,time_s,speed_<i>...,kinetic,momentum (17 significant
     /// digits; an empty field where a marble was not plotted), then speed_<i>_<model>...,
@@ -140,6 +142,9 @@ public:
     QString exportCsv(const QString &path) const;
     /// Saves the chart as a PNG of the chart view's size. Returns "" or a message naming the file.
     QString exportPng(const QString &path);
+
+protected:
+    bool eventFilter(QObject *watched, QEvent *event) override;
 
 private:
     /// One plotted marble: its speed history, aligned sample for sample with m_frames, and while
@@ -165,6 +170,7 @@ private:
     void removeCompareTotals();
     void showTotal(QLineSeries *series, bool shown);
     void styleSeries();
+    void updateLegendLabels();
     QList<int> wantedMarbles() const;
     QColor marbleColor(int marble) const;
     QString marbleLabel(int marble) const;
@@ -198,6 +204,7 @@ private:
 
     QChart *m_chart = nullptr;
     QChartView *m_chartView = nullptr;
+    bool m_compactLegend = false; // the marbles' legend labels are the short ones
     QValueAxis *m_axisX = nullptr;
     QValueAxis *m_axisSpeed = nullptr;
     QValueAxis *m_axisTotals = nullptr;

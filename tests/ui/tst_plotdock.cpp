@@ -44,6 +44,7 @@ private slots:
     void secondsAxis();
     void frameAxisTicksAreWholeFrames_data();
     void frameAxisTicksAreWholeFrames();
+    void legendLabelsFitTheRow();
     void totalsOnRequest();
     void hoverShowsExactValues_data();
     void hoverShowsExactValues();
@@ -573,6 +574,31 @@ void TestPlotDock::frameAxisTicksAreWholeFrames()
     dock.refreshChart();
     checkTicks(frames + 300);
     QCOMPARE_GE(xAxis->tickCount(), 4);
+}
+
+void TestPlotDock::legendLabelsFitTheRow()
+{
+    // A crowd's twelve plotted marbles and a comparison's two keys: at the width of a small
+    // window's plot the full labels do not fit one row (Qt would cut each to "marb…"), so the
+    // marbles are labelled "#3"; at a wide plot, and on hovering a line, "marble 3".
+    PlotDock dock;
+    World world = worldWith(20);
+    dock.reset(world);
+    dock.setCompareModel(QStringLiteral("exact"));
+    runFrames(dock, world, 5);
+    dock.resize(700, 350);
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    dock.refreshChart();
+    QTRY_VERIFY(dock.legendIsCompact());
+    QCOMPARE(dock.speedSeries(3)->name(), QStringLiteral("#3"));
+    dock.describePoint(dock.speedSeries(3), QPointF(2.0, 0.0));
+    QVERIFY2(dock.describePoint(dock.speedSeries(3), QPointF(2.0, 0.0)).contains(QStringLiteral("marble 3, speed")),
+             qPrintable(dock.describePoint(dock.speedSeries(3), QPointF(2.0, 0.0))));
+
+    dock.resize(3000, 350);
+    QTRY_VERIFY(!dock.legendIsCompact());
+    QCOMPARE(dock.speedSeries(3)->name(), QStringLiteral("marble 3"));
 }
 
 void TestPlotDock::totalsOnRequest()
