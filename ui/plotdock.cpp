@@ -840,10 +840,12 @@ void PlotDock::updateLegendLabels()
     // the row ("marb…"): a crowd's twelve marbles and a comparison's two keys no longer told
     // which line was which. Where the full labels do not fit, the marbles get short ones ("#3",
     // or a named marble's name); hovering a line still gives its full label.
-    if (!m_chartView)
-        return;
     for (Track &t : m_tracks)
         t.series->setName(marbleLabel(t.marble));
+    m_compactLegend = false;
+    // A view not on screen has no width worth measuring; it is measured again when shown.
+    if (!m_chartView || !m_chartView->isVisible())
+        return;
     const QFontMetrics metrics(m_chart->legend()->font());
     int needed = 0;
     const auto entry = [&](const QString &label) { needed += metrics.horizontalAdvance(label) + 3 * metrics.height(); };
@@ -870,7 +872,7 @@ void PlotDock::updateLegendLabels()
 
 bool PlotDock::eventFilter(QObject *watched, QEvent *event)
 {
-    if (watched == m_chartView && event->type() == QEvent::Resize)
+    if (watched == m_chartView && (event->type() == QEvent::Resize || event->type() == QEvent::Show))
         updateLegendLabels();
     return QDockWidget::eventFilter(watched, event);
 }
