@@ -16,6 +16,8 @@
 #include <QApplication>
 #include <QCloseEvent>
 #include <QComboBox>
+#include <QDialog>
+#include <QDialogButtonBox>
 #include <QDir>
 #include <QDockWidget>
 #include <QFileInfo>
@@ -23,6 +25,7 @@
 #include <QLabel>
 #include <QMenu>
 #include <QMenuBar>
+#include <QMessageBox>
 #include <QScreen>
 #include <QSettings>
 #include <QShowEvent>
@@ -358,6 +361,68 @@ void MainWindow::createMenus()
     m_viewMenu->addAction(m_zoomInAction);
     m_viewMenu->addAction(m_zoomOutAction);
     m_viewMenu->addSeparator();
+
+    QMenu *help = menuBar()->addMenu(tr("&Help"));
+    QAction *keys = help->addAction(tr("&Keyboard and Mouse"), this, &MainWindow::showKeysAndMouse);
+    keys->setObjectName(QStringLiteral("actionKeysAndMouse"));
+    keys->setShortcut(QKeySequence::HelpContents);
+    help->addSeparator();
+    QAction *about = help->addAction(tr("&About Marbles"), this, [this] {
+        QMessageBox::about(
+            this, tr("About Marbles"),
+            tr("<p><b>Marbles %1</b></p>"
+               "<p>A physics lesson you can play with: the marbles of chapter 11 of a game-programming "
+               "book, step by step (the <i>book</i> model, its shortcuts included), beside the exact "
+               "physics (collisions at their exact moment, momentum kept) and a game engine's "
+               "<i>impulse</i> model, so that a class can see where the shortcuts go wrong.</p>"
+               "<p>Running with Qt %2.</p>")
+                .arg(QCoreApplication::applicationVersion(), QString::fromLatin1(qVersion())));
+    });
+    about->setObjectName(QStringLiteral("actionAbout"));
+    QAction *aboutQt = help->addAction(tr("About &Qt"), qApp, &QApplication::aboutQt);
+    aboutQt->setObjectName(QStringLiteral("actionAboutQt"));
+}
+
+void MainWindow::showKeysAndMouse()
+{
+    // Built from the actions themselves, so the list is the shortcuts the window really has.
+    if (!m_keysDialog) {
+        m_keysDialog = new QDialog(this);
+        m_keysDialog->setObjectName(QStringLiteral("keysDialog"));
+        m_keysDialog->setWindowTitle(tr("Keyboard and Mouse"));
+        auto *layout = new QVBoxLayout(m_keysDialog);
+        auto *text = new QLabel(m_keysDialog);
+        text->setObjectName(QStringLiteral("keysText"));
+        text->setTextFormat(Qt::RichText);
+        layout->addWidget(text);
+        auto *buttons = new QDialogButtonBox(QDialogButtonBox::Close, m_keysDialog);
+        connect(buttons, &QDialogButtonBox::rejected, m_keysDialog, &QDialog::close);
+        layout->addWidget(buttons);
+    }
+    QString rows;
+    const auto row = [&rows](const QString &what, const QString &how) {
+        rows += QStringLiteral("<tr><td>%1</td><td>&nbsp;&nbsp;%2</td></tr>").arg(what.toHtmlEscaped(), how.toHtmlEscaped());
+    };
+    for (QMenu *menu : menuBar()->findChildren<QMenu *>(Qt::FindDirectChildrenOnly)) {
+        for (const QAction *action : menu->actions()) {
+            if (!action->shortcut().isEmpty()) {
+                // The menu text without its mnemonic marks ("&&" is a literal "&": "Select && Push").
+                QString text = action->text();
+                text.replace(QStringLiteral("&&"), QStringLiteral("\u0001")).remove(QLatin1Char('&'));
+                text.replace(QChar(1), QLatin1Char('&'));
+                row(text, action->shortcut().toString(QKeySequence::NativeText));
+            }
+        }
+    }
+    rows += QStringLiteral("<tr><td colspan=2>&nbsp;</td></tr>");
+    row(tr("Click a marble"), tr("push it: further from its centre pushes harder, away from the click"));
+    row(tr("Drag a marble or a pin"), tr("move it (paused or running)"));
+    row(tr("Right-click"), tr("add or delete here"));
+    row(tr("Wheel"), tr("zoom"));
+    m_keysDialog->findChild<QLabel *>(QStringLiteral("keysText"))->setText(QStringLiteral("<table>%1</table>").arg(rows));
+    m_keysDialog->show();
+    m_keysDialog->raise();
+    m_keysDialog->activateWindow();
 }
 
 void MainWindow::createToolBars()

@@ -9,6 +9,7 @@
 class QAction;
 class QActionGroup;
 class QComboBox;
+class QDialog;
 class QLabel;
 class QMenu;
 class QTimer;
@@ -124,6 +125,7 @@ private:
     void updateSlowLabel();
     void updateFrameLabelsShown();
     void fitFirstWindow();
+    void showKeysAndMouse();
     void updateEditActions();
 
     SceneDocument *m_document = nullptr;
@@ -166,6 +168,7 @@ private:
     QMenu *m_recentMenu = nullptr;
     QMenu *m_presetMenu = nullptr;
     QMenu *m_viewMenu = nullptr;
+    QDialog *m_keysDialog = nullptr; // Help > Keyboard and Mouse, made on first use
     QComboBox *m_speedBox = nullptr;
     QActionGroup *m_compareGroup = nullptr; ///< None, book, exact, impulse; data: -1 or the ModelKind
     QMenu *m_compareMenu = nullptr;

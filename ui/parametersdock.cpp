@@ -51,7 +51,6 @@ public:
     }
 };
 
-
 /// The text setParam() reads for a number: the shortest decimal that round-trips, C locale.
 QString numberText(double value)
 {

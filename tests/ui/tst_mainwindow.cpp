@@ -13,11 +13,15 @@
 #include "ui/stageview.h"
 
 #include <QAction>
+#include <QDialog>
 #include <QDir>
-#include <QFile>
-#include <QLineSeries>
 #include <QDoubleSpinBox>
+#include <QFile>
+#include <QKeySequence>
 #include <QLabel>
+#include <QLineSeries>
+#include <QMenu>
+#include <QMenuBar>
 #include <QScreen>
 #include <QSettings>
 #include <QStandardPaths>
@@ -101,6 +105,7 @@ private Q_SLOTS:
     void toolbarsFitTheWindow();
     void statusBarRepeatsTheFrameOnlyWithoutTheRunToolbar();
     void firstStartFitsASmallScreen();
+    void helpListsTheRealShortcuts();
 
 private:
     void makeWindow();
@@ -685,6 +690,39 @@ void TestMainWindow::firstStartFitsASmallScreen()
     QCOMPARE_LE(m_window->height(), available.height());
     QCOMPARE(toolbarActionsHidden(), QString());
     QVERIFY(m_window->toolBarBreak(m_window->findChild<QToolBar *>(QStringLiteral("toolsToolBar"))));
+}
+
+void TestMainWindow::helpListsTheRealShortcuts()
+{
+    // Help > Keyboard and Mouse lists every menu action that has a shortcut, with that shortcut
+    // (read from the actions, so it cannot fall behind them), and the mouse gestures.
+    QVERIFY(m_window->findChild<QAction *>(QStringLiteral("actionAbout")));
+    QVERIFY(m_window->findChild<QAction *>(QStringLiteral("actionAboutQt")));
+    auto *keys = m_window->findChild<QAction *>(QStringLiteral("actionKeysAndMouse"));
+    QVERIFY(keys);
+    QCOMPARE(keys->shortcut(), QKeySequence(QKeySequence::HelpContents));
+    keys->trigger();
+    auto *dialog = m_window->findChild<QDialog *>(QStringLiteral("keysDialog"));
+    QVERIFY(dialog && dialog->isVisible());
+    const QString text = dialog->findChild<QLabel *>(QStringLiteral("keysText"))->text();
+    int listed = 0;
+    for (const QMenu *menu : m_window->menuBar()->findChildren<QMenu *>(Qt::FindDirectChildrenOnly)) {
+        for (const QAction *action : menu->actions()) {
+            if (action->shortcut().isEmpty())
+                continue;
+            ++listed;
+            const QString row = QStringLiteral("<td>&nbsp;&nbsp;%1</td></tr>")
+                                    .arg(action->shortcut().toString(QKeySequence::NativeText).toHtmlEscaped());
+            QVERIFY2(text.contains(row), qPrintable(row));
+        }
+    }
+    QCOMPARE_GE(listed, 10);
+    QVERIFY(text.contains(QStringLiteral("<td>Play</td><td>&nbsp;&nbsp;Space</td>")));
+    QVERIFY(text.contains(QStringLiteral("<td>Undo</td><td>&nbsp;&nbsp;Ctrl+Z</td>")));
+    QVERIFY2(text.contains(QStringLiteral("<td>Select &amp; Push</td><td>&nbsp;&nbsp;S</td>")), qPrintable(text));
+    QVERIFY(text.contains(QStringLiteral("Click a marble")));
+    dialog->close();
+    QVERIFY(!dialog->isVisible());
 }
 
 QString TestMainWindow::toolbarActionsHidden() const
