@@ -848,7 +848,9 @@ void PlotDock::updateLegendLabels()
         return;
     const QFontMetrics metrics(m_chart->legend()->font());
     int needed = 0;
-    const auto entry = [&](const QString &label) { needed += metrics.horizontalAdvance(label) + 3 * metrics.height(); };
+    // Each entry is its label, its marker (about a line high) and Qt 6.4's margins and gap (about
+    // 10 px): twelve "marble N" fit a 1040-px plot, fourteen with the comparison's keys do not.
+    const auto entry = [&](const QString &label) { needed += metrics.horizontalAdvance(label) + metrics.height() + 10; };
     for (const Track &t : m_tracks)
         entry(marbleLabel(t.marble));
     for (const QLineSeries *key : {m_modelKey, m_compareKey}) {
