@@ -70,6 +70,13 @@ QLabel *explanationLabel(const QString &text, QWidget *parent)
     return label;
 }
 
+/// A field's explanation line back to its explanation, after a refusal was shown there.
+void explainAgain(QLabel *help)
+{
+    help->setText(help->property("explanation").toString());
+    help->setStyleSheet(QString());
+}
+
 constexpr int kModelRole = Qt::UserRole; ///< model box item data: the setParam() value
 
 // Tooltips for fields the current model ignores: they say why the field is disabled.
@@ -105,6 +112,7 @@ void ParametersDock::buildUi()
         form->addRow(labelWidget, field);
         auto *help = explanationLabel(explanation, page);
         help->setObjectName(field->objectName() + QStringLiteral("Help"));
+        help->setProperty("explanation", explanation);
         form->addRow(help);
         // A number refused by the field (or by one of its boxes) is explained in this line.
         QList<QAbstractSpinBox *> spins = field->findChildren<QAbstractSpinBox *>();
@@ -120,10 +128,7 @@ void ParametersDock::buildUi()
                     help->setStyleSheet(QStringLiteral("QLabel { color: #c62828; }"));
                 }
             });
-            const auto explain = [help, explanation] {
-                help->setText(explanation);
-                help->setStyleSheet(QString());
-            };
+            const auto explain = [help] { explainAgain(help); };
             if (auto *real = qobject_cast<QDoubleSpinBox *>(spin))
                 connect(real, &QDoubleSpinBox::valueChanged, this, explain);
             else if (auto *whole = qobject_cast<QSpinBox *>(spin))
@@ -261,6 +266,11 @@ void ParametersDock::setParams(const Params &params)
     const QSignalBlocker b1(m_massScale), b2(m_friction), b3(m_zeroThreshold), b4(m_pushScale), b5(m_frameMs),
         b6(m_model), b7(m_restitution), b8(m_gravityX), b9(m_gravityY), b10(m_substeps), b11(m_shortCircuit);
 
+    // Values set from the scene (opened, undone, edited elsewhere) replace any refusal shown.
+    for (QLabel *help : findChildren<QLabel *>()) {
+        if (help->property("explanation").isValid())
+            explainAgain(help);
+    }
     m_model->setCurrentIndex(m_model->findData(QString::fromLatin1(modelName(params.model))));
     m_currentModel = params.model;
     // The friction range depends on the model: set it before the value so the value is not clamped.

@@ -341,6 +341,12 @@ void TestParametersDock::refusalIsExplainedUntilTheNextEdit()
     QCOMPARE(spy.last().at(1).toString(), QStringLiteral("0.3"));
     QCOMPARE(help->text(), explanation);
 
+    // A refusal shown when the scene's values come in (an undo, another scene) gives way to them.
+    typeInto(friction, QStringLiteral("2"));
+    QVERIFY(help->text().contains(QStringLiteral("2 was refused")));
+    dock.setParams(paramsWithModel(QStringLiteral("exact")));
+    QCOMPARE(help->text(), explanation);
+
     // The mass scale's upper end: 5000 is not cut to 500.
     auto *massScale = dock.findChild<QDoubleSpinBox *>(QStringLiteral("massScaleEdit"));
     typeInto(massScale, QStringLiteral("5000"));
