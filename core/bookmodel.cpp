@@ -404,12 +404,7 @@ void BookModel::prepare(const World &world)
         valid = differ == 0;
     }
     // Same radii as at the last build: same largest radius.
-    double rMax = m_gridRMax;
-    if (!valid) {
-        rMax = 0.0;
-        for (double r : world.radius)
-            rMax = std::max(rMax, r);
-    }
+    const double rMax = valid ? m_gridRMax : largestOf(world.radius);
     const double contact = std::max(2.0 * rMax, 1e-6);
 
     if (m_usePinGrid) {

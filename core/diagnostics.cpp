@@ -10,9 +10,7 @@ double maxOverlap(const World &world)
 {
     const int n = world.marbleCount();
     double worst = 0.0;
-    double rMax = 0.0;
-    for (double r : world.radius)
-        rMax = std::max(rMax, r);
+    const double rMax = largestOf(world.radius);
 
     if (world.stage.walls) {
         for (int i = 0; i < n; ++i) {
