@@ -340,10 +340,10 @@ int stressCommand(const std::vector<std::string> &args)
 
     std::vector<StressRow> rows = stressRows(quick);
     if (!only.empty()) {
+        const std::string example = rows.front().name;
         std::erase_if(rows, [&only](const StressRow &row) { return row.name.find(only) == std::string::npos; });
         if (rows.empty())
-            throw InvalidInput{"stress: --only '" + only + "' matches no row's name (e.g. '"
-                               + stressRows(quick).front().name + "')"};
+            throw InvalidInput{"stress: --only '" + only + "' matches no row's name (e.g. '" + example + "')"};
     }
 
     std::printf("marbles-cli stress%s: each row states its expectation; exit 0 only if all are met\n",

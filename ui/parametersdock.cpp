@@ -252,12 +252,9 @@ void ParametersDock::buildUi()
 
 QString ParametersDock::refusalText(const QAbstractSpinBox *spin, const Refusing &box, double refused) const
 {
-    if (spin == m_friction && shownModel() != ModelKind::Book && refused >= 1.0) {
-        QLocale loc = spin->locale();
-        loc.setNumberOptions(loc.numberOptions() | QLocale::OmitGroupSeparator);
+    if (spin == m_friction && shownModel() != ModelKind::Book && refused >= 1.0)
         return tr("Exact and impulse need friction below 1: %1 was refused, it stays %2 (book: up to %3).")
-            .arg(loc.toString(refused, 'g', 12), box.shown(box.current()), box.shown(kBookFrictionMax));
-    }
+            .arg(refusedNumber(refused, spin->locale()), box.shown(box.current()), box.shown(kBookFrictionMax));
     return refusalMessage(box, refused, spin->locale());
 }
 

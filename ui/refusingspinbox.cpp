@@ -4,11 +4,16 @@
 
 namespace marbles {
 
-QString refusalMessage(const Refusing &box, double refused, const QLocale &locale)
+QString refusedNumber(double refused, const QLocale &locale)
 {
     QLocale loc = locale;
     loc.setNumberOptions(loc.numberOptions() | QLocale::OmitGroupSeparator);
-    const QString typed = loc.toString(refused, 'g', 12);
+    return loc.toString(refused, 'g', 12);
+}
+
+QString refusalMessage(const Refusing &box, double refused, const QLocale &locale)
+{
+    const QString typed = refusedNumber(refused, locale);
     const QString kept = box.shown(box.current());
     if (refused > box.high())
         return QCoreApplication::translate("marbles", "%1 is above this field's most (%2): it stays %3.")

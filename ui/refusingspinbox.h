@@ -98,6 +98,9 @@ public:
     QString shown(double value) const override { return textFromValue(static_cast<int>(value)) + suffix(); }
 };
 
+/// A refused number as the messages write it: as typed, without group separators ("5000").
+QString refusedNumber(double refused, const QLocale &locale);
+
 /// Why `refused` was not taken by `box`, short enough for two lines of a dock: "5000 is above
 /// this field's most (1000 per px): it stays 1.25 per px."
 QString refusalMessage(const Refusing &box, double refused, const QLocale &locale);
