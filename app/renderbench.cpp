@@ -8,10 +8,12 @@
 
 #include "core/presets.h"
 #include "ui/mainwindow.h"
+#include "ui/plotdock.h"
 #include "ui/scenedocument.h"
 #include "ui/stageview.h"
 
 #include <QApplication>
+#include <QChartView>
 #include <QCommandLineParser>
 #include <QElapsedTimer>
 #include <QGraphicsScene>
@@ -63,6 +65,9 @@ struct Result {
     int hitMarbles = 0; ///< marbles with a Figure 11.12 overlay at the end of the run
     std::size_t historyFrames = 0; ///< frames the step-back history keeps at the end of the run
     std::size_t historyBytes = 0;
+    double plotRefreshMs = -1.0; ///< median refresh of the Plot dock, chart drawn (main window only)
+    int plotLines = 0;           ///< lines the Plot dock draws
+    qsizetype plotSamples = 0;   ///< samples (frames) each line holds
 };
 
 /// Wall-clock and processor time together: on a shared machine the wall clock also counts
@@ -169,6 +174,7 @@ Result measure(int n, const Options &options)
         paintFrame(view);
     }
 
+    Result result;
     std::vector<double> physics;
     std::vector<double> paint;
     std::vector<double> frame;
@@ -187,6 +193,22 @@ Result measure(int n, const Options &options)
     }
     const qint64 paints = view->paintCount() - paintsBefore;
 
+    // The Plot dock's refresh, which its timer runs about five times a second while the run
+    // plays: the buffered samples handed to the chart and the chart drawn.
+    if (options.mainWindow) {
+        PlotDock *plot = window->plotDock();
+        std::vector<double> refresh;
+        for (int f = 0; f < std::min(options.frames, 30); ++f) {
+            const Stopwatch clock;
+            plot->refreshChart();
+            plot->chartView()->viewport()->repaint();
+            refresh.push_back(clock.wallMs());
+        }
+        result.plotRefreshMs = median(refresh);
+        result.plotLines = static_cast<int>(plot->plottedMarbles().size());
+        result.plotSamples = plot->sampleCount();
+    }
+
     std::vector<double> paintOnly;
     std::vector<double> paintOnlyCpu;
     for (int f = 0; f < options.frames; ++f) {
@@ -196,7 +218,6 @@ Result measure(int n, const Options &options)
         paintOnlyCpu.push_back(clock.cpuMs());
     }
 
-    Result result;
     result.n = n;
     result.items = static_cast<int>(view->scene()->items().size());
     result.viewport = view->viewport()->size();
@@ -354,7 +375,7 @@ int main(int argc, char *argv[])
     QTextStream out(stdout);
     if (options.csv) {
         out << "n,vectors,vectors_drawn,hit_marbles,scale,trails,window,items,antialias,frames,model_ms,physics_ms,paint_ms,frame_ms,paint_only_ms,"
-               "frame_cpu_ms,paint_only_cpu_ms,physics_paint_fps,paint_fps,paints_per_frame\n";
+               "frame_cpu_ms,paint_only_cpu_ms,physics_paint_fps,paint_fps,paints_per_frame,plot_refresh_ms\n";
     } else {
         out << "marbles-renderbench: platform " << QGuiApplication::platformName() << ", "
             << (options.mainWindow ? "main window " : "stage view ") << options.size.width() << "x"
@@ -374,7 +395,8 @@ int main(int argc, char *argv[])
                 << QString::number(r.frameMs, 'f', 3) << "," << QString::number(r.paintOnlyMs, 'f', 3) << ","
                 << QString::number(r.frameCpuMs, 'f', 3) << "," << QString::number(r.paintOnlyCpuMs, 'f', 3) << ","
                 << QString::number(fps(r.frameMs), 'f', 1) << "," << QString::number(fps(r.paintOnlyMs), 'f', 1)
-                << "," << QString::number(r.paintsPerFrame, 'f', 2) << "\n";
+                << "," << QString::number(r.paintsPerFrame, 'f', 2) << ","
+                << (r.plotRefreshMs >= 0.0 ? QString::number(r.plotRefreshMs, 'f', 3) : QString()) << "\n";
         } else {
             out << "n=" << r.n << " vectors=" << (options.vectors ? "on" : "off")
                 << (options.vectors && !r.vectorsDrawn ? " (too short to draw at this zoom)" : "") << " hit="
@@ -395,6 +417,11 @@ int main(int argc, char *argv[])
                 << "  paints per frame " << QString::number(r.paintsPerFrame, 'f', 2) << "\n"
                 << "  step-back history " << r.historyFrames << " frames ("
                 << QString::number(static_cast<double>(r.historyBytes) / (1024.0 * 1024.0), 'f', 1) << " MiB)\n";
+            if (r.plotRefreshMs >= 0.0) {
+                out << "  plot refresh " << QString::number(r.plotRefreshMs, 'f', 2) << " ms (" << r.plotLines
+                    << " lines of " << r.plotSamples << " samples, chart drawn; every "
+                    << PlotDock::kRefreshIntervalMs << " ms while running)\n";
+            }
         }
         out.flush();
     }
