@@ -109,8 +109,18 @@ void appendThinned(QList<QPointF> &out, qsizetype n, XFn x, YFn y, double &yMin,
     }
 }
 
-/// A range a little wider than [lo, hi], never empty, with readable tick values.
-void setNiceRange(QValueAxis *axis, double lo, double hi)
+/// An axis's range and tick count.
+struct AxisRange {
+    double min = 0.0;
+    double max = 1.0;
+    int ticks = kAxisTicks;
+};
+
+/// A range a little wider than [lo, hi], never empty, with readable tick values: what
+/// QValueAxis::applyNiceNumbers() makes of it from kAxisTicks ticks. Worked out on `scratch`, an
+/// axis of no chart, so that the chart's axes change only when the outcome does: every change of
+/// a chart axis's range recomputes the geometry of every line on it.
+AxisRange niceRange(QValueAxis *scratch, double lo, double hi)
 {
     if (!(lo <= hi)) {
         lo = 0.0;
@@ -121,21 +131,30 @@ void setNiceRange(QValueAxis *axis, double lo, double hi)
         lo -= lo == 0.0 ? 0.0 : pad;
         hi += pad;
     }
-    axis->setRange(lo, hi);
-    axis->applyNiceNumbers();
+    scratch->setTickCount(kAxisTicks);
+    scratch->setRange(lo, hi);
+    scratch->applyNiceNumbers();
+    return {scratch->min(), scratch->max(), scratch->tickCount()};
 }
 
 /// Frames are whole numbers: where the nice range would put ticks less than a frame apart (the
 /// first few frames of a run), the range is widened to whole frames with a tick at each.
-void setWholeTicks(QValueAxis *axis)
+AxisRange wholeTicks(AxisRange range)
 {
-    const int ticks = axis->tickCount();
-    if (ticks < 2 || (axis->max() - axis->min()) / (ticks - 1) >= 1.0)
-        return;
-    const double lo = std::floor(axis->min());
-    const double hi = std::max(std::ceil(axis->max()), lo + 1.0);
-    axis->setRange(lo, hi);
-    axis->setTickCount(static_cast<int>(hi - lo) + 1);
+    if (range.ticks < 2 || (range.max - range.min) / (range.ticks - 1) >= 1.0)
+        return range;
+    const double lo = std::floor(range.min);
+    const double hi = std::max(std::ceil(range.max), lo + 1.0);
+    return {lo, hi, static_cast<int>(hi - lo) + 1};
+}
+
+/// Gives `axis` `range`, touching only what differs.
+void applyRange(QValueAxis *axis, const AxisRange &range)
+{
+    if (axis->min() != range.min || axis->max() != range.max)
+        axis->setRange(range.min, range.max);
+    if (axis->tickCount() != range.ticks)
+        axis->setTickCount(range.ticks);
 }
 
 } // namespace
@@ -200,6 +219,7 @@ PlotDock::PlotDock(QWidget *parent)
     m_axisSpeed->setLabelFormat(QStringLiteral("%g"));
     m_axisSpeed->setTitleText(tr("speed (px/frame)"));
     m_axisTotals = new QValueAxis(m_chart);
+    m_rangeScratch = new QValueAxis(this); // never added to the chart (niceRange())
     m_axisTotals->setLabelFormat(QStringLiteral("%g"));
     m_axisTotals->setVisible(false);
     m_chart->addAxis(m_axisX, Qt::AlignBottom);
@@ -534,15 +554,10 @@ void PlotDock::refreshChart()
         refreshTotal(m_compareMomentumSeries, m_compareMomentum, m_showMomentum->isChecked());
 
     // Speeds and the totals are never negative: both axes start at zero.
-    m_axisX->setTickCount(kAxisTicks); // the nice numbers start from the same tick count each time
-    if (n > 0)
-        setNiceRange(m_axisX, x(0), x(n - 1));
-    else
-        setNiceRange(m_axisX, 0.0, xOf(100));
-    if (!m_timeInSeconds)
-        setWholeTicks(m_axisX);
-    setNiceRange(m_axisSpeed, 0.0, std::isfinite(speedMax) ? std::max(speedMax, 0.0) : 1.0);
-    setNiceRange(m_axisTotals, 0.0, std::isfinite(totalMax) ? std::max(totalMax, 0.0) : 1.0);
+    const AxisRange time = n > 0 ? niceRange(m_rangeScratch, x(0), x(n - 1)) : niceRange(m_rangeScratch, 0.0, xOf(100));
+    applyRange(m_axisX, m_timeInSeconds ? time : wholeTicks(time));
+    applyRange(m_axisSpeed, niceRange(m_rangeScratch, 0.0, std::isfinite(speedMax) ? std::max(speedMax, 0.0) : 1.0));
+    applyRange(m_axisTotals, niceRange(m_rangeScratch, 0.0, std::isfinite(totalMax) ? std::max(totalMax, 0.0) : 1.0));
     m_dirty = false;
 }
 

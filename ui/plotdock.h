@@ -208,6 +208,7 @@ private:
     QValueAxis *m_axisX = nullptr;
     QValueAxis *m_axisSpeed = nullptr;
     QValueAxis *m_axisTotals = nullptr;
+    QValueAxis *m_rangeScratch = nullptr; ///< works out nice ranges away from the chart
     QLineSeries *m_kineticSeries = nullptr;
     QLineSeries *m_momentumSeries = nullptr;
     QLineSeries *m_compareKineticSeries = nullptr;  ///< while comparing
