@@ -368,7 +368,8 @@ void MarbleFieldItem::paintVectors(QPainter *painter, const QTransform &toDevice
     const int n = std::min(w.marbleCount(), static_cast<int>(w.lastHit.size()));
     // Zoomed out, VectorItem's 4-px and 2-px pens would be thicker than the marbles themselves
     // and bury the stage: the widths shrink with the zoom, down to 1 px (which the raster engine
-    // also draws far faster than thick lines). Heads shorter than kMinHeadDevicePx would be a
+    // also draws far faster than thick lines), in whole pixels: a 1.2-px pen looks like a 1-px
+    // one but goes through the stroker (2,000 marbles fitted to the window: paint 3.65 -> 2.98 ms). Heads shorter than kMinHeadDevicePx would be a
     // blot, not an arrow: they are left out, the colours still tell the vectors apart.
     const double widthScale = std::clamp(scale, 0.25, 1.0);
     const bool heads = kArrowHeadPx * scale >= kMinHeadDevicePx;
@@ -418,14 +419,14 @@ void MarbleFieldItem::paintVectors(QPainter *painter, const QTransform &toDevice
     drawLines(painter, red);
 
     pen.setColor(kVectorBlue);
-    pen.setWidthF(std::max(1.0, 4.0 * widthScale));
+    pen.setWidthF(std::max(1.0, std::round(4.0 * widthScale)));
     pen.setCapStyle(Qt::FlatCap);
     painter->setPen(pen);
     drawLines(painter, blue);
     fillTriangles(painter, blueHeads, kVectorBlue);
 
     pen.setColor(kVectorGreen);
-    pen.setWidthF(std::max(1.0, 2.0 * widthScale));
+    pen.setWidthF(std::max(1.0, std::round(2.0 * widthScale)));
     painter->setPen(pen);
     drawLines(painter, green);
     fillTriangles(painter, greenHeads, kVectorGreen);
