@@ -124,6 +124,10 @@ public:
 
     /// Hands the buffered samples to the chart now (the timer does this ~5 times a second).
     void refreshChart();
+    /// Points a line hands the chart at most: about one per pixel of the plot's width, between
+    /// 200 and 2,000 (2,000 before the chart has a size). Longer lines are thinned to their
+    /// lowest and highest samples per two pixel columns.
+    qsizetype pointsPerLine() const;
     /// The chart view (for exporting and for tests).
     QChartView *chartView() const;
     /// The line of `marble`, or nullptr when it is not plotted.

@@ -42,6 +42,7 @@ private slots:
     void liveRefresh();
     void refreshMovesAxesOnlyWhenTheirRangeChanges();
     void thinningKeepsSpikes();
+    void thinningFollowsThePlotWidth();
     void secondsAxis();
     void frameAxisTicksAreWholeFrames_data();
     void frameAxisTicksAreWholeFrames();
@@ -547,6 +548,43 @@ void TestPlotDock::thinningKeepsSpikes()
     for (const QPointF &p : line->points())
         found = found || (p.x() == 2501.0 && p.y() == 40.0);
     QVERIFY(found);
+}
+
+void TestPlotDock::thinningFollowsThePlotWidth()
+{
+    // A line never hands the chart many more points than the plot has pixel columns (each point
+    // costs the chart a stroke and a draw), keeps its spikes, and is thinned again for a wider plot.
+    PlotDock dock;
+    dock.resize(500, 350);
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    World world = worldWith(1);
+    dock.reset(world);
+    const int frames = 4000;
+    for (int f = 1; f <= frames; ++f) {
+        world.frame = f;
+        world.velocity[0] = {f == 1234 ? 40.0 : 1.0 + 0.5 * (f % 2), 0.0};
+        dock.appendFrame(world);
+    }
+    dock.refreshChart();
+    QLineSeries *line = dock.speedSeries(0);
+    const double width = dock.chartView()->chart()->plotArea().width() * dock.chartView()->devicePixelRatioF();
+    QCOMPARE_GT(width, 100.0);
+    QCOMPARE_LE(dock.pointsPerLine(), std::max(qsizetype(std::ceil(width)), qsizetype(200)));
+    QCOMPARE_LE(line->count(), dock.pointsPerLine());
+    QCOMPARE_GE(line->count(), dock.pointsPerLine() / 2);
+    bool found = false;
+    for (const QPointF &p : line->points())
+        found = found || (p.x() == 1234.0 && p.y() == 40.0);
+    QVERIFY(found);
+    // Every bucket keeps its lowest and highest sample: the line still spans 1 to 1.5 throughout.
+    QCOMPARE_LE(std::abs(line->at(1).y() - line->at(0).y()), 0.5 + 1e-12);
+    QCOMPARE_GE(std::abs(line->at(1).y() - line->at(0).y()), 0.5 - 1e-12);
+
+    const qsizetype narrow = line->count();
+    dock.resize(1100, 350);
+    QTRY_COMPARE_GT_WITH_TIMEOUT(line->count(), narrow, 5 * PlotDock::kRefreshIntervalMs);
+    QCOMPARE_LE(line->count(), dock.pointsPerLine());
 }
 
 void TestPlotDock::secondsAxis()
