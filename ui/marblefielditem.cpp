@@ -409,7 +409,7 @@ void MarbleFieldItem::paintVectors(QPainter *painter, const QTransform &toDevice
     }
     if (red.empty())
         return;
-    painter->setRenderHint(QPainter::Antialiasing, antialias);
+    painter->setRenderHint(QPainter::Antialiasing, antialias && red.size() <= static_cast<std::size_t>(kMaxSmoothVectors));
     painter->setBrush(Qt::NoBrush);
 
     QPen pen(kVectorRed);

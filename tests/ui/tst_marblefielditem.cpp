@@ -114,6 +114,8 @@ private Q_SLOTS:
     void vectorsFollowLastHit();
     void vectorsOnlyWhenLegible_data();
     void vectorsOnlyWhenLegible();
+    void manyVectorsAreSharp_data();
+    void manyVectorsAreSharp();
     void tinyMarblesAreWholePixelSquares();
     void smallMarblesAreRoundInSmallCrowds();
     void selectionAndHeldRings();
@@ -235,6 +237,65 @@ void TestMarbleFieldItem::vectorsOnlyWhenLegible()
         QCOMPARE_LE(hueDistance(seen, QColor(0x00, 0x55, 0xff)), 5);
     else
         QCOMPARE(seen, kBackground);
+    delete item;
+}
+
+void TestMarbleFieldItem::manyVectorsAreSharp_data()
+{
+    QTest::addColumn<int>("side");
+    QTest::addColumn<bool>("smooth");
+    // side x side marbles, each with its vectors on screen.
+    QTest::addRow("few: smooth") << 8 << true;
+    QTest::addRow("crowd: sharp") << 32 << false;
+}
+
+void TestMarbleFieldItem::manyVectorsAreSharp()
+{
+    // Up to kMaxSmoothVectors marbles' vectors are antialiased: a slanted red line has pixels
+    // part red, part background. Past it they are drawn with sharp pixels: pure red or untouched.
+    QFETCH(int, side);
+    QFETCH(bool, smooth);
+    QCOMPARE_EQ(side * side <= MarbleFieldItem::kMaxSmoothVectors, smooth);
+    World w;
+    w.stage = {3200, 3200, true};
+    HitRecord hit;
+    hit.frame = 1;
+    hit.normal = {0.6, 0.8};     // red: down and to the right, and up and to the left
+    hit.velocityIn = {-1.0, 0.0}; // blue: to the left
+    hit.velocityOut = {0.0, -1.0}; // green: up
+    for (int row = 0; row < side; ++row) {
+        for (int col = 0; col < side; ++col) {
+            w.addMarble({50.0 + 100.0 * col, 50.0 + 100.0 * row}, 1.0);
+            w.lastHit.back() = hit;
+        }
+    }
+    auto *item = new MarbleFieldItem(&w);
+    item->setVectorsVisible(true);
+    QVERIFY(item->isAntialiased());
+    const double scale = 0.25; // vectors 31 stage px = 7.75 device px: legible, no heads
+    const QImage image = render(item, QSize(800, 800), scale);
+    // The red line's lower-right half of each marble, where no other vector goes: 2 to 7 px out.
+    int red = 0;
+    int blended = 0;
+    for (int k = 0; k < side * side; ++k) {
+        const QPointF c(w.position[static_cast<std::size_t>(k)].x * scale, w.position[static_cast<std::size_t>(k)].y * scale);
+        for (int y = static_cast<int>(c.y()) + 2; y <= static_cast<int>(c.y()) + 7; ++y) {
+            for (int x = static_cast<int>(c.x()) + 1; x <= static_cast<int>(c.x()) + 6; ++x) {
+                const QColor colour = image.pixelColor(x, y);
+                if (colour == kBackground)
+                    continue;
+                if (colour == QColor(0xe0, 0x00, 0x00))
+                    ++red;
+                else
+                    ++blended;
+            }
+        }
+    }
+    QCOMPARE_GT(red + blended, 3 * side * side);
+    if (smooth)
+        QCOMPARE_GT(blended, side * side);
+    else
+        QCOMPARE(blended, 0);
     delete item;
 }
 
