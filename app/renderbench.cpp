@@ -7,6 +7,7 @@
 // Runs on any Qt platform: QT_QPA_PLATFORM=offscreen marbles-renderbench, or under xvfb-run.
 
 #include "core/presets.h"
+#include "ui/comparerun.h"
 #include "ui/mainwindow.h"
 #include "ui/plotdock.h"
 #include "ui/scenedocument.h"
@@ -14,6 +15,7 @@
 
 #include <QApplication>
 #include <QChartView>
+#include <QXYSeries>
 #include <QCommandLineParser>
 #include <QElapsedTimer>
 #include <QGraphicsScene>
@@ -24,6 +26,7 @@
 #include <cstdio>
 #include <ctime>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace {
@@ -43,6 +46,7 @@ struct Options {
     std::uint64_t seed = 1;
     bool overrideModel = false;
     ModelKind model = ModelKind::Exact;
+    std::optional<ModelKind> compare; ///< a second model run beside the first (main window only)
     bool csv = false;
 };
 
@@ -66,7 +70,7 @@ struct Result {
     std::size_t historyFrames = 0; ///< frames the step-back history keeps at the end of the run
     std::size_t historyBytes = 0;
     double plotRefreshMs = -1.0; ///< median refresh of the Plot dock, chart drawn (main window only)
-    int plotLines = 0;           ///< lines the Plot dock draws
+    int plotLines = 0;           ///< lines the Plot dock draws (a comparison's included)
     qsizetype plotSamples = 0;   ///< samples (frames) each line holds
 };
 
@@ -160,6 +164,8 @@ Result measure(int n, const Options &options)
         top = view;
     }
     document->resetScene(world);
+    if (options.compare)
+        window->compareRun()->setModel(*options.compare);
     view->setVectorsVisible(options.vectors);
     view->setTrailsVisible(options.trails);
     top->resize(options.size);
@@ -205,7 +211,10 @@ Result measure(int n, const Options &options)
             refresh.push_back(clock.wallMs());
         }
         result.plotRefreshMs = median(refresh);
-        result.plotLines = static_cast<int>(plot->plottedMarbles().size());
+        for (const QAbstractSeries *series : plot->chartView()->chart()->series()) {
+            const auto *line = qobject_cast<const QXYSeries *>(series);
+            result.plotLines += line && line->count() > 0 ? 1 : 0;
+        }
         result.plotSamples = plot->sampleCount();
     }
 
@@ -276,9 +285,13 @@ bool parseOptions(const QCoreApplication &app, Options &options, QString &error)
     const QCommandLineOption modelOption(QStringLiteral("model"),
                                          QStringLiteral("Physics model (default: the crowd's own, exact)."),
                                          QStringLiteral("book|impulse|exact"));
+    const QCommandLineOption compareOption(
+        QStringLiteral("compare"),
+        QStringLiteral("Compare with a second model, its marbles drawn as ghosts (Simulation > Compare With; needs --window main)."),
+        QStringLiteral("book|impulse|exact"));
     const QCommandLineOption csvOption(QStringLiteral("csv"), QStringLiteral("Print CSV rows instead of text."));
     parser.addOptions({countOption, framesOption, warmupOption, vectorsOption, trailsOption, zoomOption, sizeOption, windowOption, movingOption,
-                       seedOption, modelOption, csvOption});
+                       seedOption, modelOption, compareOption, csvOption});
     parser.process(app);
 
     bool ok = true;
@@ -352,6 +365,18 @@ bool parseOptions(const QCoreApplication &app, Options &options, QString &error)
             return false;
         }
     }
+    if (parser.isSet(compareOption)) {
+        ModelKind compare = ModelKind::Exact;
+        if (!parseModelName(parser.value(compareOption).toStdString(), compare)) {
+            error = QStringLiteral("--compare: must be book, impulse or exact");
+            return false;
+        }
+        if (!options.mainWindow) {
+            error = QStringLiteral("--compare: needs --window main (the comparison belongs to the main window)");
+            return false;
+        }
+        options.compare = compare;
+    }
     options.csv = parser.isSet(csvOption);
     return true;
 }
@@ -380,7 +405,10 @@ int main(int argc, char *argv[])
         out << "marbles-renderbench: platform " << QGuiApplication::platformName() << ", "
             << (options.mainWindow ? "main window " : "stage view ") << options.size.width() << "x"
             << options.size.height() << ", crowd seed " << options.seed << ", " << options.frames
-            << " frames per count (medians)\n";
+            << " frames per count (medians)";
+        if (options.compare)
+            out << ", compared with " << QString::fromUtf8(modelName(*options.compare).data(), static_cast<qsizetype>(modelName(*options.compare).size()));
+        out << "\n";
     }
     out.flush();
     for (int n : options.counts) {
