@@ -430,15 +430,18 @@ std::vector<Row> scaleBench(int frames, int repeats, int maxN)
     return rows;
 }
 
+const Row *findRow(const std::vector<Row> &rows, const std::string &scene, const std::string &model)
+{
+    for (const Row &r : rows) {
+        if (r.scene == scene && r.model == model)
+            return &r;
+    }
+    return nullptr;
+}
+
 void printScaleSummary(const std::vector<Row> &rows, int maxN)
 {
-    auto find = [&](const std::string &scene, const std::string &model) -> const Row * {
-        for (const Row &r : rows) {
-            if (r.scene == scene && r.model == model)
-                return &r;
-        }
-        return nullptr;
-    };
+    auto find = [&](const std::string &scene, const std::string &model) { return findRow(rows, scene, model); };
     // The 1%-moving crowd does not stay at 1 %: a marble that is hit starts to move, and without
     // friction nothing stops again. Its mean moving share tells how far below the all-moving
     // cost a run can go when cost follows the moving marbles.
@@ -455,6 +458,58 @@ void printScaleSummary(const std::vector<Row> &rows, int maxN)
                     small && large && small != large ? formatNumber(large->ms / small->ms, "%.1f").c_str() : "n/a",
                     large && sparse ? formatNumber(large->ms / sparse->ms, "%.1f").c_str() : "n/a",
                     sparse ? (formatNumber(100.0 * sparse->movingShare, "%.1f") + " %").c_str() : "n/a");
+    }
+}
+
+// Issue 5's targets for the crowd at 100k marbles, each with the figure this run measured and
+// whether it meets it ("n/a" when the run has no such row). The bench only reports: its exit code
+// does not depend on the verdicts.
+void printScaleTargets(const std::vector<Row> &rows, int frames, int maxN)
+{
+    constexpr int targetN = 100000;
+    constexpr int targetFrames = 220;
+    if (largestCrowd(maxN) < targetN) {
+        std::printf("\nissue 5's targets are for %d marbles: this run stops at %d (--max-n)\n", targetN,
+                    largestCrowd(maxN));
+        return;
+    }
+    std::printf("\nissue 5's targets at %d marbles (one core, %d frames%s):\n", targetN, targetFrames,
+                frames == targetFrames ? "" : ("; this run: " + std::to_string(frames)).c_str());
+    std::printf("%-46s %14s  %s\n", "target", "measured", "verdict");
+    const std::string all = crowdName(targetN);
+    auto line = [](const std::string &what, const Row *row, double value, const std::string &text, bool met) {
+        std::printf("%-46s %14s  %s\n", what.c_str(), row && !std::isnan(value) ? text.c_str() : "n/a",
+                    !row || std::isnan(value) ? "n/a" : met ? "met" : "NOT MET");
+    };
+    auto msTarget = [&](const std::string &label, const char *model, double limitMs) {
+        const Row *r = findRow(rows, all, model);
+        const double ms = r ? r->ms : NAN;
+        line(label + ": <= " + formatNumber(limitMs, "%g") + " ms per frame", r, ms, formatNumber(ms, "%.4g") + " ms",
+             ms <= limitMs);
+    };
+    msTarget("exact", "exact", 10.0);
+    const Row *exact = findRow(rows, all, "exact");
+    line("exact: energy drift <= 1e-12", exact, exact ? exact->energyError : NAN,
+         exact ? formatNumber(exact->energyError) : "", exact && exact->energyError <= 1e-12);
+    line("exact: overlap <= 1e-9 px", exact, exact ? exact->overlap : NAN, exact ? formatNumber(exact->overlap) + " px" : "",
+         exact && exact->overlap <= 1e-9);
+    line("exact: no escapes", exact, exact ? exact->escapes : NAN, exact ? std::to_string(exact->escapes) : "",
+         exact && exact->escapes == 0);
+    msTarget("book", "book", 5.0);
+    msTarget("impulse, 1 substep", "impulse", 5.0);
+    for (const char *model : {"book", "impulse", "exact"}) {
+        const Row *large = findRow(rows, all, model);
+        const Row *sparse = findRow(rows, all + "-1%", model);
+        const double ratio = large && sparse ? large->ms / sparse->ms : NAN;
+        line(std::string(model) + ": 1 % moving >= 30 times cheaper", sparse, ratio, formatNumber(ratio, "%.1f") + " times",
+             ratio >= 30.0);
+    }
+    for (const char *model : {"book", "impulse", "exact"}) {
+        const Row *small = findRow(rows, crowdName(1000), model);
+        const Row *large = findRow(rows, all, model);
+        const double growth = small && large ? large->ms / small->ms : NAN;
+        line(std::string(model) + ": 100k costs <= 120 times 1k", large, growth, formatNumber(growth, "%.1f") + " times",
+             growth <= 120.0);
     }
 }
 
@@ -501,6 +556,7 @@ int benchCommand(const std::vector<std::string> &args)
         rows = scaleBench(frames, repeats, maxN);
         printTable(rows, true);
         printScaleSummary(rows, maxN);
+        printScaleTargets(rows, frames, maxN);
     } else {
         std::printf("marbles-cli bench: run time against error (median of %d runs; errors against the closed form, "
                     "else against exact)\n",

@@ -109,6 +109,7 @@ private slots:
     void presetsRoundTripThroughFiles();
     void genCrowdIsDeterministic();
     void benchScaleReportsCostAndMovingShare();
+    void benchScaleJudgesTheTargets();
 };
 
 void TestCli::runPrintsCsvMatchingTheCore_data()
@@ -358,6 +359,7 @@ void TestCli::benchScaleReportsCostAndMovingShare()
                                 "1000", "--csv", csvPath});
     QCOMPARE(r.exitCode, 0);
     QVERIFY(r.out.contains("moving in the 1% run, mean"));
+    QVERIFY(r.out.contains("issue 5's targets are for 100000 marbles: this run stops at 1000 (--max-n)"));
     QFile file(csvPath);
     QVERIFY(file.open(QIODevice::ReadOnly));
     const QList<QByteArray> lines = file.readAll().trimmed().split('\n');
@@ -399,6 +401,58 @@ void TestCli::benchScaleReportsCostAndMovingShare()
             if (scene == "crowd-1000-1%")
                 QVERIFY2(std::abs(moving - share) <= 1e-5, lines[k].constData()); // CSV keeps 6 digits
         }
+    }
+}
+
+void TestCli::benchScaleJudgesTheTargets()
+{
+    // At 100k marbles (two frames, to keep it short) the run ends with issue 5's targets, each
+    // with its figure and a verdict that follows the table's numbers; the exit code is 0 whatever
+    // the verdicts.
+    QTemporaryDir dir;
+    const QString csvPath = dir.filePath("scale.csv");
+    const CliResult r = runCli({"bench", "--scale", "--frames", "2", "--repeat", "1", "--csv", csvPath});
+    QCOMPARE(r.exitCode, 0);
+    QFile file(csvPath);
+    QVERIFY(file.open(QIODevice::ReadOnly));
+    struct Figures {
+        double ms = 0, energy = 0, overlap = 0;
+        int escapes = 0;
+    };
+    QHash<QByteArray, Figures> rows; // "scene model"
+    for (const QByteArray &line : file.readAll().trimmed().split('\n').mid(1)) {
+        const QList<QByteArray> f = line.split(',');
+        QCOMPARE(f.size(), 10);
+        rows.insert(f[0] + ' ' + f[1], {f[3].toDouble(), f[5].toDouble(), f[7].toDouble(), f[8].toInt()});
+    }
+    QCOMPARE(rows.size(), 15);
+
+    const QList<QByteArray> out = r.out.split('\n');
+    const qsizetype start = out.indexOf("issue 5's targets at 100000 marbles (one core, 220 frames; this run: 2):");
+    QVERIFY2(start >= 0, r.out.constData());
+    QVERIFY(out.value(start + 1).startsWith("target"));
+    QHash<QByteArray, bool> verdicts;
+    for (qsizetype k = start + 2; k < out.size() && !out[k].isEmpty(); ++k) {
+        const QByteArray line = out[k];
+        const bool met = !line.endsWith("NOT MET");
+        QVERIFY2(line.endsWith(" met") || line.endsWith("NOT MET"), line.constData());
+        verdicts.insert(line.left(46).trimmed(), met);
+    }
+    QCOMPARE(verdicts.size(), 12);
+    const Figures exact = rows.value("crowd-100000 exact");
+    QCOMPARE(verdicts.value("exact: <= 10 ms per frame"), exact.ms <= 10.0);
+    QCOMPARE(verdicts.value("exact: energy drift <= 1e-12"), exact.energy <= 1e-12);
+    QCOMPARE(verdicts.value("exact: overlap <= 1e-9 px"), exact.overlap <= 1e-9);
+    QCOMPARE(verdicts.value("exact: no escapes"), exact.escapes == 0);
+    QCOMPARE(verdicts.value("book: <= 5 ms per frame"), rows.value("crowd-100000 book").ms <= 5.0);
+    QCOMPARE(verdicts.value("impulse, 1 substep: <= 5 ms per frame"), rows.value("crowd-100000 impulse").ms <= 5.0);
+    for (const QByteArray model : {"book", "impulse", "exact"}) {
+        const double all = rows.value("crowd-100000 " + model).ms;
+        QVERIFY(verdicts.contains(model + ": 1 % moving >= 30 times cheaper"));
+        QCOMPARE(verdicts.value(model + ": 1 % moving >= 30 times cheaper"),
+                 all / rows.value("crowd-100000-1% " + model).ms >= 30.0);
+        QVERIFY(verdicts.contains(model + ": 100k costs <= 120 times 1k"));
+        QCOMPARE(verdicts.value(model + ": 100k costs <= 120 times 1k"), all / rows.value("crowd-1000 " + model).ms <= 120.0);
     }
 }
 
