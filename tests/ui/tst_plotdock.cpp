@@ -78,6 +78,18 @@ void runFrames(PlotDock &dock, World &world, int n)
     }
 }
 
+/// The horizontal (time) axis of `line`.
+QValueAxis *timeAxisOf(QLineSeries *line)
+{
+    return qobject_cast<QValueAxis *>(line->attachedAxes().value(0));
+}
+
+/// The vertical axis of `line` (speed, or the totals').
+QValueAxis *valueAxisOf(QLineSeries *line)
+{
+    return qobject_cast<QValueAxis *>(line->attachedAxes().value(1));
+}
+
 double maxY(const QLineSeries *series)
 {
     double m = -std::numeric_limits<double>::infinity();
@@ -458,8 +470,8 @@ void TestPlotDock::chartGetsSamples()
         QCOMPARE_LE(std::abs(line->at(i).y() - 0.01 * double(i + 1)), 1e-12);
     }
     // Autoscaled axes cover every point.
-    auto *xAxis = qobject_cast<QValueAxis *>(line->attachedAxes().at(0));
-    auto *yAxis = qobject_cast<QValueAxis *>(line->attachedAxes().at(1));
+    auto *xAxis = timeAxisOf(line);
+    auto *yAxis = valueAxisOf(line);
     QVERIFY(xAxis && yAxis);
     QCOMPARE_LE(xAxis->min(), 1.0);
     QCOMPARE_GE(xAxis->max(), 50.0);
@@ -495,8 +507,8 @@ void TestPlotDock::refreshMovesAxesOnlyWhenTheirRangeChanges()
     runFrames(dock, world, 45);
     dock.refreshChart();
     QLineSeries *line = dock.speedSeries(0);
-    auto *xAxis = qobject_cast<QValueAxis *>(line->attachedAxes().at(0));
-    auto *yAxis = qobject_cast<QValueAxis *>(line->attachedAxes().at(1));
+    auto *xAxis = timeAxisOf(line);
+    auto *yAxis = valueAxisOf(line);
     QVERIFY(xAxis && yAxis);
     const double xMax = xAxis->max();
     QSignalSpy xMoves(xAxis, &QValueAxis::rangeChanged);
@@ -606,7 +618,7 @@ void TestPlotDock::secondsAxis()
     QCOMPARE(line->count(), 8);
     for (int i = 0; i < 8; ++i)
         QCOMPARE_LE(std::abs(line->at(i).x() - double(i + 1) * 25.0 / 1000.0), 1e-15);
-    auto *xAxis = qobject_cast<QValueAxis *>(line->attachedAxes().at(0));
+    auto *xAxis = timeAxisOf(line);
     QCOMPARE(xAxis->titleText(), QStringLiteral("time (s)"));
 
     auto *frames = dock.findChild<QRadioButton *>(QStringLiteral("frameAxisButton"));
@@ -634,7 +646,7 @@ void TestPlotDock::frameAxisTicksAreWholeFrames()
     dock.reset(world);
     runFrames(dock, world, frames);
     dock.refreshChart();
-    auto *xAxis = qobject_cast<QValueAxis *>(dock.speedSeries(0)->attachedAxes().at(0));
+    auto *xAxis = timeAxisOf(dock.speedSeries(0));
     QVERIFY(xAxis);
     const auto checkTicks = [xAxis](int last) {
         QCOMPARE_GE(xAxis->tickCount(), 2);
