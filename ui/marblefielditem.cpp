@@ -369,8 +369,9 @@ void MarbleFieldItem::paintVectors(QPainter *painter, const QTransform &toDevice
     // Zoomed out, VectorItem's 4-px and 2-px pens would be thicker than the marbles themselves
     // and bury the stage: the widths shrink with the zoom, down to 1 px (which the raster engine
     // also draws far faster than thick lines), in whole pixels: a 1.2-px pen looks like a 1-px
-    // one but goes through the stroker (2,000 marbles fitted to the window: paint 3.65 -> 2.98 ms). Heads shorter than kMinHeadDevicePx would be a
-    // blot, not an arrow: they are left out, the colours still tell the vectors apart.
+    // one but goes through the stroker (2,000 marbles fitted to the window: paint 3.65 -> 2.98
+    // ms). Heads shorter than kMinHeadDevicePx would be a blot, not an arrow: they are left out,
+    // the colours still tell the vectors apart.
     const double widthScale = std::clamp(scale, 0.25, 1.0);
     const bool heads = kArrowHeadPx * scale >= kMinHeadDevicePx;
     // Buffers kept from frame to frame: no allocation (and no fresh pages to fault in) per frame.
