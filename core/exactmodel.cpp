@@ -609,11 +609,12 @@ void ExactModel::beginFrame(World &world)
     m_overflowHead.assign(buckets, -1);
     m_overflowCount = 0;
     // A frame ends with an empty calendar (every entry out of its slot) unless it stopped early.
-    if (m_entry.size() != static_cast<std::size_t>(n) || m_scheduled != 0) {
-        m_entry.assign(static_cast<std::size_t>(n), Entry{0.0, 0, notScheduled, -1, -1, 0});
+    if (m_ticket.size() != static_cast<std::size_t>(n) || m_scheduled != 0) {
+        m_ticket.assign(static_cast<std::size_t>(n), 0);
         m_scheduled = 0;
     }
     m_heap.clear();
+    m_nodes.clear();
     m_finite = std::isfinite(m_lambda) && isFinite(m_gravity);
     m_ready = 0;
     if (!world.pins.empty())
@@ -942,7 +943,7 @@ ExactModel::Event ExactModel::currentEvent(int i) const
 ExactModel::Key ExactModel::keyOf(int i) const
 {
     const Event e = currentEvent(i);
-    return {e.time, e.kind == EventKind::None ? ~std::uint64_t(0) : tieOf(i, e), i, rankOf(i)};
+    return {e.time, e.kind == EventKind::None ? ~std::uint64_t(0) : tieOf(i, e), i, rankOf(i), 0};
 }
 
 bool ExactModel::keyBefore(const Key &a, const Key &b)
@@ -959,74 +960,64 @@ bool ExactModel::keyBefore(const Key &a, const Key &b)
 // one time, such as a crowd spawned overlapping, cost log n each and not a scan of the slot);
 // the later slots' entries in lists, each loaded into the heap when its turn comes. An event
 // due before the current slot's time (a contact due at once) joins the current slot.
-void ExactModel::calendarInsert(const Key &key)
+int ExactModel::slotOf(double time) const
 {
     // Slots are 1 / slots of a frame wide.
     const int slots = static_cast<int>(m_slotHead.size());
-    const double x = key.time * slots;
-    int slot = m_firstSlot;
+    const double x = time * slots;
     if (x >= slots)
-        slot = slots - 1;
-    else if (x > m_firstSlot)
-        slot = static_cast<int>(x);
+        return slots - 1;
+    if (x > m_firstSlot)
+        return static_cast<int>(x);
+    return m_firstSlot;
+}
+
+void ExactModel::calendarInsert(Key key)
+{
+    if (++m_lastTicket == 0)
+        m_lastTicket = 1; // 0 stands for no entry
+    key.ticket = m_lastTicket;
+    m_ticket[static_cast<std::size_t>(key.marble)] = key.ticket;
     ++m_scheduled;
+    const int slot = slotOf(key.time);
     if (slot == m_firstSlot) {
-        m_entry[static_cast<std::size_t>(key.marble)].slot = inHeap;
         m_heap.push_back(key);
         heapSiftUp(static_cast<int>(m_heap.size()) - 1);
         return;
     }
     std::int32_t &head = m_slotHead[static_cast<std::size_t>(slot)];
-    m_entry[static_cast<std::size_t>(key.marble)] = {key.time, key.tie, slot, head, -1, key.rank};
-    if (head >= 0)
-        m_entry[static_cast<std::size_t>(head)].prev = key.marble;
-    head = key.marble;
+    key.next = head;
+    head = static_cast<std::int32_t>(m_nodes.size());
+    m_nodes.push_back(key);
 }
 
 void ExactModel::calendarRemove(int i)
 {
-    Entry &entry = m_entry[static_cast<std::size_t>(i)];
+    // Its entry stays where it is, stale from now on.
+    m_ticket[static_cast<std::size_t>(i)] = 0;
     --m_scheduled;
-    if (entry.slot == inHeap) {
-        // The heap's last entry takes its place.
-        const int pos = entry.next;
-        entry.slot = notScheduled;
-        const Key last = m_heap.back();
-        m_heap.pop_back();
-        if (pos < static_cast<int>(m_heap.size())) {
-            heapPlace(pos, last);
-            if (pos > 0 && keyBefore(last, m_heap[static_cast<std::size_t>((pos - 1) / 4)]))
-                heapSiftUp(pos);
-            else
-                heapSiftDown(pos);
-        }
-        return;
-    }
-    if (entry.prev >= 0)
-        m_entry[static_cast<std::size_t>(entry.prev)].next = entry.next;
-    else
-        m_slotHead[static_cast<std::size_t>(entry.slot)] = entry.next;
-    if (entry.next >= 0)
-        m_entry[static_cast<std::size_t>(entry.next)].prev = entry.prev;
-    entry.slot = notScheduled;
 }
 
 int ExactModel::calendarFirst()
 {
-    if (m_scheduled == 0)
-        return -1;
-    // The current slot is done: the next non-empty one becomes current.
-    while (m_heap.empty()) {
+    while (true) {
+        if (m_scheduled == 0)
+            return -1;
+        // Stale entries at the top are dropped (the one of the event just handled among them).
+        while (!m_heap.empty() && !live(m_heap.front())) {
+            m_heap.front() = m_heap.back();
+            m_heap.pop_back();
+            if (!m_heap.empty())
+                heapSiftDown(0);
+        }
+        if (!m_heap.empty())
+            break;
+        // The current slot is done: the next non-empty one becomes current.
         ++m_firstSlot;
         std::int32_t &head = m_slotHead[static_cast<std::size_t>(m_firstSlot)];
-        for (int k = head; k >= 0;) {
-            Entry &entry = m_entry[static_cast<std::size_t>(k)];
-            const int next = entry.next;
-            m_heap.push_back({entry.time, entry.tie, k, entry.rank});
-            entry.slot = inHeap;
-            entry.next = static_cast<int>(m_heap.size()) - 1; // its heap position from now on
-            k = next;
-        }
+        // Stale ones too: each is looked at once either way, at the top of the heap.
+        for (std::int32_t k = head; k >= 0; k = m_nodes[static_cast<std::size_t>(k)].next)
+            m_heap.push_back(m_nodes[static_cast<std::size_t>(k)]);
         head = -1;
         const int size = static_cast<int>(m_heap.size());
         for (int pos = size > 1 ? (size - 2) / 4 : -1; pos >= 0; --pos)
@@ -1040,9 +1031,10 @@ int ExactModel::calendarFirst()
     const int slots = static_cast<int>(m_slotHead.size());
     int found = 0;
     for (int s = m_firstSlot + 1; s < slots && s <= m_firstSlot + 8; ++s) {
-        const int k = m_slotHead[static_cast<std::size_t>(s)];
-        if (k < 0)
+        const std::int32_t node = m_slotHead[static_cast<std::size_t>(s)];
+        if (node < 0)
             continue;
+        const int k = m_nodes[static_cast<std::size_t>(node)].marble;
         if (found == 0 && m_prefetchEvents) {
             prefetchNear(k);
             const Record &rec = m_rec[static_cast<std::size_t>(k)];
@@ -1050,10 +1042,8 @@ int ExactModel::calendarFirst()
             if (rec.contactKind == EventKind::Pair) {
                 __builtin_prefetch(&m_body[static_cast<std::size_t>(rec.contactOther)]);
                 __builtin_prefetch(&m_rec[static_cast<std::size_t>(rec.contactOther)]);
-                __builtin_prefetch(&m_entry[static_cast<std::size_t>(rec.contactOther)]);
             }
         } else {
-            __builtin_prefetch(&m_entry[static_cast<std::size_t>(k)]);
             __builtin_prefetch(&m_body[static_cast<std::size_t>(k)]);
             __builtin_prefetch(&m_rec[static_cast<std::size_t>(k)]);
         }
@@ -1063,12 +1053,6 @@ int ExactModel::calendarFirst()
     return m_heap.front().marble;
 }
 
-void ExactModel::heapPlace(int pos, const Key &key)
-{
-    m_heap[static_cast<std::size_t>(pos)] = key;
-    m_entry[static_cast<std::size_t>(key.marble)].next = pos;
-}
-
 void ExactModel::heapSiftUp(int pos)
 {
     const Key key = m_heap[static_cast<std::size_t>(pos)];
@@ -1076,10 +1060,10 @@ void ExactModel::heapSiftUp(int pos)
         const int parent = (pos - 1) / 4;
         if (!keyBefore(key, m_heap[static_cast<std::size_t>(parent)]))
             break;
-        heapPlace(pos, m_heap[static_cast<std::size_t>(parent)]);
+        m_heap[static_cast<std::size_t>(pos)] = m_heap[static_cast<std::size_t>(parent)];
         pos = parent;
     }
-    heapPlace(pos, key);
+    m_heap[static_cast<std::size_t>(pos)] = key;
 }
 
 void ExactModel::heapSiftDown(int pos)
@@ -1098,15 +1082,15 @@ void ExactModel::heapSiftDown(int pos)
         }
         if (!keyBefore(m_heap[static_cast<std::size_t>(child)], key))
             break;
-        heapPlace(pos, m_heap[static_cast<std::size_t>(child)]);
+        m_heap[static_cast<std::size_t>(pos)] = m_heap[static_cast<std::size_t>(child)];
         pos = child;
     }
-    heapPlace(pos, key);
+    m_heap[static_cast<std::size_t>(pos)] = key;
 }
 
 void ExactModel::schedule(int i)
 {
-    if (m_entry[static_cast<std::size_t>(i)].slot != notScheduled)
+    if (m_ticket[static_cast<std::size_t>(i)] != 0)
         calendarRemove(i);
     const Key key = keyOf(i);
     if (key.time <= 1.0)
@@ -1513,8 +1497,44 @@ void ExactModel::predictAll()
     const auto slots = std::max<std::size_t>(16, m_firstKeys.size());
     m_slotHead.assign(slots, -1);
     m_firstSlot = 0;
-    for (const Key &key : m_firstKeys)
-        calendarInsert(key);
+    // The later slots' entries go into m_nodes in slot order (a counting sort; the same lists
+    // as inserting them one by one, which would scatter each slot's nodes over the array).
+    if (m_slotCount.capacity() < slots + 1)
+        m_slotCount.reserve(2 * (slots + 1)); // grown by doubling, as push_back would: few allocations
+    m_slotCount.assign(slots + 1, 0);
+    for (const Key &key : m_firstKeys) {
+        const int slot = slotOf(key.time);
+        if (slot != m_firstSlot)
+            ++m_slotCount[static_cast<std::size_t>(slot) + 1];
+        else
+            calendarInsert(key);
+    }
+    accumulateCounts(m_slotCount);
+    if (m_nodes.capacity() < 2 * static_cast<std::size_t>(m_slotCount[slots]))
+        m_nodes.reserve(4 * static_cast<std::size_t>(m_slotCount[slots])); // the events add more
+    m_nodes.resize(static_cast<std::size_t>(m_slotCount[slots]));
+    for (const Key &first : m_firstKeys) {
+        const int slot = slotOf(first.time);
+        if (slot == m_firstSlot)
+            continue;
+        Key key = first;
+        if (++m_lastTicket == 0)
+            m_lastTicket = 1;
+        key.ticket = m_lastTicket;
+        m_ticket[static_cast<std::size_t>(key.marble)] = key.ticket;
+        ++m_scheduled;
+        m_nodes[static_cast<std::size_t>(m_slotCount[static_cast<std::size_t>(slot)]++)] = key;
+    }
+    // Slot s's nodes are now the run from m_slotCount[s - 1] to m_slotCount[s]: link each run.
+    for (std::size_t slot = 1; slot < slots; ++slot) {
+        const std::int32_t begin = m_slotCount[slot - 1];
+        const std::int32_t end = m_slotCount[slot];
+        if (begin == end)
+            continue;
+        m_slotHead[slot] = begin;
+        for (std::int32_t node = begin; node < end; ++node)
+            m_nodes[static_cast<std::size_t>(node)].next = node + 1 < end ? node + 1 : -1;
+    }
 }
 
 void ExactModel::unlockMoved(int i, Vec2 v)

@@ -132,25 +132,15 @@ private:
     };
     static_assert(freezeAfterWallBounces < 0xffffffffu && freezeAfterCollisions < 0xffff
                   && freezeAfterRechecks < 0xffff && freezeAfterRestingContacts < 0xff);
-    // A calendar entry: the marble's current event, with its tie-break packed for cheap
-    // comparison.
+    // A calendar entry: a marble's event, with its tie-break packed for cheap comparison, and the
+    // ticket it was scheduled under (it is stale once the marble's ticket has changed).
     struct Key {
         double time;
         std::uint64_t tie;
         int marble;
-        int rank; // the marble's Body::rank, the last tie-break
-    };
-    // A marble's place in the calendar: its key (as scheduled) and its links in the list of its
-    // time slot (or notScheduled, or inHeap: in the current slot's heap, at position `next`).
-    static constexpr std::int32_t notScheduled = -1;
-    static constexpr std::int32_t inHeap = -2;
-    struct Entry {
-        double time;
-        std::uint64_t tie;
-        std::int32_t slot;
-        std::int32_t next;
-        std::int32_t prev;
-        std::int32_t rank;
+        int rank;              // the marble's Body::rank, the last tie-break
+        std::uint32_t ticket;  // m_ticket[marble] when scheduled
+        std::int32_t next = -1; // in a later slot's list: the next node, or -1
     };
 
     void beginFrame(World &world);
@@ -210,12 +200,13 @@ private:
     Key keyOf(int i) const;
     static bool keyBefore(const Key &a, const Key &b);
     void schedule(int i);
-    void calendarInsert(const Key &key);
+    int slotOf(double time) const;
+    void calendarInsert(Key key);
     void calendarRemove(int i);
+    bool live(const Key &key) const { return m_ticket[static_cast<std::size_t>(key.marble)] == key.ticket; }
     int calendarFirst();
     void heapSiftUp(int pos);
     void heapSiftDown(int pos);
-    void heapPlace(int pos, const Key &key);
     void nextEscape(int i, Vec2 p, Vec2 v);
     void reanchor(int i);
     void moveToBucket(int i, int bucket);
@@ -288,12 +279,19 @@ private:
     // the slot of its time (or to the current slot, if earlier), so the next event is the least
     // key of the current slot, kept in a small heap, and scheduling a later event costs O(1)
     // where one heap of them all moved the entries of other marbles at every level.
-    std::vector<Entry> m_entry;       // per marble
-    std::vector<Key> m_heap;          // the current slot's entries
-    std::vector<std::int32_t> m_slotHead; // per later slot: first entry of its list, or -1
+    // Entries are not taken out when a marble's event changes: each marble has a ticket, and an
+    // entry under another ticket is stale, dropped when it comes up. The later slots' entries are
+    // nodes of m_nodes, listed per slot; the first look's nodes lie in slot order, so a slot's
+    // turn reads on from the last one's instead of jumping to a marble's record.
+    std::vector<std::uint32_t> m_ticket; // per marble: the ticket of its entry, 0: none
+    std::uint32_t m_lastTicket = 0;
+    std::vector<Key> m_heap;          // the current slot's entries (some stale)
+    std::vector<Key> m_nodes;         // the later slots' entries (some stale)
+    std::vector<std::int32_t> m_slotHead; // per later slot: first node of its list, or -1
     std::vector<Key> m_firstKeys;     // the first look's events, before the slots are sized
+    std::vector<std::int32_t> m_slotCount; // the first look's entries per slot (then where each goes)
     int m_firstSlot = 0;              // the current slot (no entry lies in an earlier one)
-    int m_scheduled = 0;              // entries in the calendar
+    int m_scheduled = 0;              // live entries in the calendar
     std::vector<int> m_restingHit; // marbles at rest that got a contact in the first look
 
     // The sleepers' layer (see Sleeping): the sleepers sorted by bucket (ascending World index
