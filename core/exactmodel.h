@@ -282,7 +282,9 @@ private:
     // Entries are not taken out when a marble's event changes: each marble has a ticket, and an
     // entry under another ticket is stale, dropped when it comes up. The later slots' entries are
     // nodes of m_nodes, listed per slot; the first look's nodes lie in slot order, so a slot's
-    // turn reads on from the last one's instead of jumping to a marble's record.
+    // turn reads on from the last one's instead of jumping to a marble's record. A frame's
+    // calendar thus holds the first look's entries and at most two more per event (32 bytes
+    // each; the collapse guards bound the events), all dropped when the frame ends.
     std::vector<std::uint32_t> m_ticket; // per marble: the ticket of its entry, 0: none
     std::uint32_t m_lastTicket = 0;
     std::vector<Key> m_heap;          // the current slot's entries (some stale)
