@@ -972,13 +972,18 @@ int ExactModel::slotOf(double time) const
     return m_firstSlot;
 }
 
-void ExactModel::calendarInsert(Key key)
+void ExactModel::issueTicket(Key &key)
 {
     if (++m_lastTicket == 0)
         m_lastTicket = 1; // 0 stands for no entry
     key.ticket = m_lastTicket;
     m_ticket[static_cast<std::size_t>(key.marble)] = key.ticket;
     ++m_scheduled;
+}
+
+void ExactModel::calendarInsert(Key key)
+{
+    issueTicket(key);
     const int slot = slotOf(key.time);
     if (slot == m_firstSlot) {
         m_heap.push_back(key);
@@ -1518,11 +1523,7 @@ void ExactModel::predictAll()
         if (slot == m_firstSlot)
             continue;
         Key key = first;
-        if (++m_lastTicket == 0)
-            m_lastTicket = 1;
-        key.ticket = m_lastTicket;
-        m_ticket[static_cast<std::size_t>(key.marble)] = key.ticket;
-        ++m_scheduled;
+        issueTicket(key);
         m_nodes[static_cast<std::size_t>(m_slotCount[static_cast<std::size_t>(slot)]++)] = key;
     }
     // Slot s's nodes are now the run from m_slotCount[s - 1] to m_slotCount[s]: link each run.

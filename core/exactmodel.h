@@ -201,6 +201,8 @@ private:
     static bool keyBefore(const Key &a, const Key &b);
     void schedule(int i);
     int slotOf(double time) const;
+    /// Makes `key` the live entry of its marble (the entry it had, if any, stale).
+    void issueTicket(Key &key);
     void calendarInsert(Key key);
     void calendarRemove(int i);
     bool live(const Key &key) const { return m_ticket[static_cast<std::size_t>(key.marble)] == key.ticket; }
