@@ -1028,6 +1028,16 @@ int ExactModel::calendarFirst()
         for (int pos = size > 1 ? (size - 2) / 4 : -1; pos >= 0; --pos)
             heapSiftDown(pos);
     }
+    // In a world far larger than the caches, also request the records of the current slot's
+    // next marbles (the heap's top's children hold the next least key).
+    if (m_prefetchEvents) {
+        const std::size_t last = std::min<std::size_t>(m_heap.size(), 5);
+        for (std::size_t c = 1; c < last; ++c) {
+            const int k = m_heap[c].marble;
+            __builtin_prefetch(&m_rec[static_cast<std::size_t>(k)]);
+            __builtin_prefetch(&m_body[static_cast<std::size_t>(k)]);
+        }
+    }
     // Start loading the records of the next slots' first marble: in a large world its event is
     // likely to come soon, and its records are far from this one's (a hint, no effect on results).
     // In a world far larger than the caches, look two slots ahead: the records of the second
