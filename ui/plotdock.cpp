@@ -862,12 +862,17 @@ void PlotDock::updateLegendLabels()
     // the row ("marb…"): a crowd's twelve marbles and a comparison's two keys no longer told
     // which line was which. Where the full labels do not fit, the marbles get short ones ("#3",
     // or a named marble's name); hovering a line still gives its full label.
-    for (Track &t : m_tracks)
-        t.series->setName(marbleLabel(t.marble));
-    m_compactLegend = false;
     // A view not on screen has no width worth measuring; it is measured again when shown.
-    if (!m_chartView || !m_chartView->isVisible())
-        return;
+    m_compactLegend = m_chartView && m_chartView->isVisible() && !fullLegendFits();
+    for (Track &t : m_tracks) {
+        const auto i = static_cast<std::size_t>(t.marble);
+        const bool named = i < m_names.size() && !m_names[i].isEmpty();
+        t.series->setName(!m_compactLegend ? marbleLabel(t.marble) : named ? m_names[i] : tr("#%1").arg(t.marble));
+    }
+}
+
+bool PlotDock::fullLegendFits() const
+{
     const QFontMetrics metrics(m_chart->legend()->font());
     int needed = 0;
     // Each entry is its label, its marker (about a line high) and Qt 6.4's margins and gap (about
@@ -883,15 +888,7 @@ void PlotDock::updateLegendLabels()
         if (total && total->isVisible())
             entry(total->name());
     }
-    const int available = m_chartView->width() - 2 * metrics.height();
-    m_compactLegend = needed > available;
-    if (!m_compactLegend)
-        return;
-    for (Track &t : m_tracks) {
-        const auto i = static_cast<std::size_t>(t.marble);
-        const bool named = i < m_names.size() && !m_names[i].isEmpty();
-        t.series->setName(named ? m_names[i] : tr("#%1").arg(t.marble));
-    }
+    return needed <= m_chartView->width() - 2 * metrics.height();
 }
 
 qsizetype PlotDock::pointsPerLine() const

@@ -175,6 +175,8 @@ private:
     void showTotal(QLineSeries *series, bool shown);
     void styleSeries();
     void updateLegendLabels();
+    /// Whether the legend's row has room for every entry with its full label.
+    bool fullLegendFits() const;
     QList<int> wantedMarbles() const;
     QColor marbleColor(int marble) const;
     QString marbleLabel(int marble) const;
