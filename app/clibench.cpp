@@ -441,7 +441,6 @@ const Row *findRow(const std::vector<Row> &rows, const std::string &scene, const
 
 void printScaleSummary(const std::vector<Row> &rows, int maxN)
 {
-    auto find = [&](const std::string &scene, const std::string &model) { return findRow(rows, scene, model); };
     // The 1%-moving crowd does not stay at 1 %: a marble that is hit starts to move, and without
     // friction nothing stops again. Its mean moving share tells how far below the all-moving
     // cost a run can go when cost follows the moving marbles.
@@ -451,9 +450,9 @@ void printScaleSummary(const std::vector<Row> &rows, int maxN)
     std::printf("\n%-8s %16s %28s %30s\n", "model", (size + " / 1k cost").c_str(),
                 (size + " all / " + size + " 1% moving").c_str(), "moving in the 1% run, mean");
     for (const char *model : {"book", "impulse", "exact"}) {
-        const Row *small = find("crowd-1000", model);
-        const Row *large = find(largest, model);
-        const Row *sparse = find(largest + "-1%", model);
+        const Row *small = findRow(rows, "crowd-1000", model);
+        const Row *large = findRow(rows, largest, model);
+        const Row *sparse = findRow(rows, largest + "-1%", model);
         std::printf("%-8s %16s %28s %30s\n", model,
                     small && large && small != large ? formatNumber(large->ms / small->ms, "%.1f").c_str() : "n/a",
                     large && sparse ? formatNumber(large->ms / sparse->ms, "%.1f").c_str() : "n/a",

@@ -407,7 +407,7 @@ int main(int argc, char *argv[])
             << options.size.height() << ", crowd seed " << options.seed << ", " << options.frames
             << " frames per count (medians)";
         if (options.compare)
-            out << ", compared with " << QString::fromUtf8(modelName(*options.compare).data(), static_cast<qsizetype>(modelName(*options.compare).size()));
+            out << ", compared with " << QString::fromStdString(std::string(modelName(*options.compare)));
         out << "\n";
     }
     out.flush();

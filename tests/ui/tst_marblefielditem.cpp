@@ -183,12 +183,7 @@ void TestMarbleFieldItem::ghostDrawsOutlinesNotFills()
 void TestMarbleFieldItem::vectorsFollowLastHit()
 {
     World w = twoMarbles();
-    HitRecord hit;
-    hit.frame = 5;
-    hit.velocityIn = {1, 0};
-    hit.normal = {0, 1};
-    hit.velocityOut = {-1, 0};
-    w.lastHit[0] = hit;
+    w.lastHit[0] = HitRecord::of(5, {1, 0}, {0, 1}, {-1, 0});
     auto *item = new MarbleFieldItem(&w);
     const auto colourAt = [&](Vec2 p) { return render(item, QSize(400, 200), 1.0).pixelColor(imagePoint(p, 1.0)); };
     // Marble 0 (radius 30 at (100, 100)): the vectors reach 30 px past its rim, 60 px from the centre.
@@ -221,12 +216,7 @@ void TestMarbleFieldItem::vectorsOnlyWhenLegible()
     QFETCH(bool, drawn);
     QCOMPARE(MarbleFieldItem::vectorsLegibleAt(scale), drawn);
     World w = twoMarbles();
-    HitRecord hit;
-    hit.frame = 1;
-    hit.velocityIn = {1, 0};
-    hit.normal = {0, 1};
-    hit.velocityOut = {0, -1};
-    w.lastHit[0] = hit;
+    w.lastHit[0] = HitRecord::of(1, {1, 0}, {0, 1}, {0, -1});
     auto *item = new MarbleFieldItem(&w);
     item->setVectorsVisible(true);
     const QSize size(static_cast<int>(400 * scale), static_cast<int>(200 * scale));
@@ -258,11 +248,8 @@ void TestMarbleFieldItem::manyVectorsAreSharp()
     QCOMPARE_EQ(side * side <= MarbleFieldItem::kMaxSmoothVectors, smooth);
     World w;
     w.stage = {3200, 3200, true};
-    HitRecord hit;
-    hit.frame = 1;
-    hit.normal = {0.6, 0.8};     // red: down and to the right, and up and to the left
-    hit.velocityIn = {-1.0, 0.0}; // blue: to the left
-    hit.velocityOut = {0.0, -1.0}; // green: up
+    // Blue to the left, red down and to the right (and up and to the left), green up.
+    const HitRecord hit = HitRecord::of(1, {-1.0, 0.0}, {0.6, 0.8}, {0.0, -1.0});
     for (int row = 0; row < side; ++row) {
         for (int col = 0; col < side; ++col) {
             w.addMarble({50.0 + 100.0 * col, 50.0 + 100.0 * row}, 1.0);
