@@ -78,7 +78,8 @@ public:
     /// Shows another world (not owned; null shows nothing) and re-syncs.
     void setWorld(const World *world);
     /// Re-reads the world after frames or edits: bounds (stage and every marble), colours, then
-    /// schedules a repaint. O(marbles); call once per frame, not once per marble.
+    /// schedules a repaint if anything drawn changed. O(marbles); call once per frame, not once
+    /// per marble.
     void syncFromWorld();
 
     /// Solid balls or ghost outlines.
@@ -141,7 +142,11 @@ private:
     };
 
     const QPixmap &sprite(const SpriteKey &key);
-    void syncColors();
+    /// Re-reads the colours; returns whether any changed.
+    bool syncColors();
+    /// Keeps a copy of the positions, radii and (while drawn) collision vectors; returns whether
+    /// they differ from the last copy.
+    bool keepShown();
     void paintVectors(QPainter *painter, const QTransform &toDevice, double scale, const QRectF &visible, bool antialias);
     void paintRings(QPainter *painter, const QTransform &toDevice, double scale);
 
@@ -156,6 +161,9 @@ private:
     double m_maxRadius = 0.0;
     std::vector<std::string> m_colorText; ///< info[i].color as last parsed
     std::vector<QRgb> m_color;            ///< marble i's colour, opaque
+    std::vector<Vec2> m_shownPosition;    ///< what the last sync saw (keepShown())
+    std::vector<double> m_shownRadius;
+    std::vector<HitRecord> m_shownHits;   ///< kept while the vectors are drawn
     QHash<SpriteKey, QPixmap> m_sprites;
     qsizetype m_spriteBytes = 0; ///< memory held by m_sprites
 

@@ -6,6 +6,17 @@
 
 namespace marbles {
 
+namespace {
+
+// A segment that draws something: its ends differ (exactly, so that counting a segment in and
+// out always agrees).
+bool moves(QPointF a, QPointF b)
+{
+    return a.x() != b.x() || a.y() != b.y();
+}
+
+} // namespace
+
 TrailItem::TrailItem(int length)
     : m_length(length > 1 ? length : 2)
 {
@@ -17,7 +28,7 @@ void TrailItem::setLength(int frames)
     while (static_cast<int>(m_frames.size()) > m_length) {
         m_frames.pop_front();
         for (auto &trail : m_trails)
-            trail.pop_front();
+            popOldest(trail);
     }
     update();
 }
@@ -45,7 +56,12 @@ void TrailItem::sample(const World &world)
     if (m_trails.size() != n) {
         m_trails.assign(n, {});
         m_frames.clear();
+        m_movingSegments = 0;
     }
+    // While every marble stands still, every segment is a point and nothing is drawn: the next
+    // sample changes the picture only if some segment moves before or after it (a crowd at rest
+    // is then not redrawn every frame for its trails).
+    const bool stillBefore = m_movingSegments == 0;
     const bool full = static_cast<int>(m_frames.size()) >= m_length;
     if (full)
         m_frames.pop_front();
@@ -53,10 +69,21 @@ void TrailItem::sample(const World &world)
     for (std::size_t i = 0; i < n; ++i) {
         auto &trail = m_trails[i];
         if (full)
-            trail.pop_front();
-        trail.emplace_back(world.position[i].x, world.position[i].y);
+            popOldest(trail);
+        const QPointF p(world.position[i].x, world.position[i].y);
+        if (!trail.empty() && moves(trail.back(), p))
+            ++m_movingSegments;
+        trail.push_back(p);
     }
-    update();
+    if (!(stillBefore && m_movingSegments == 0))
+        update();
+}
+
+void TrailItem::popOldest(std::deque<QPointF> &trail)
+{
+    if (trail.size() >= 2 && moves(trail[0], trail[1]))
+        --m_movingSegments;
+    trail.pop_front();
 }
 
 void TrailItem::cutAfter(std::int64_t frame)
@@ -64,8 +91,12 @@ void TrailItem::cutAfter(std::int64_t frame)
     bool cut = false;
     while (!m_frames.empty() && m_frames.back() > frame) {
         m_frames.pop_back();
-        for (auto &trail : m_trails)
+        for (auto &trail : m_trails) {
+            const std::size_t k = trail.size();
+            if (k >= 2 && moves(trail[k - 2], trail[k - 1]))
+                --m_movingSegments;
             trail.pop_back();
+        }
         cut = true;
     }
     if (cut)
@@ -76,6 +107,7 @@ void TrailItem::clear()
 {
     m_trails.clear();
     m_frames.clear();
+    m_movingSegments = 0;
     update();
 }
 
@@ -103,6 +135,8 @@ void TrailItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *, QWidg
     for (const auto &trail : m_trails) {
         const auto count = trail.size();
         for (std::size_t k = 1; k < count; ++k) {
+            if (!moves(trail[k - 1], trail[k]))
+                continue; // a marble at rest: a point, nothing to draw
             const auto step = std::min<std::size_t>(kFadeSteps - 1, k * kFadeSteps / count);
             m_batches[step].emplace_back(trail[k - 1], trail[k]);
         }

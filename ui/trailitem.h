@@ -52,11 +52,15 @@ private:
     /// Opacity levels of a trail's fade (segments are batched per level).
     static constexpr int kFadeSteps = 12;
 
+    /// Drops a trail's oldest position (keeping m_movingSegments).
+    void popOldest(std::deque<QPointF> &trail);
+
     int m_length;
     bool m_antialiased = true;
     QRectF m_area;
     std::vector<std::deque<QPointF>> m_trails;
     std::deque<std::int64_t> m_frames; ///< frame of each position, shared by all trails
+    std::size_t m_movingSegments = 0;  ///< segments whose ends differ, over all trails
     std::vector<std::vector<QLineF>> m_batches; ///< per fade level, kept between paints
 };
 

@@ -65,6 +65,8 @@ private Q_SLOTS:
     void batchedVectorsAndSelection();
     void trailsOffForLargeCrowds();
     void stepBackCutsTrails();
+    void stillFramesAreNotRedrawn_data();
+    void stillFramesAreNotRedrawn();
     void vectorsWaitForALegibleZoom();
     void batchedToolTipNamesTheMarble();
 
@@ -492,6 +494,55 @@ void TestStageView::stepBackCutsTrails()
     QCOMPARE(static_cast<int>(trail->points(0).size()), 3);
     QVERIFY(m_document->setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
     QVERIFY(trail->points(0).empty());
+}
+
+void TestStageView::stillFramesAreNotRedrawn_data()
+{
+    QTest::addColumn<int>("marbles");
+    QTest::addRow("one item per marble") << 40;
+    QTest::addRow("batched") << 1000;
+}
+
+void TestStageView::stillFramesAreNotRedrawn()
+{
+    // Frames in which nothing moves leave the picture as it was, so the stage is not redrawn
+    // (vectors and trails on). A marble that moved and stopped keeps it redrawn while its trail
+    // fades, and not after.
+    QFETCH(int, marbles);
+    World w = makeCrowd(marbles, 7, 0.0);
+    w.params.friction = 0.5;
+    w.params.zeroThreshold = 0.5;
+    w.velocity[static_cast<std::size_t>(marbles / 2)] = {3.0, 0.0};
+    m_document->resetScene(w);
+    m_view->setVectorsVisible(true);
+    m_view->setTrailsVisible(true);
+    QCOMPARE(m_view->isBatched(), marbles > StageView::kBatchThreshold);
+    QVERIFY(!m_view->trailsSuppressed());
+    const auto allStill = [&] {
+        const std::vector<Vec2> &v = m_document->world().velocity;
+        return std::all_of(v.begin(), v.end(), [](Vec2 u) { return u.x == 0.0 && u.y == 0.0; });
+    };
+    QTest::qWait(20);
+    qint64 painted = m_view->paintCount();
+    for (int frames = 1; !allStill(); ++frames) {
+        QVERIFY(frames < 20);
+        m_document->advance(1);
+        QTRY_VERIFY(m_view->paintCount() > painted); // it moved: drawn again
+        painted = m_view->paintCount();
+    }
+    m_document->advance(1);
+    QTRY_VERIFY(m_view->paintCount() > painted); // still, but its trail fades
+    for (int f = 0; f < m_view->trailLength(); ++f) {
+        m_document->advance(1);
+        QTest::qWait(2);
+    }
+    QTest::qWait(20);
+    const qint64 settled = m_view->paintCount();
+    for (int f = 0; f < 5; ++f) {
+        m_document->advance(1);
+        QTest::qWait(5);
+    }
+    QCOMPARE(m_view->paintCount(), settled);
 }
 
 void TestStageView::trailsOffForLargeCrowds()
