@@ -122,6 +122,18 @@
 //      wall-held partner) are tested by conservative advancement; a marble whose tests failed to
 //      conclude freezeAfterRechecks times in a frame is frozen too. Without gravity none of
 //      these can happen (restHeightPx gives a resting speed of 0, and all paths are straight).
+//    - Bodies that cannot fit (any e). Disks that start overlapping, or that cannot all fit where
+//      they are, can be sent from one contact straight into the next at the same instant, for
+//      ever: a marble wider than the stage between its two walls, one overlapping two pins, or
+//      two marbles side by side in a stage narrower than both. A marble too wide for the stage
+//      along an axis is held between the walls on that axis (stopped along it where it is, as in
+//      resting contact). Otherwise such sequences take no time: once more than
+//      freezeAfterInstantCollisions collisions per marble of the world have happened at one
+//      instant, every marble that collides again at that instant is frozen as above. Near-misses
+//      (a marble just narrower than the gap it bounces in) do take time, ever so little: a marble
+//      that collides more than freezeAfterElasticCollisions times, or bounces off walls more than
+//      freezeAfterWallBounces times, in one frame is frozen too. Real elastic motion stays far
+//      below these counts.
 //    Together they bound the work of every frame: a resting pile costs a few events per marble.
 
 namespace marbles {
@@ -1567,7 +1579,8 @@ bool ExactModel::overLimit(int i) const
 {
     // Collision counts only matter for e < 1 (inelastic collapse); resting contacts always.
     const Guard &guard = m_rec[i].guard;
-    return guard.restHits > freezeAfterRestingContacts || (m_inelastic && guard.pairHits > freezeAfterCollisions);
+    return guard.restHits > freezeAfterRestingContacts || guard.pairHits > freezeAfterElasticCollisions
+        || (m_inelastic && guard.pairHits > freezeAfterCollisions);
 }
 
 bool ExactModel::countContact(int i)
@@ -1687,8 +1700,14 @@ void ExactModel::collideWall(World &world, int i, int wall)
     // Outward speed (towards this wall) and the push of gravity towards it.
     const double outward = upper ? v : -v;
     const double gOut = upper ? gAxis : -gAxis;
+    // A marble too wide for the stage along this axis touches both of its walls at once: bounced
+    // off one, it would be past the other at the same instant, for ever. It is held between them
+    // instead: stopped along the axis where it is, and held there (as in resting contact) until a
+    // collision moves it again, which it passes on to the walls.
+    const bool pinched = 2.0 * r >= side;
     // Touching exactly: the solver stops at contact up to rounding.
-    x = upper ? side - r : r;
+    if (!pinched)
+        x = upper ? side - r : r;
     Guard &guard = m_rec[i].guard;
     count(guard.wallHits);
     const double e = m_restitution;
@@ -1702,7 +1721,7 @@ void ExactModel::collideWall(World &world, int i, int wall)
         hit = true;
         ++m_collisionCount;
     }
-    if (gOut > 0.0 && outward >= 0.0 && e * outward <= restSpeed && !body.frozen) {
+    if ((pinched || (gOut > 0.0 && outward >= 0.0 && e * outward <= restSpeed)) && !body.frozen) {
         v = 0.0;
         body.gravityOff |= static_cast<std::uint8_t>(1u << axis);
         guard.locked |= static_cast<std::uint8_t>(1u << axis);
@@ -1714,7 +1733,7 @@ void ExactModel::collideWall(World &world, int i, int wall)
     }
     ++m_rec[i].stamp;
     setState(i, p, vel);
-    if (m_inelastic && guard.wallHits > freezeAfterWallBounces)
+    if (guard.wallHits > freezeAfterWallBounces)
         freeze(i);
 }
 
@@ -1735,6 +1754,9 @@ void ExactModel::step(World &world)
         return;
     }
     const Event none{noTime, EventKind::None, -1, 0};
+    const std::int64_t instantLimit = std::int64_t(freezeAfterInstantCollisions) * n;
+    m_instant = -infinity;
+    m_instantCollisions = 0;
     for (int i = calendarFirst(); i >= 0; i = calendarFirst()) {
         const Event ev = currentEvent(i);
         setNow(std::max(m_now, ev.time));
@@ -1744,6 +1766,12 @@ void ExactModel::step(World &world)
             schedule(i);
             continue;
         }
+        if (m_now > m_instant) {
+            m_instant = m_now;
+            m_instantCollisions = 0;
+        }
+        // Past the limit, time has stopped: whoever collides at this instant is frozen.
+        const bool stuck = ++m_instantCollisions > instantLimit;
         // Every other event ends with a fresh prediction of i. Its old contact is void from here
         // on (so that no partner's search stops at it).
         setContact(i, none);
@@ -1756,6 +1784,10 @@ void ExactModel::step(World &world)
                     prefetchNear(i);
                 }
                 collidePair(world, i, ev.other);
+                if (stuck) {
+                    freeze(i);
+                    freeze(ev.other);
+                }
                 setContact(ev.other, none);
                 predict(ev.other);
                 schedule(ev.other);
@@ -1763,9 +1795,13 @@ void ExactModel::step(World &world)
             break;
         case EventKind::Pin:
             collidePin(world, i, ev.other);
+            if (stuck)
+                freeze(i);
             break;
         case EventKind::Wall:
             collideWall(world, i, ev.other);
+            if (stuck)
+                freeze(i);
             break;
         case EventKind::RecheckPin:
             countContact(i);

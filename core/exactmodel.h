@@ -39,7 +39,20 @@ public:
     /// After this many resting contacts (marble-marble or marble-pin contacts approaching slower
     /// than sqrt(2 |g| restHeightPx)) of a marble within one frame, it is frozen likewise.
     static constexpr int freezeAfterRestingContacts = 16;
-    /// With e < 1 only: after this many wall bounces of a marble within one frame, it is frozen.
+    /// Whatever e: after this many marble-marble or marble-pin collisions of a marble within one
+    /// frame, it is frozen likewise. Only a marble wedged where it cannot fit (overlapping two
+    /// pins, or squeezed between a wall and marbles that the other wall sends back) comes near:
+    /// with e = 1 it would go from one contact straight into the next at the same instant for ever.
+    static constexpr int freezeAfterElasticCollisions = 1 << 14;
+    /// Whatever e: once more than this many collisions per marble of the world (on average)
+    /// happen at one and the same instant, every marble that collides again at that instant is
+    /// frozen likewise. Marbles wedged where they cannot fit bounce between their contacts
+    /// without time passing; real simultaneous collisions (a Newton's cradle, a symmetric break)
+    /// are a few per marble.
+    static constexpr int freezeAfterInstantCollisions = 64;
+    /// Whatever e: after this many wall bounces of a marble within one frame, it is frozen.
+    /// (Elastic motion stays far below: at 1e6 px/frame across a 1,000 px stage a marble bounces
+    /// about a thousand times.)
     static constexpr int freezeAfterWallBounces = 1 << 16;
     /// A wall bounce that would rise less than this height against gravity (px) becomes resting
     /// contact: the marble slides along the wall until something lifts it off.
@@ -131,6 +144,7 @@ private:
         std::uint8_t locked = 0; // bit 0: x held against a wall, bit 1: y
     };
     static_assert(freezeAfterWallBounces < 0xffffffffu && freezeAfterCollisions < 0xffff
+                  && freezeAfterElasticCollisions < 0xffff
                   && freezeAfterRechecks < 0xffff && freezeAfterRestingContacts < 0xff);
     // A calendar entry: a marble's event, with its tie-break packed for cheap comparison, and the
     // ticket it was scheduled under (it is stale once the marble's ticket has changed).
@@ -328,6 +342,9 @@ private:
     std::int64_t m_eventCount = 0;
     std::int64_t m_collisionCount = 0;
     int m_frozenCount = 0;
+    // Collisions at the current instant (the guard of point 6 in the .cpp).
+    double m_instant = 0.0;
+    std::int64_t m_instantCollisions = 0;
 };
 
 } // namespace marbles

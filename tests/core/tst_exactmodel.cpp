@@ -145,6 +145,9 @@ private slots:
     void elasticAtExtremeSpeeds();
     void densePileBoundedWork_data();
     void densePileBoundedWork();
+    void wedgedMarblesNeverStall_data();
+    void wedgedMarblesNeverStall();
+    void tooWideMarbleHeldBetweenWalls();
     void fewMovingAmongResting_data();
     void fewMovingAmongResting();
     void nonFiniteWorldCarriedAlong_data();
@@ -720,6 +723,84 @@ void TestExactModel::densePileBoundedWork()
     // frame (its resting contacts); 64 leaves room, and still catches a guard that lets a pile
     // grind through hundreds of collisions per marble.
     QCOMPARE_LE(events, std::int64_t(n) * frames * 64);
+}
+
+void TestExactModel::wedgedMarblesNeverStall_data()
+{
+    QTest::addColumn<double>("restitution");
+    QTest::addColumn<double>("gravity");
+    for (const double e : {1.0, 0.8}) {
+        for (const double g : {0.0, 0.3}) {
+            QTest::addRow("e=%g g=%g", e, g) << e << g;
+        }
+    }
+}
+
+void TestExactModel::wedgedMarblesNeverStall()
+{
+    QFETCH(double, restitution);
+    QFETCH(double, gravity);
+    // Marbles placed where they cannot fit: each contact sends them straight into the next at
+    // the same instant, which with e = 1 once never ended (found by fuzz/fuzz_physics). Every
+    // frame must finish with bounded work and finite numbers.
+    World w = bareWorld(0.0, true, restitution);
+    w.params.gravity = {0.0, gravity};
+    // Overlapping two pins at once.
+    w.addMarble({100, 100}, 20, {1, 0});
+    w.addPin({85, 100});
+    w.addPin({115, 100});
+    // Overlapping a pin and the left wall.
+    w.addMarble({15, 300}, 20, {-1, 0});
+    w.addPin({25, 300});
+    // Wider than the stage along y, pushed around by a small marble inside it.
+    w.addMarble({500, 300}, 320, {0.5, 2});
+    w.addMarble({520, 280}, 6, {3, -1});
+    const int n = w.marbleCount();
+    ExactModel model;
+    for (int f = 0; f < 20; ++f) {
+        run(w, model, 1);
+        // The loops take no time: the guard at one instant ends them (without it, the per-frame
+        // limits would, after 16,384 collisions a marble).
+        QCOMPARE_LE(model.lastEventCount(), std::int64_t(n) * 2 * ExactModel::freezeAfterInstantCollisions);
+        for (int i = 0; i < n; ++i)
+            QVERIFY(isFinite(w.position[i]) && isFinite(w.velocity[i]));
+    }
+
+    // Two marbles side by side in a stage narrower than both.
+    World narrow = bareWorld(0.0, true, restitution);
+    narrow.params.gravity = {0.0, gravity};
+    narrow.stage = {30, 300, true};
+    narrow.addMarble({10, 100}, 10, {-1, 0});
+    narrow.addMarble({25, 100}, 10, {-1, 0});
+    ExactModel other;
+    for (int f = 0; f < 20; ++f) {
+        run(narrow, other, 1);
+        QCOMPARE_LE(other.lastEventCount(), 2 * 2 * ExactModel::freezeAfterInstantCollisions);
+        for (int i = 0; i < 2; ++i)
+            QVERIFY(isFinite(narrow.position[i]) && isFinite(narrow.velocity[i]));
+    }
+}
+
+void TestExactModel::tooWideMarbleHeldBetweenWalls()
+{
+    // A marble wider than the stage along y (2 r = 700 > 600) but not along x: the walls hold it
+    // where it is along y, at once and without freezing it, while it keeps bouncing along x with
+    // its speed (e = 1).
+    World w = bareWorld(0.0, true, 1.0);
+    w.addMarble({400, 280}, 350, {3, 2});
+    ExactModel model;
+    for (int f = 0; f < 40; ++f) {
+        run(w, model, 1);
+        QCOMPARE(model.lastFrozenCount(), 0);
+        QCOMPARE(w.position[0].y, 280.0);
+        QCOMPARE(w.velocity[0].y, 0.0);
+        QCOMPARE(std::abs(w.velocity[0].x), 3.0);
+        QVERIFY(model.lastEventCount() <= 4);
+    }
+    // It went right, met the right wall at x = 800 - 350 and came back: still between the walls.
+    QCOMPARE_GE(w.position[0].x, 350.0 - 1e-9);
+    QCOMPARE_LE(w.position[0].x, 450.0 + 1e-9);
+    QCOMPARE_LT(w.position[0].x, 400.0 + 3.0 * 40);
 }
 
 void TestExactModel::fewMovingAmongResting_data()
