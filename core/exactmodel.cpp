@@ -1705,9 +1705,14 @@ void ExactModel::collideWall(World &world, int i, int wall)
     // instead: stopped along the axis where it is, and held there (as in resting contact) until a
     // collision moves it again, which it passes on to the walls.
     const bool pinched = 2.0 * r >= side;
-    // Touching exactly: the solver stops at contact up to rounding.
-    if (!pinched)
-        x = upper ? side - r : r;
+    // Touching exactly: the solver stops at contact up to rounding, and the marble is put there.
+    // One that was further past the wall (placed or spawned overlapping it) is not moved: it
+    // bounces where it is and leaves the wall by its own motion, instead of jumping by the depth
+    // of its overlap into whatever lies beside it (found by fuzz/fuzz_physics).
+    const double contact = upper ? side - r : r;
+    const double past = upper ? x - contact : contact - x;
+    if (!pinched && past <= 1e-9 * (side + r))
+        x = contact;
     Guard &guard = m_rec[i].guard;
     count(guard.wallHits);
     const double e = m_restitution;

@@ -148,6 +148,7 @@ private slots:
     void wedgedMarblesNeverStall_data();
     void wedgedMarblesNeverStall();
     void tooWideMarbleHeldBetweenWalls();
+    void marblePastAWallIsNotMoved();
     void fewMovingAmongResting_data();
     void fewMovingAmongResting();
     void nonFiniteWorldCarriedAlong_data();
@@ -801,6 +802,29 @@ void TestExactModel::tooWideMarbleHeldBetweenWalls()
     QCOMPARE_GE(w.position[0].x, 350.0 - 1e-9);
     QCOMPARE_LE(w.position[0].x, 450.0 + 1e-9);
     QCOMPARE_LT(w.position[0].x, 400.0 + 3.0 * 40);
+}
+
+void TestExactModel::marblePastAWallIsNotMoved()
+{
+    // Placed 5 px past the right wall and moving out, beside a marble 3 px clear of it. It
+    // bounces where it is and leaves the wall by its own motion: before, the bounce put it at
+    // contact with the wall, a jump of 5 px that sank it 2 px into its neighbour (found by
+    // fuzz/fuzz_physics).
+    World w = bareWorld(0.0, true, 1.0);
+    w.addMarble({790, 300}, 15, {2, 0});
+    w.addMarble({762, 300}, 10, {0, 0});
+    ExactModel model;
+    double x = w.position[0].x;
+    for (int f = 0; f < 10; ++f) {
+        run(w, model, 1);
+        QCOMPARE_LE(std::abs(w.position[0].x - x), 2.0 + 1e-9); // no jump: at most its speed
+        x = w.position[0].x;
+        const double gap = distance(w.position[0], w.position[1]) - 25.0;
+        QCOMPARE_GE(gap, -1e-9);
+    }
+    // It came back and met the neighbour, which now moves left too.
+    QCOMPARE_LT(w.velocity[0].x, 0.0);
+    QCOMPARE_LT(w.velocity[1].x, 0.0);
 }
 
 void TestExactModel::fewMovingAmongResting_data()
