@@ -1133,6 +1133,15 @@ void ExactModel::nextEscape(int i, Vec2 p, Vec2 v)
     // The centre reaching a side of the square of half-width margin around the anchor.
     const Vec2 g = gravityOf(body);
     const Vec2 anchor = m_rec[i].anchor;
+    // Where the margin is below the resolution of the coordinates (a marble 1e17 px from the
+    // origin, or one far smaller than its distance from it), anchor +- margin rounds to the
+    // anchor: the marble would be past a side at once, re-anchored where it is, and past it again,
+    // for ever (found by fuzz/fuzz_physics). Such a marble is not followed through the grid: it
+    // keeps the neighbours of its anchor's cell until the frame ends, and the next frame sorts
+    // it again.
+    if (anchor.x - m_margin == anchor.x || anchor.x + m_margin == anchor.x || anchor.y - m_margin == anchor.y
+        || anchor.y + m_margin == anchor.y)
+        return;
     if (g.x == 0.0 && g.y == 0.0) {
         // Straight in s: out of reach if every side is further than |v| phi1(time left).
         const double reachX = std::abs(v.x) * m_sLeft;

@@ -149,6 +149,8 @@ private slots:
     void wedgedMarblesNeverStall();
     void tooWideMarbleHeldBetweenWalls();
     void marblePastAWallIsNotMoved();
+    void marginBelowResolutionNeverStalls_data();
+    void marginBelowResolutionNeverStalls();
     void fewMovingAmongResting_data();
     void fewMovingAmongResting();
     void nonFiniteWorldCarriedAlong_data();
@@ -825,6 +827,33 @@ void TestExactModel::marblePastAWallIsNotMoved()
     // It came back and met the neighbour, which now moves left too.
     QCOMPARE_LT(w.velocity[0].x, 0.0);
     QCOMPARE_LT(w.velocity[1].x, 0.0);
+}
+
+void TestExactModel::marginBelowResolutionNeverStalls_data()
+{
+    QTest::addColumn<double>("radius");
+    QTest::addColumn<double>("x0");
+    QTest::addRow("tiny marbles") << 1e-20 << 50.0;
+    QTest::addRow("far from the origin") << 10.0 << 1e17;
+}
+
+void TestExactModel::marginBelowResolutionNeverStalls()
+{
+    QFETCH(double, radius);
+    QFETCH(double, x0);
+    // Enough marbles for the grid, whose margin (a quarter of the contact distance) is below the
+    // resolution of their coordinates: each grid event re-anchored the marble where it was and
+    // fired again at once, for ever (found by fuzz/fuzz_physics). Every frame must end.
+    World w = bareWorld(0.0, false, 1.0);
+    for (int k = 0; k < 2 * ExactModel::singleCellItems; ++k)
+        w.addMarble({x0 + 100.0 * k, 100.0 + k}, radius, {1.0, 0.5});
+    ExactModel model;
+    for (int f = 0; f < 5; ++f) {
+        run(w, model, 1);
+        QCOMPARE_LE(model.lastEventCount(), std::int64_t(w.marbleCount()) * 4);
+        for (int i = 0; i < w.marbleCount(); ++i)
+            QVERIFY(isFinite(w.position[i]) && isFinite(w.velocity[i]));
+    }
 }
 
 void TestExactModel::fewMovingAmongResting_data()
