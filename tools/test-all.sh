@@ -3,7 +3,8 @@
 #   1. the Qt Test suites (core, CLI and UI on the offscreen platform) in a RelWithDebInfo build;
 #   2. the golden-hash determinism suite built with clang, so gcc and clang must agree bit for bit;
 #   3. the same suites under AddressSanitizer and UndefinedBehaviorSanitizer;
-#   4. the libFuzzer target for the scene loader, for MARBLES_FUZZ_SECONDS (default 60) seconds.
+#   4. the libFuzzer targets for the scene loader and the physics models, each for
+#      MARBLES_FUZZ_SECONDS (default 60) seconds.
 # Set MARBLES_SKIP_SANITIZERS=1 or MARBLES_FUZZ_SECONDS=0 to skip a stage while developing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -46,16 +47,20 @@ fi
 
 fuzz_seconds=${MARBLES_FUZZ_SECONDS:-60}
 if [ "$fuzz_seconds" != "0" ]; then
-    section "libFuzzer: scene loader for ${fuzz_seconds}s"
     CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DMARBLES_FUZZ=ON -DMARBLES_BUILD_UI=OFF -DMARBLES_BUILD_TESTS=OFF
-    cmake --build build-fuzz -j "$jobs" --target fuzz_sceneio
-    corpus=$(mktemp -d)
-    cp fuzz/corpus/* "$corpus"/
+    cmake --build build-fuzz -j "$jobs" --target fuzz_sceneio fuzz_physics
     mkdir -p build-fuzz/artifacts
-    ./build-fuzz/fuzz/fuzz_sceneio -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=10 \
-        -artifact_prefix=build-fuzz/artifacts/ -print_final_stats=1 "$corpus" 2>&1 | tail -n 15
-    rm -rf "$corpus"
+    # Each target on a scratch copy of its seeds (the checked-in corpora stay small).
+    for target in sceneio:corpus physics:physics-corpus; do
+        name=${target%%:*}
+        section "libFuzzer: ${name} for ${fuzz_seconds}s"
+        corpus=$(mktemp -d)
+        cp "fuzz/${target#*:}"/* "$corpus"/
+        ./build-fuzz/fuzz/fuzz_"$name" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=10 \
+            -artifact_prefix=build-fuzz/artifacts/ -print_final_stats=1 "$corpus" 2>&1 | tail -n 15
+        rm -rf "$corpus"
+    done
 fi
 
 section "all tests passed"
