@@ -1586,7 +1586,8 @@ void ExactModel::unlockMoved(int i, Vec2 v)
 
 bool ExactModel::overLimit(int i) const
 {
-    // Collision counts only matter for e < 1 (inelastic collapse); resting contacts always.
+    // Resting contacts always count; collisions against the inelastic-collapse limit for e < 1,
+    // and against the far larger limit of a wedged marble whatever e.
     const Guard &guard = m_rec[i].guard;
     return guard.restHits > freezeAfterRestingContacts || guard.pairHits > freezeAfterElasticCollisions
         || (m_inelastic && guard.pairHits > freezeAfterCollisions);
