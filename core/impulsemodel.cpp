@@ -485,7 +485,14 @@ void ImpulseModel::step(World &world)
                 Vec2 nrm{};
                 if (trackSleep && (b.x - r < 0.0 || b.x + r > stage.width || b.y - r < 0.0 || b.y + r > stage.height))
                     clear = false;
-                if (b.x - r < 0.0) {
+                // A marble too wide for the stage along an axis cannot be clamped inside: put
+                // against one wall it is past the other, and it jumped from wall to wall by
+                // 2 r - side every sub-step. It is held centred between the two walls instead,
+                // stopped along that axis (the exact model holds it likewise).
+                if (2.0 * r > stage.width) {
+                    b.x = 0.5 * stage.width;
+                    vel.x = 0.0;
+                } else if (b.x - r < 0.0) {
                     b.x = r;
                     if (vel.x < 0.0) {
                         vel.x = -e * vel.x;
@@ -498,7 +505,10 @@ void ImpulseModel::step(World &world)
                         nrm = {1.0, 0.0};
                     }
                 }
-                if (b.y - r < 0.0) {
+                if (2.0 * r > stage.height) {
+                    b.y = 0.5 * stage.height;
+                    vel.y = 0.0;
+                } else if (b.y - r < 0.0) {
                     b.y = r;
                     if (vel.y < 0.0) {
                         vel.y = -e * vel.y;

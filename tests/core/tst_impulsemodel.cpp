@@ -47,6 +47,7 @@ private slots:
     void dragFactorPerFrame_data();
     void dragFactorPerFrame();
     void wallsClampAndReflect();
+    void tooWideMarbleHeldCentred();
     void pinPushesOutAndReflects();
     void convergesToExactAtFirstOrder_data();
     void convergesToExactAtFirstOrder();
@@ -135,6 +136,25 @@ void TestImpulseModel::wallsClampAndReflect()
     QCOMPARE(w.velocity[0].x, -2.0);
     QCOMPARE(w.lastHit[0].frame, std::int64_t(1));
     QCOMPARE(w.lastHit[0].normal, (Vec2{1.0, 0.0}));
+}
+
+void TestImpulseModel::tooWideMarbleHeldCentred()
+{
+    // Wider than the stage along y (2 r = 700 > 600), under gravity along y: clamped against one
+    // wall it was past the other, and it jumped 100 px between them every sub-step. It is held
+    // centred along y, stopped, while it moves and bounces along x as any marble.
+    World w = bareWorld(0.0, 3, true);
+    w.params.gravity = {0.0, 0.2};
+    w.addMarble({400, 250}, 350, {3.0, 2.0});
+    ImpulseModel model;
+    for (int f = 0; f < 40; ++f) {
+        run(w, model, 1);
+        QCOMPARE(w.position[0].y, 300.0);
+        QCOMPARE(w.velocity[0].y, 0.0);
+        QCOMPARE(std::abs(w.velocity[0].x), 3.0);
+        QCOMPARE_GE(w.position[0].x, 350.0);
+        QCOMPARE_LE(w.position[0].x, 450.0);
+    }
 }
 
 void TestImpulseModel::pinPushesOutAndReflects()
