@@ -15,9 +15,9 @@
 #include "core/presets.h"
 #include "core/sceneio.h"
 #include "core/world.h"
+#include "fuzz/samebits.h"
 
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -28,6 +28,7 @@
 namespace {
 
 using namespace marbles;
+using namespace marbles::fuzzbits;
 
 // Kept small so that each input runs in milliseconds: the bugs this looks for need a few
 // marbles, not thousands.
@@ -45,34 +46,6 @@ constexpr double kMaxSpeed = 1e4;
 // walls just wider than they are, up to the exact model's guards) stops after this long; a frame
 // that never ends is still libFuzzer's timeout.
 constexpr std::chrono::milliseconds kInputBudget{2000};
-
-bool same(double a, double b)
-{
-    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
-}
-
-bool same(Vec2 a, Vec2 b)
-{
-    return same(a.x, b.x) && same(a.y, b.y);
-}
-
-bool same(const HitRecord &a, const HitRecord &b)
-{
-    return a.frame == b.frame && same(a.velocityIn, b.velocityIn) && same(a.normal, b.normal)
-        && same(a.velocityOut, b.velocityOut);
-}
-
-template<typename T>
-int firstDifference(const std::vector<T> &a, const std::vector<T> &b)
-{
-    if (a.size() != b.size())
-        return 0;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        if (!same(a[i], b[i]))
-            return static_cast<int>(i);
-    }
-    return -1;
-}
 
 [[noreturn]] void fail(const World &w, const char *what, int marble, const std::string &scene)
 {

@@ -4,8 +4,8 @@
 // and the saved text is a fixed point (saving the reloaded scene gives the same text).
 
 #include "core/sceneio.h"
+#include "fuzz/samebits.h"
 
-#include <bit>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -15,38 +15,7 @@
 namespace {
 
 using namespace marbles;
-
-bool same(double a, double b)
-{
-    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
-}
-
-bool same(Vec2 a, Vec2 b)
-{
-    return same(a.x, b.x) && same(a.y, b.y);
-}
-
-bool same(const std::vector<Vec2> &a, const std::vector<Vec2> &b)
-{
-    if (a.size() != b.size())
-        return false;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        if (!same(a[i], b[i]))
-            return false;
-    }
-    return true;
-}
-
-bool same(const std::vector<double> &a, const std::vector<double> &b)
-{
-    if (a.size() != b.size())
-        return false;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        if (!same(a[i], b[i]))
-            return false;
-    }
-    return true;
-}
+using fuzzbits::same;
 
 bool same(const Params &a, const Params &b)
 {
