@@ -1769,9 +1769,10 @@ void ExactModel::step(World &world)
         return;
     }
     const Event none{noTime, EventKind::None, -1, 0};
+    // The guard of point 6: the events (all but grid events) handled at the current instant.
     const std::int64_t instantLimit = std::int64_t(freezeAfterInstantCollisions) * n;
-    m_instant = -infinity;
-    m_instantCollisions = 0;
+    double instant = -infinity;
+    std::int64_t atInstant = 0;
     for (int i = calendarFirst(); i >= 0; i = calendarFirst()) {
         const Event ev = currentEvent(i);
         setNow(std::max(m_now, ev.time));
@@ -1781,12 +1782,12 @@ void ExactModel::step(World &world)
             schedule(i);
             continue;
         }
-        if (m_now > m_instant) {
-            m_instant = m_now;
-            m_instantCollisions = 0;
+        if (m_now > instant) {
+            instant = m_now;
+            atInstant = 0;
         }
         // Past the limit, time has stopped: whoever collides at this instant is frozen.
-        const bool stuck = ++m_instantCollisions > instantLimit;
+        const bool stuck = ++atInstant > instantLimit;
         // Every other event ends with a fresh prediction of i. Its old contact is void from here
         // on (so that no partner's search stops at it).
         setContact(i, none);

@@ -44,9 +44,9 @@ public:
     /// pins, or squeezed between a wall and marbles that the other wall sends back) comes near:
     /// with e = 1 it would go from one contact straight into the next at the same instant for ever.
     static constexpr int freezeAfterElasticCollisions = 1 << 14;
-    /// Whatever e: once more than this many collisions per marble of the world (on average)
-    /// happen at one and the same instant, every marble that collides again at that instant is
-    /// frozen likewise. Marbles wedged where they cannot fit bounce between their contacts
+    /// Whatever e: once more than this many events per marble of the world (on average;
+    /// collisions and re-checks, not grid events) happen at one and the same instant, every
+    /// marble that collides again at that instant is frozen likewise. Marbles wedged where they cannot fit bounce between their contacts
     /// without time passing; real simultaneous collisions (a Newton's cradle, a symmetric break)
     /// are a few per marble.
     static constexpr int freezeAfterInstantCollisions = 64;
@@ -342,9 +342,6 @@ private:
     std::int64_t m_eventCount = 0;
     std::int64_t m_collisionCount = 0;
     int m_frozenCount = 0;
-    // Collisions at the current instant (the guard of point 6 in the .cpp).
-    double m_instant = 0.0;
-    std::int64_t m_instantCollisions = 0;
 };
 
 } // namespace marbles
