@@ -9,9 +9,13 @@
 // that builds everything from the World), and the two must agree bit for bit. It also checks
 // that a step reports a marble that left finite numbers exactly when there is one, that the book
 // model gives the bits of its plain all-pairs transcription, and that in the exact model the
-// deepest overlap never grows.
+// deepest overlap never grows and keeping its sleepers' layer (or never keeping it) gives the
+// same bits. Besides scene files, an input can name a generated crowd ("#crowd" and a few
+// bytes), so that the scenes that only larger counts reach (the exact model's sleepers' layer,
+// the grids' overflow lists, the impulse model's partial sort) are fuzzed too.
 
 #include "core/bookmodel.h"
+#include "core/exactmodel.h"
 #include "core/presets.h"
 #include "core/sceneio.h"
 #include "core/world.h"
@@ -23,6 +27,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
 namespace {
@@ -34,6 +39,10 @@ using namespace marbles::fuzzbits;
 // marbles, not thousands.
 // Enough marbles and pins for every model's grid (the book model's from 48 marbles and 24 pins).
 constexpr int kMaxMarbles = 80;
+// Generated crowds: from the book model's grid (48 marbles) through the exact model's (more than
+// 64 bodies) to past its sleepers' layer's threshold (256 marbles).
+constexpr int kCrowdMin = 48;
+constexpr int kCrowdMax = 320;
 constexpr int kMaxPins = 128;
 constexpr int kSubstepsAtMost = 8;
 constexpr int kFrames = 24;
@@ -126,7 +135,7 @@ struct Snapshot {
 
 /// One edit of the kinds the window makes, chosen by `rng`; keeps the scene valid for its model.
 /// `since` holds the frames stepped since the last edit, which Step Back can return to.
-void edit(World &w, const std::vector<Snapshot> &since, SplitMix64 &rng)
+void edit(World &w, const std::vector<Snapshot> &since, int maxMarbles, SplitMix64 &rng)
 {
     const double width = w.stage.width;
     const double height = w.stage.height;
@@ -134,7 +143,7 @@ void edit(World &w, const std::vector<Snapshot> &since, SplitMix64 &rng)
     const auto speed = [&] { return Vec2{rng.uniform(-8.0, 8.0), rng.uniform(-8.0, 8.0)}; };
     const int n = w.marbleCount();
     const int i = n > 0 ? static_cast<int>(rng.next() % static_cast<std::uint64_t>(n)) : -1;
-    switch (rng.next() % 15) {
+    switch (rng.next() % 18) {
     case 0:
         if (i >= 0)
             w.position[static_cast<std::size_t>(i)] = anywhere();
@@ -162,7 +171,7 @@ void edit(World &w, const std::vector<Snapshot> &since, SplitMix64 &rng)
             w.setExplicitMass(i, rng.uniform(0.1, 1000.0));
         break;
     case 6:
-        if (n < kMaxMarbles)
+        if (n < maxMarbles)
             w.addMarble(anywhere(), rng.uniform(0.5, 30.0), speed());
         break;
     case 7:
@@ -190,6 +199,16 @@ void edit(World &w, const std::vector<Snapshot> &since, SplitMix64 &rng)
     case 13:
         w.params.gravity = rng.next() % 2 == 0 ? Vec2{} : Vec2{rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5)};
         break;
+    case 14:
+        // The exact and impulse models' restitution, [0, 1] (the book model has none).
+        w.params.restitution = rng.next() % 2 == 0 ? 1.0 : rng.uniform(0.0, 1.0);
+        break;
+    case 15:
+        w.setMassScale(rng.uniform(0.01, 100.0));
+        break;
+    case 16:
+        w.params.shortCircuit = !w.params.shortCircuit;
+        break;
     default:
         // Step Back: an earlier frame written into the same world.
         if (!since.empty())
@@ -198,28 +217,82 @@ void edit(World &w, const std::vector<Snapshot> &since, SplitMix64 &rng)
     }
 }
 
+/// What World::step() does, with `model` in place of the world's own: the frame's scripted
+/// pushes, the update, the frame count.
+void stepWith(Stepper &model, World &w)
+{
+    for (const Push &push : w.pushes) {
+        if (push.frame == w.frame && push.marble >= 0 && push.marble < w.marbleCount())
+            w.push(push.marble, push.at);
+    }
+    model.step(w);
+    ++w.frame;
+}
+
+/// A crowd described by the bytes after "#crowd": its size, model, share of moving marbles,
+/// pins and substeps. The rest of the scene is marbles-cli gen crowd's (walls, e = 1, no
+/// friction or gravity; edits change those).
+World crowdFromBytes(const std::uint8_t *data, std::size_t size, std::uint64_t hash)
+{
+    const auto byte = [&](std::size_t k) -> unsigned { return k < size ? data[k] : 0u; };
+    const int n = kCrowdMin + static_cast<int>((byte(0) | byte(1) << 8) % (kCrowdMax - kCrowdMin + 1));
+    static constexpr double moving[] = {0.0, 0.005, 0.02, 0.0625, 0.25, 1.0};
+    World w = makeCrowd(n, hash, moving[byte(3) % std::size(moving)]);
+    w.params.model = static_cast<ModelKind>(byte(2) % 3);
+    w.params.substeps = 1 + static_cast<int>(byte(5) % kSubstepsAtMost);
+    SplitMix64 rng(hash ^ 0x9e3779b97f4a7c15ull);
+    for (unsigned k = byte(4) % 40; k > 0; --k)
+        w.addPin({rng.uniform(0.0, w.stage.width), rng.uniform(0.0, w.stage.height)});
+    return w;
+}
+
+std::string describeCrowd(const World &w)
+{
+    return "a generated crowd of " + std::to_string(w.marbleCount()) + " marbles and " + std::to_string(w.pins.size())
+        + " pins (replay the input file)";
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t *data, std::size_t size)
 {
-    const std::string scene(reinterpret_cast<const char *>(data), size);
-    SceneLoad load = parseScene(scene, "input");
-    if (!load.ok)
-        return 0;
-    World kept = std::move(load.world);
-    if (kept.marbleCount() > kMaxMarbles || static_cast<int>(kept.pins.size()) > kMaxPins
-        || kept.params.substeps > kSubstepsAtMost || tooFast(kept))
-        return 0;
+    std::string scene(reinterpret_cast<const char *>(data), size);
     // The edits follow from the input (its FNV-1a hash), so that a finding replays.
     std::uint64_t hash = 1469598103934665603ull;
     for (const unsigned char c : scene)
         hash = (hash ^ c) * 1099511628211ull;
+    static constexpr char crowdTag[] = "#crowd";
+    constexpr std::size_t tagLength = sizeof crowdTag - 1;
+    World kept;
+    int maxMarbles = kMaxMarbles;
+    if (size >= tagLength && std::memcmp(data, crowdTag, tagLength) == 0) {
+        kept = crowdFromBytes(data + tagLength, size - tagLength, hash);
+        scene = describeCrowd(kept);
+        maxMarbles = kCrowdMax;
+    } else {
+        SceneLoad load = parseScene(scene, "input");
+        if (!load.ok)
+            return 0;
+        kept = std::move(load.world);
+        if (kept.marbleCount() > kMaxMarbles || static_cast<int>(kept.pins.size()) > kMaxPins
+            || kept.params.substeps > kSubstepsAtMost || tooFast(kept))
+            return 0;
+    }
     SplitMix64 rng(hash);
+    // The exact model with its sleepers' layer always kept (wherever there is a grid and no
+    // gravity) and never kept: each keeps its caches from frame to frame, and both must give
+    // the bits of the world's own model.
+    ExactModel alwaysLayer;
+    alwaysLayer.setSleeping(ExactModel::Sleeping::Always);
+    ExactModel neverLayer;
+    neverLayer.setSleeping(ExactModel::Sleeping::Never);
+    World withLayer;
+    World withoutLayer;
     std::vector<Snapshot> since;
     const auto start = std::chrono::steady_clock::now();
     for (int f = 1; f <= kFrames && std::chrono::steady_clock::now() - start < kInputBudget; ++f) {
         if (f % kEditEvery == 0) {
-            edit(kept, since, rng);
+            edit(kept, since, maxMarbles, rng);
             since.clear(); // an edit starts the history over, as in the window
         }
         since.emplace_back(kept);
@@ -231,21 +304,34 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t *data, std::size_t size
         // edit makes) may stay while they part, but the deepest never grows.
         const bool exact = kept.params.model == ModelKind::Exact;
         const double overlapBefore = exact ? deepestOverlap(kept) : 0.0;
+        // Only where the layer can be kept (a grid, no gravity), and without it only where the
+        // world's own model may keep it: the exact model's worst frames (marbles wedged, which it
+        // collides thousands of times a frame) take seconds under the sanitizers.
+        const bool layerPossible = exact && kept.params.gravity == Vec2{}
+            && kept.marbleCount() + static_cast<int>(kept.pins.size()) > ExactModel::singleCellItems;
+        const bool layerByDefault = layerPossible && kept.marbleCount() >= ExactModel::sleepingLayerFrom;
+        // The same state; a World's copy has no model of its own, these are stepped by the two
+        // kept above.
+        if (layerPossible)
+            withLayer = kept;
+        if (layerByDefault)
+            withoutLayer = kept;
         const StepResult a = kept.step();
         const StepResult b = fresh.step();
         compare(kept, fresh, scene);
         if (book) {
-            // World::step() with the book model in its reference mode: the frame's scripted
-            // pushes, then the update.
-            for (const Push &push : reference.pushes) {
-                if (push.frame == reference.frame && push.marble >= 0 && push.marble < reference.marbleCount())
-                    reference.push(push.marble, push.at);
-            }
             BookModel allPairs;
             allPairs.setReferenceMode(true);
-            allPairs.step(reference);
-            ++reference.frame;
+            stepWith(allPairs, reference);
             compare(kept, reference, scene, "the all-pairs book model's");
+        }
+        if (layerPossible) {
+            stepWith(alwaysLayer, withLayer);
+            compare(kept, withLayer, scene, "the exact model's with its sleepers' layer always kept");
+        }
+        if (layerByDefault) {
+            stepWith(neverLayer, withoutLayer);
+            compare(kept, withoutLayer, scene, "the exact model's without its sleepers' layer");
         }
         if (a.finite != b.finite || a.badMarble != b.badMarble)
             fail(kept, "the report of a marble that left finite numbers differs", a.badMarble, scene);

@@ -51,13 +51,16 @@ if [ "$fuzz_seconds" != "0" ]; then
         -DMARBLES_FUZZ=ON -DMARBLES_BUILD_UI=OFF -DMARBLES_BUILD_TESTS=OFF
     cmake --build build-fuzz -j "$jobs" --target fuzz_sceneio fuzz_physics
     mkdir -p build-fuzz/artifacts
-    # Each target on a scratch copy of its seeds (the checked-in corpora stay small).
+    # Each target on a scratch copy of its seeds (the checked-in corpora stay small). The timeout
+    # finds frames that never end; it leaves room for the slowest that do (marbles wedged so that
+    # the exact model collides them thousands of times a frame, up to its guards, stepped by up
+    # to four models a frame under the sanitizers: 5 s here).
     for target in sceneio:corpus physics:physics-corpus; do
         name=${target%%:*}
         section "libFuzzer: ${name} for ${fuzz_seconds}s"
         corpus=$(mktemp -d)
         cp "fuzz/${target#*:}"/* "$corpus"/
-        ./build-fuzz/fuzz/fuzz_"$name" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=10 \
+        ./build-fuzz/fuzz/fuzz_"$name" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=30 \
             -artifact_prefix=build-fuzz/artifacts/ -print_final_stats=1 "$corpus" 2>&1 | tail -n 15
         rm -rf "$corpus"
     done
