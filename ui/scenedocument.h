@@ -77,7 +77,9 @@ public:
     /// Moves the held marble to `p` (stage px).
     void moveHeld(Vec2 p);
     /// Drops the held marble at `p`: moved to the nearest free spot and pushed as one undo step.
-    /// Returns "" or why the drop was refused (the marble then goes back to where it was picked up).
+    /// Returns "" when it lands at `p`, else a line for the status bar: that it was moved to the
+    /// nearest free spot, or why the drop was refused (the marble then goes back to where it was
+    /// picked up, and no undo step is made).
     QString endHold(Vec2 p);
     /// Index of the held marble, or -1.
     int heldMarble() const { return m_held; }
@@ -86,7 +88,8 @@ public:
     void beginPinDrag(int j);
     /// Moves the dragged pin to `q`.
     void movePinDrag(Vec2 q);
-    /// Drops the dragged pin at `q` (one undo step); returns "" or why it was refused.
+    /// Drops the dragged pin at `q`, or the nearest free spot (one undo step); returns "" when it
+    /// lands at `q`, else that it was moved to the nearest free spot or why it was refused.
     QString endPinDrag(Vec2 q);
     /// Index of the dragged pin, or -1.
     int draggedPin() const { return m_draggedPin; }

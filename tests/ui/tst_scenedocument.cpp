@@ -11,6 +11,7 @@
 #include <QTemporaryDir>
 #include <QTest>
 
+#include <array>
 #include <cmath>
 
 using namespace marbles;
@@ -52,6 +53,8 @@ private Q_SLOTS:
     void stepBackAndForthInterleaved();
     void editUndoesExactly_data();
     void editUndoesExactly();
+    void randomEditsUndoAndRedoExactly_data();
+    void randomEditsUndoAndRedoExactly();
     void paramEditsMergeAndInvalidIsRefused();
     void heldMarbleStaysStill();
     void dropOntoMarbleFindsFreeSpot();
@@ -263,6 +266,156 @@ void TestSceneDocument::editUndoesExactly()
     QVERIFY(!doc.isModified());
     doc.undoStack()->redo();
     QVERIFY(sameScene(doc.world(), after));
+}
+
+void TestSceneDocument::randomEditsUndoAndRedoExactly_data()
+{
+    QTest::addColumn<QString>("presetId");
+    QTest::addColumn<int>("seed");
+    for (const char *id : {"four-marbles", "pins", "masses", "newtons-cradle", "pachinko"}) {
+        for (int seed = 1; seed <= 3; ++seed)
+            QTest::addRow("%s, seed %d", id, seed) << QString::fromLatin1(id) << seed;
+    }
+}
+
+void TestSceneDocument::randomEditsUndoAndRedoExactly()
+{
+    // A teacher's editing session, paused mid-run: a long random mix of every kind of edit the
+    // window makes (drags of marbles and pins included, some refused). Undoing step by step must
+    // give back, bit for bit, the world as it was after each earlier step, down to where the
+    // session began; redoing must give them again in order. A refused edit leaves no trace.
+    QFETCH(QString, presetId);
+    QFETCH(int, seed);
+    SceneDocument doc;
+    doc.resetScene(preset(qPrintable(presetId)));
+    doc.advance(20 + 7 * seed);
+    SplitMix64 rng(static_cast<std::uint64_t>(seed) * 7919 + static_cast<std::uint64_t>(qHash(presetId)));
+    const World &w = doc.world();
+    const auto anywhere = [&] { return Vec2{rng.uniform(0.0, w.stage.width), rng.uniform(0.0, w.stage.height)}; };
+    const auto number = [](double x) { return QString::number(x, 'g', 17); };
+    const auto pick = [&](int count) { return static_cast<int>(rng.next() % static_cast<std::uint64_t>(count)); };
+
+    // After[k]: the world once the undo stack holds k commands (after[0]: the session's start).
+    std::vector<World> after{w};
+    int refused = 0;
+    for (int edit = 0; edit < 60; ++edit) {
+        const World before = w;
+        const int commandsBefore = doc.undoStack()->count();
+        const int n = w.marbleCount();
+        const int pins = static_cast<int>(w.pins.size());
+        const int marble = n > 0 ? pick(n) : -1;
+        QString error;
+        switch (pick(12)) {
+        case 0:
+            error = doc.addMarble(anywhere(), rng.uniform(5.0, 40.0));
+            break;
+        case 1:
+            if (n > 1)
+                doc.removeMarble(marble);
+            break;
+        case 2:
+            error = doc.addPin(anywhere());
+            break;
+        case 3:
+            if (pins > 0)
+                doc.removePin(pick(pins));
+            break;
+        case 4:
+            if (marble >= 0)
+                error = doc.setMarblePosition(marble, anywhere());
+            break;
+        case 5:
+            if (marble >= 0)
+                error = doc.setMarbleVelocity(marble, {rng.uniform(-9.0, 9.0), rng.uniform(-9.0, 9.0)});
+            break;
+        case 6:
+            // Sometimes an invalid radius (refused).
+            if (marble >= 0)
+                error = doc.setMarbleRadius(marble, rng.next() % 5 == 0 ? -1.0 : rng.uniform(3.0, 45.0));
+            break;
+        case 7:
+            if (marble >= 0)
+                error = doc.setMarbleMass(marble, rng.next() % 3 == 0 ? 0.0 : rng.uniform(1.0, 500.0));
+            break;
+        case 8: {
+            // A drag: held, moved about, dropped (moved to the nearest free spot, or refused).
+            if (marble < 0)
+                break;
+            doc.beginHold(marble);
+            for (int k = 0; k < 3; ++k)
+                doc.moveHeld(anywhere());
+            error = doc.endHold(anywhere());
+            break;
+        }
+        case 9: {
+            if (pins == 0)
+                break;
+            doc.beginPinDrag(pick(pins));
+            doc.movePinDrag(anywhere());
+            error = doc.endPinDrag(anywhere());
+            break;
+        }
+        case 10: {
+            static const char *const keys[] = {"massScale", "friction", "zeroThreshold", "restitution", "gravity",
+                                               "walls", "model", "substeps", "shortCircuit", "pushScale"};
+            const QString key = QString::fromLatin1(keys[pick(10)]);
+            QString value;
+            if (key == QLatin1String("gravity"))
+                value = number(rng.uniform(-0.3, 0.3)) + QLatin1Char(',') + number(rng.uniform(-0.3, 0.3));
+            else if (key == QLatin1String("walls") || key == QLatin1String("shortCircuit"))
+                value = rng.next() % 2 == 0 ? QStringLiteral("true") : QStringLiteral("false");
+            else if (key == QLatin1String("model"))
+                value = QString::fromLatin1(std::array{"book", "impulse", "exact"}[static_cast<std::size_t>(pick(3))]);
+            else if (key == QLatin1String("substeps"))
+                value = QString::number(1 + pick(4));
+            else if (key == QLatin1String("friction"))
+                value = number(rng.next() % 4 == 0 ? 1.5 : rng.uniform(0.0, 0.5)); // 1.5: refused outside the book model
+            else
+                value = number(rng.uniform(0.0, 3.0));
+            error = doc.setParam(key, value);
+            break;
+        }
+        default:
+            // Another edit of the marble just edited, to the same field: such edits merge.
+            if (n > 0 && doc.undoStack()->count() > 0)
+                error = doc.setMarbleVelocity(n - 1, {rng.uniform(-2.0, 2.0), 0.0});
+            break;
+        }
+        const int commands = doc.undoStack()->count();
+        if (commands == commandsBefore) {
+            // Refused (with the reason), a no-op, or merged into the last command (which then
+            // ends where we are). A drop moved to the nearest free spot is done, with a note.
+            if (!error.isEmpty()) {
+                ++refused;
+                QVERIFY2(sameScene(w, before) && sameDynamicState(w, before), qPrintable(error));
+            }
+            if (commands > 0)
+                after[static_cast<std::size_t>(commands)] = w;
+            else
+                QVERIFY(sameScene(w, after[0]) && sameDynamicState(w, after[0]));
+            continue;
+        }
+        QCOMPARE(commands, commandsBefore + 1);
+        QCOMPARE(doc.undoStack()->index(), commands);
+        after.push_back(w);
+    }
+    const int total = doc.undoStack()->count();
+    QVERIFY2(total >= 30, qPrintable(QStringLiteral("only %1 undo steps").arg(total)));
+    QVERIFY(refused > 0);
+
+    for (int k = total - 1; k >= 0; --k) {
+        doc.undoStack()->undo();
+        const World &expected = after[static_cast<std::size_t>(k)];
+        QVERIFY2(sameScene(w, expected) && sameDynamicState(w, expected),
+                 qPrintable(QStringLiteral("undo to step %1 of %2 (%3)").arg(k).arg(total).arg(doc.undoStack()->text(k))));
+    }
+    QVERIFY(!doc.isModified());
+    for (int k = 1; k <= total; ++k) {
+        doc.undoStack()->redo();
+        const World &expected = after[static_cast<std::size_t>(k)];
+        QVERIFY2(sameScene(w, expected) && sameDynamicState(w, expected),
+                 qPrintable(QStringLiteral("redo to step %1 of %2 (%3)").arg(k).arg(total).arg(doc.undoStack()->text(k - 1))));
+    }
 }
 
 void TestSceneDocument::paramEditsMergeAndInvalidIsRefused()
