@@ -31,6 +31,7 @@
 #include <QTest>
 
 #include <cmath>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -125,6 +126,8 @@ private Q_SLOTS:
     void restartsFromDocument_data();
     void restartsFromDocument();
     void stepsBackWithTheDocument();
+    void randomSessionFollowsTheRules_data();
+    void randomSessionFollowsTheRules();
     void forgottenFramesKeepOnlyTheLargestGap();
     void clickPushesBothModels();
     void heldMarbleIsFollowed();
@@ -353,6 +356,133 @@ void TestCompareRun::stepsBackWithTheDocument()
     QCOMPARE(restarted.count(), 1);
     QVERIFY(sameDynamics(*compare.world(), seen[0].world));
     QVERIFY(compare.largestGapPx() == 0.0);
+}
+
+void TestCompareRun::randomSessionFollowsTheRules_data()
+{
+    QTest::addColumn<QString>("preset");
+    QTest::addColumn<ModelKind>("own");
+    QTest::addColumn<ModelKind>("compared");
+    QTest::addColumn<int>("seed");
+    QTest::addRow("masses, book against exact") << "masses" << ModelKind::Book << ModelKind::Exact << 1;
+    QTest::addRow("pins, book against impulse") << "pins" << ModelKind::Book << ModelKind::Impulse << 2;
+    QTest::addRow("newtons-cradle, exact against book") << "newtons-cradle" << ModelKind::Exact << ModelKind::Book << 3;
+    QTest::addRow("pachinko, impulse against exact") << "pachinko" << ModelKind::Impulse << ModelKind::Exact << 4;
+    QTest::addRow("four-marbles, book against exact") << "four-marbles" << ModelKind::Book << ModelKind::Exact << 5;
+}
+
+void TestCompareRun::randomSessionFollowsTheRules()
+{
+    // A teacher's session with the comparison on: runs of a few frames, Step Back, Back to
+    // Start, clicks on marbles, edits and undos, in a random order. The oracle applies the
+    // class's rules itself (comparerun.h): the comparison is its own model's World stepped
+    // with the document's frames, given the same clicks; Step Back returns it to its own state
+    // at that frame, or restarts it there from the document's when it started later; any edit
+    // or undo restarts it from the document's state. After every action the comparison must
+    // hold the oracle's bits, and its largest gap must be the largest since its start.
+    QFETCH(QString, preset);
+    QFETCH(ModelKind, own);
+    QFETCH(ModelKind, compared);
+    QFETCH(int, seed);
+    SceneDocument doc;
+    doc.resetScene(presetWorld(qPrintable(preset), own));
+    CompareRun compare(&doc);
+    compare.setModel(compared);
+    SplitMix64 rng(static_cast<std::uint64_t>(seed));
+    const auto pick = [&](int count) { return static_cast<int>(rng.next() % static_cast<std::uint64_t>(count)); };
+
+    World oracle;
+    std::map<std::int64_t, World> oracleAt; // the oracle after each frame of its current run
+    std::map<std::int64_t, double> gapAt;   // the gap after each of those frames
+    const auto restartOracle = [&] {
+        oracle = doc.world();
+        oracle.params.model = compared;
+        oracleAt = {{oracle.frame, oracle}};
+        gapAt.clear();
+    };
+    restartOracle();
+    int restarts = 0;
+    int backs = 0;
+    for (int action = 0; action < 150; ++action) {
+        const World &w = doc.world();
+        const int marble = pick(w.marbleCount());
+        QString what;
+        switch (pick(8)) {
+        case 0:
+        case 1:
+        case 2: {
+            const int frames = 1 + pick(15);
+            what = QStringLiteral("%1 frames").arg(frames);
+            for (int f = 0; f < frames; ++f) {
+                doc.step();
+                QVERIFY(oracle.step().finite);
+                oracleAt[oracle.frame] = oracle;
+                gapAt[oracle.frame] = gapBetween(w, oracle).px;
+            }
+            break;
+        }
+        case 3:
+        case 4: {
+            const int frames = 1 + pick(20);
+            what = QStringLiteral("back %1 frames").arg(frames);
+            for (int f = 0; f < frames && doc.stepBack(); ++f) {
+                ++backs;
+                const auto kept = oracleAt.find(w.frame);
+                if (w.frame <= oracleAt.begin()->first || kept == oracleAt.end()) {
+                    restartOracle();
+                } else {
+                    oracle = kept->second;
+                    oracleAt.erase(oracleAt.upper_bound(w.frame), oracleAt.end());
+                    gapAt.erase(gapAt.upper_bound(w.frame), gapAt.end());
+                }
+            }
+            break;
+        }
+        case 5: {
+            // A click: the same push for the comparison marble.
+            what = QStringLiteral("click on marble %1").arg(marble);
+            const Vec2 p = w.position[static_cast<std::size_t>(marble)];
+            doc.pushMarble(marble, {p.x + rng.uniform(-10.0, 10.0), p.y + rng.uniform(-10.0, 10.0)});
+            oracle.acceleration = w.acceleration;
+            oracleAt[oracle.frame] = oracle;
+            break;
+        }
+        case 6:
+            what = QStringLiteral("back to start");
+            if (doc.rewind())
+                restartOracle(); // the start is before any frame the comparison ran
+            break;
+        default: {
+            QString error;
+            if (doc.undoStack()->canUndo() && pick(3) == 0) {
+                what = QStringLiteral("undo");
+                doc.undoStack()->undo();
+            } else if (pick(2) == 0) {
+                what = QStringLiteral("velocity of marble %1").arg(marble);
+                error = doc.setMarbleVelocity(marble, {rng.uniform(-6.0, 6.0), rng.uniform(-6.0, 6.0)});
+            } else {
+                what = QStringLiteral("friction");
+                error = doc.setParam(QStringLiteral("friction"), QString::number(rng.uniform(0.0, 0.2), 'g', 17));
+            }
+            QVERIFY2(error.isEmpty(), qPrintable(error));
+            restartOracle();
+            ++restarts;
+            break;
+        }
+        }
+        const QString where = QStringLiteral("action %1 (%2), frame %3").arg(action).arg(what).arg(w.frame);
+        QVERIFY2(compare.isTracking(), qPrintable(where + QStringLiteral(": ") + compare.problem()));
+        QVERIFY2(sameDynamics(*compare.world(), oracle), qPrintable(where));
+        QVERIFY2(compare.world()->lastHit == oracle.lastHit, qPrintable(where));
+        QCOMPARE(compare.startFrame(), oracleAt.begin()->first);
+        double largest = 0.0;
+        for (const auto &[frame, gap] : gapAt)
+            largest = std::max(largest, gap);
+        QVERIFY2(std::abs(compare.largestGapPx() - largest) <= 1e-9 * std::max(1.0, largest),
+                 qPrintable(where + QStringLiteral(": largest gap %1, expected %2").arg(compare.largestGapPx()).arg(largest)));
+    }
+    QVERIFY(backs > 20);
+    QVERIFY(restarts > 5);
 }
 
 void TestCompareRun::forgottenFramesKeepOnlyTheLargestGap()
