@@ -51,6 +51,8 @@ private Q_SLOTS:
     void jumpBackRewindsTimelineEditResetsIt();
     void historyIsBounded();
     void stepBackAndForthInterleaved();
+    void historyRandomWalkRestoresExactly_data();
+    void historyRandomWalkRestoresExactly();
     void editUndoesExactly_data();
     void editUndoesExactly();
     void randomEditsUndoAndRedoExactly_data();
@@ -210,6 +212,96 @@ void TestSceneDocument::stepBackAndForthInterleaved()
             hits += hit.frame >= 0 ? 1 : 0;
         QVERIFY2(hits > 100, qPrintable(QStringLiteral("%1: %2 marbles hit").arg(model).arg(hits)));
     }
+}
+
+void TestSceneDocument::historyRandomWalkRestoresExactly_data()
+{
+    QTest::addColumn<QString>("model");
+    QTest::addColumn<bool>("tightBudget");
+    for (const char *model : {"book", "impulse", "exact"}) {
+        QTest::addRow("%s, all frames kept", model) << QString::fromLatin1(model) << false;
+        QTest::addRow("%s, budget of about 25 frames", model) << QString::fromLatin1(model) << true;
+    }
+}
+
+void TestSceneDocument::historyRandomWalkRestoresExactly()
+{
+    // Runs, steps back, edits between frames (which keep the history, as the document does when
+    // the marbles stay the same) and jumps to the start, in a random order, over a crowd whose
+    // collision records change every frame: the history keeps those records as the changes of
+    // each step, walked back from its newest frame. Every frame it gives back must be the one
+    // recorded, bit for bit; it can step back exactly as far as it kept; the start is never lost.
+    QFETCH(QString, model);
+    QFETCH(bool, tightBudget);
+    World w = makeCrowd(300, 11, 1.0);
+    QVERIFY(parseModelName(model.toStdString(), w.params.model));
+    std::size_t budget = FrameHistory::kDefaultMaxBytes;
+    if (tightBudget) {
+        FrameHistory probe;
+        probe.reset(w);
+        probe.record(w);
+        budget = 25 * probe.byteSize();
+    }
+    FrameHistory history(FrameHistory::kDefaultMaxFrames, budget);
+    history.reset(w);
+    const World start = w;
+    std::vector<World> recorded; // what each record() saw, oldest first (some forgotten since)
+    SplitMix64 rng(tightBudget ? 5 : 6);
+    const auto pick = [&](int count) { return static_cast<int>(rng.next() % static_cast<std::uint64_t>(count)); };
+    int restored = 0;
+    int refused = 0;
+    for (int action = 0; action < 200; ++action) {
+        switch (pick(6)) {
+        case 0:
+        case 1: {
+            for (int f = 1 + pick(12); f > 0; --f) {
+                history.record(w);
+                recorded.push_back(w);
+                QVERIFY(w.step().finite);
+            }
+            break;
+        }
+        case 2:
+        case 3: {
+            for (int f = 1 + pick(15); f > 0; --f) {
+                const std::size_t kept = history.size();
+                QCOMPARE(history.canStepBack(w), kept > 0);
+                if (!history.stepBack(w)) {
+                    QCOMPARE(kept, std::size_t{0});
+                    ++refused;
+                    break;
+                }
+                QVERIFY(!recorded.empty());
+                QVERIFY2(sameDynamicState(w, recorded.back()),
+                         qPrintable(QStringLiteral("action %1: frame %2").arg(action).arg(w.frame)));
+                recorded.pop_back();
+                ++restored;
+            }
+            break;
+        }
+        case 4: {
+            // An edit between frames: a marble's velocity, or a push.
+            const int i = pick(w.marbleCount());
+            if (pick(2) == 0)
+                w.velocity[static_cast<std::size_t>(i)] = {rng.uniform(-5.0, 5.0), rng.uniform(-5.0, 5.0)};
+            else
+                w.push(i, {w.position[static_cast<std::size_t>(i)].x + 3.0, w.position[static_cast<std::size_t>(i)].y});
+            break;
+        }
+        default:
+            if (pick(4) == 0) {
+                QVERIFY(history.rewind(w));
+                QVERIFY(sameDynamicState(w, start));
+                recorded.clear();
+            }
+            break;
+        }
+        QVERIFY(history.size() <= recorded.size());
+        QVERIFY(history.byteSize() <= budget);
+    }
+    QVERIFY(restored > 100);
+    if (tightBudget)
+        QVERIFY(refused > 0);
 }
 
 void TestSceneDocument::editUndoesExactly_data()
