@@ -1,8 +1,12 @@
 // libFuzzer target for the scene loader. Besides "never crashes, hangs or leaks" (the sanitizers
 // and libFuzzer's own limits check those), it checks a real property: a scene that loads can be
 // saved and loaded again with every number bit-identical, every string and unknown key kept,
-// and the saved text is a fixed point (saving the reloaded scene gives the same text).
+// and the saved text is a fixed point (saving the reloaded scene gives the same text). An input
+// that starts with "set:" is instead a setting as `marbles-cli run --set KEY=VALUE` and the
+// Parameters dock pass it to setParam(): refused, it must leave the scene as it was; accepted
+// (and valid as a whole), the scene must still save and load back bit for bit.
 
+#include "core/presets.h"
 #include "core/sceneio.h"
 #include "fuzz/samebits.h"
 
@@ -73,11 +77,51 @@ const char *difference(const World &a, const World &b)
     std::abort();
 }
 
+/// Saves `world` and loads it back: it must load, with the same bits and the same text.
+void checkRoundTrip(const World &world)
+{
+    const std::string saved = sceneToJson(world);
+    const SceneLoad second = parseScene(saved, "saved");
+    if (!second.ok)
+        failProperty("the saved scene does not load", second.error + "\n" + saved);
+    if (const char *what = difference(world, second.world))
+        failProperty(what, saved);
+    if (sceneToJson(second.world) != saved)
+        failProperty("saving the reloaded scene gives different text", saved);
+}
+
+/// "KEY=VALUE" (up to the first '=') applied to the chapter's scene by setParam().
+void checkSetting(std::string_view setting)
+{
+    const std::size_t eq = setting.find('=');
+    const std::string_view key = setting.substr(0, eq);
+    const std::string_view value = eq == std::string_view::npos ? std::string_view() : setting.substr(eq + 1);
+    World world = defaultScene();
+    const std::string before = sceneToJson(world);
+    const std::vector<double> massesBefore = world.mass;
+    const std::string error = setParam(world, key, value);
+    if (!error.empty()) {
+        // Refused whole, with one line that names the setting.
+        if (sceneToJson(world) != before || !same(world.mass, massesBefore))
+            failProperty("a refused setting changed the scene", error);
+        if (error.find('\n') != std::string::npos || error.find(": ") == std::string::npos)
+            failProperty("a refusal that is not one line naming the setting", error);
+        return;
+    }
+    if (!validateParams(world.params).empty())
+        return; // the CLI and the dock refuse it after all settings
+    checkRoundTrip(world);
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t *data, std::size_t size)
 {
     const std::string_view text(reinterpret_cast<const char *>(data), size);
+    if (text.starts_with("set:")) {
+        checkSetting(text.substr(4));
+        return 0;
+    }
     const SceneLoad first = parseScene(text, "input");
     if (!first.ok) {
         // A refusal must still be one message that names the source.
@@ -85,13 +129,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t *data, std::size_t size
             failProperty("refusal without a proper message", first.error);
         return 0;
     }
-    const std::string saved = sceneToJson(first.world);
-    const SceneLoad second = parseScene(saved, "saved");
-    if (!second.ok)
-        failProperty("the saved scene does not load", second.error + "\n" + saved);
-    if (const char *what = difference(first.world, second.world))
-        failProperty(what, saved);
-    if (sceneToJson(second.world) != saved)
-        failProperty("saving the reloaded scene gives different text", saved);
+    checkRoundTrip(first.world);
     return 0;
 }
