@@ -381,7 +381,10 @@ void TestSceneDocument::randomEditsUndoAndRedoExactly()
     SceneDocument doc;
     doc.resetScene(preset(qPrintable(presetId)));
     doc.advance(20 + 7 * seed);
-    SplitMix64 rng(static_cast<std::uint64_t>(seed) * 7919 + static_cast<std::uint64_t>(qHash(presetId)));
+    std::uint64_t mix = static_cast<std::uint64_t>(seed);
+    for (const QChar c : presetId)
+        mix = mix * 131 + c.unicode();
+    SplitMix64 rng(mix);
     const World &w = doc.world();
     const auto anywhere = [&] { return Vec2{rng.uniform(0.0, w.stage.width), rng.uniform(0.0, w.stage.height)}; };
     const auto number = [](double x) { return QString::number(x, 'g', 17); };
@@ -397,7 +400,8 @@ void TestSceneDocument::randomEditsUndoAndRedoExactly()
         const int pins = static_cast<int>(w.pins.size());
         const int marble = n > 0 ? pick(n) : -1;
         QString error;
-        switch (pick(12)) {
+        // The first edit is always one the document refuses; later ones are refused by chance.
+        switch (edit == 0 ? 6 : pick(12)) {
         case 0:
             error = doc.addMarble(anywhere(), rng.uniform(5.0, 40.0));
             break;
@@ -423,7 +427,7 @@ void TestSceneDocument::randomEditsUndoAndRedoExactly()
         case 6:
             // Sometimes an invalid radius (refused).
             if (marble >= 0)
-                error = doc.setMarbleRadius(marble, rng.next() % 5 == 0 ? -1.0 : rng.uniform(3.0, 45.0));
+                error = doc.setMarbleRadius(marble, edit == 0 || rng.next() % 5 == 0 ? -1.0 : rng.uniform(3.0, 45.0));
             break;
         case 7:
             if (marble >= 0)
