@@ -13,6 +13,7 @@
 #include "ui/stageview.h"
 
 #include <QAction>
+#include <QComboBox>
 #include <QDialog>
 #include <QDir>
 #include <QDoubleSpinBox>
@@ -106,6 +107,8 @@ private Q_SLOTS:
     void statusBarRepeatsTheFrameOnlyWithoutTheRunToolbar();
     void firstStartFitsASmallScreen();
     void helpListsTheRealShortcuts();
+    void randomUseKeepsTheWindowWhole_data();
+    void randomUseKeepsTheWindowWhole();
 
 private:
     void makeWindow();
@@ -770,6 +773,127 @@ void TestMainWindow::statusBarRepeatsTheFrameOnlyWithoutTheRunToolbar()
     QVERIFY(m_window->findChild<QLabel *>(QStringLiteral("frameLabel"))->isVisible());
     runBar->toggleViewAction()->trigger();
     QVERIFY(!m_window->findChild<QLabel *>(QStringLiteral("frameLabel"))->isVisible());
+}
+
+void TestMainWindow::randomUseKeepsTheWindowWhole_data()
+{
+    QTest::addColumn<int>("seed");
+    for (int seed = 1; seed <= 3; ++seed)
+        QTest::addRow("seed %d", seed) << seed;
+}
+
+void TestMainWindow::randomUseKeepsTheWindowWhole()
+{
+    // A class let loose on the window: 250 random actions among every menu and toolbar action
+    // (but Quit and the About boxes), the keys of the Help list, clicks and drags on the stage
+    // in every tool, numbers typed into every field of the Parameters and Inspector docks (some
+    // refused), the model, speed and comparison boxes, and pauses while a run plays. The
+    // window must come through whole: the document's marble arrays agree in size, no marble is
+    // left held or pin dragged, the undo stack walks back to a clean scene and forward again,
+    // and (under the sanitizers in the test command) nothing reads or writes out of bounds.
+    QFETCH(int, seed);
+    m_prompts->saveChoice = Prompts::SaveChoice::Discard; // New and presets replace the scene
+    SceneDocument *doc = m_window->document();
+    StageView *view = m_window->stageView();
+    SplitMix64 rng(static_cast<std::uint64_t>(seed));
+    const auto pick = [&](int count) { return static_cast<int>(rng.next() % static_cast<std::uint64_t>(count)); };
+    const QStringList excluded{QStringLiteral("actionQuit"), QStringLiteral("actionAbout"), QStringLiteral("actionAboutQt"),
+                               QStringLiteral("actionOpen"), QStringLiteral("actionSave"), QStringLiteral("actionSaveAs")};
+    // The menus' actions (presets and comparison models included) and the toolbars'.
+    QList<QAction *> candidates;
+    for (QMenu *menu : m_window->menuBar()->findChildren<QMenu *>())
+        candidates += menu->actions();
+    for (QToolBar *bar : m_window->findChildren<QToolBar *>())
+        candidates += bar->actions();
+    QList<QAction *> actions;
+    for (QAction *action : candidates) {
+        if (!action->isSeparator() && !action->menu() && !excluded.contains(action->objectName())
+            && !actions.contains(action))
+            actions << action;
+    }
+    QList<QDoubleSpinBox *> fields = m_window->findChildren<QDoubleSpinBox *>();
+    QList<QComboBox *> boxes = m_window->findChildren<QComboBox *>();
+    QVERIFY2(actions.size() > 25, qPrintable(QString::number(actions.size())));
+    QVERIFY(fields.size() > 8);
+    const QStringList typed{QStringLiteral("0"),   QStringLiteral("0.5"), QStringLiteral("1.5"), QStringLiteral("2.5"),
+                            QStringLiteral("-3"),  QStringLiteral("40"),  QStringLiteral("1e6"), QStringLiteral("abc"),
+                            QStringLiteral("0.01"), QStringLiteral("7")};
+    const auto randomPoint = [&] {
+        const QSize size = viewport()->size();
+        return QPoint(pick(std::max(1, size.width())), pick(std::max(1, size.height())));
+    };
+    const QKeySequence keys[] = {QKeySequence(Qt::Key_Space),  QKeySequence(Qt::Key_Right),
+                                 QKeySequence(Qt::Key_Left),   QKeySequence(Qt::Key_Home),
+                                 QKeySequence(Qt::Key_Delete), QKeySequence(Qt::CTRL | Qt::Key_Z),
+                                 QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z)};
+    m_window->findChild<QAction *>(QStringLiteral("actionPlay"))->trigger(); // from a running start
+    for (int action = 0; action < 250; ++action) {
+        switch (pick(9)) {
+        case 0:
+        case 1: {
+            QAction *chosen = actions[pick(static_cast<int>(actions.size()))];
+            if (chosen->isEnabled())
+                chosen->trigger();
+            break;
+        }
+        case 2: {
+            const QKeySequence key = keys[pick(static_cast<int>(std::size(keys)))];
+            QTest::keyClick(view, key[0].key(), key[0].keyboardModifiers());
+            break;
+        }
+        case 3:
+            QTest::mouseClick(viewport(), Qt::LeftButton, {}, randomPoint());
+            break;
+        case 4: {
+            const QPoint from = randomPoint();
+            const QPoint to = randomPoint();
+            QTest::mousePress(viewport(), Qt::LeftButton, {}, from);
+            for (int k = 1; k <= 3; ++k)
+                QTest::mouseMove(viewport(), from + (to - from) * k / 3);
+            QTest::mouseRelease(viewport(), Qt::LeftButton, {}, to);
+            break;
+        }
+        case 5: {
+            QDoubleSpinBox *field = fields[pick(static_cast<int>(fields.size()))];
+            if (!field->isEnabled() || !field->isVisible())
+                break;
+            field->setFocus();
+            field->selectAll();
+            QTest::keyClicks(field, typed[pick(static_cast<int>(typed.size()))]);
+            QTest::keyClick(field, Qt::Key_Return);
+            view->setFocus();
+            break;
+        }
+        case 6: {
+            QComboBox *box = boxes[pick(static_cast<int>(boxes.size()))];
+            if (box->isEnabled() && box->count() > 0)
+                box->setCurrentIndex(pick(box->count()));
+            break;
+        }
+        default:
+            QTest::qWait(10 + pick(60)); // the run plays, if it is on
+            break;
+        }
+        QCoreApplication::processEvents();
+        const World &w = doc->world();
+        const auto n = static_cast<std::size_t>(w.marbleCount());
+        const QString where = QStringLiteral("action %1").arg(action);
+        QVERIFY2(w.velocity.size() == n && w.acceleration.size() == n && w.radius.size() == n && w.mass.size() == n
+                     && w.lastHit.size() == n && w.info.size() == n,
+                 qPrintable(where));
+        QVERIFY2(doc->heldMarble() == -1 && doc->draggedPin() == -1, qPrintable(where));
+        QVERIFY2(view->selectedMarble() < w.marbleCount(), qPrintable(where));
+        QVERIFY(m_window->isVisible());
+    }
+    // Pause, then every edit undone and redone.
+    if (m_window->findChild<QAction *>(QStringLiteral("actionPlay"))->isChecked())
+        m_window->findChild<QAction *>(QStringLiteral("actionPlay"))->trigger();
+    QUndoStack *undo = doc->undoStack();
+    while (undo->canUndo())
+        undo->undo();
+    while (undo->canRedo())
+        undo->redo();
+    QCOMPARE(undo->index(), undo->count());
 }
 
 QTEST_MAIN(TestMainWindow)
