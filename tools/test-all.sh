@@ -4,7 +4,8 @@
 #   2. the golden-hash determinism suite built with clang, so gcc and clang must agree bit for bit;
 #   3. the same suites under AddressSanitizer and UndefinedBehaviorSanitizer;
 #   4. the libFuzzer targets for the scene loader and the physics models, each for
-#      MARBLES_FUZZ_SECONDS (default 60) seconds.
+#      MARBLES_FUZZ_SECONDS (default 60) seconds (the physics half from scene files, half from
+#      generated crowds).
 # Set MARBLES_SKIP_SANITIZERS=1 or MARBLES_FUZZ_SECONDS=0 to skip a stage while developing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -51,16 +52,20 @@ if [ "$fuzz_seconds" != "0" ]; then
         -DMARBLES_FUZZ=ON -DMARBLES_BUILD_UI=OFF -DMARBLES_BUILD_TESTS=OFF
     cmake --build build-fuzz -j "$jobs" --target fuzz_sceneio fuzz_physics
     mkdir -p build-fuzz/artifacts
-    # Each target on a scratch copy of its seeds (the checked-in corpora stay small). The timeout
-    # finds frames that never end; it leaves room for the slowest that do (marbles wedged so that
-    # the exact model collides them thousands of times a frame, up to its guards, stepped by up
-    # to four models a frame under the sanitizers: 5 s here).
-    for target in sceneio:corpus physics:physics-corpus; do
-        name=${target%%:*}
-        section "libFuzzer: ${name} for ${fuzz_seconds}s"
+    # Each run on a scratch copy of its seeds (the checked-in corpora stay small). The physics
+    # fuzzer runs twice, half its time each, from the scene files and from the generated crowds:
+    # a crowd input takes 10 to 100 times as long, so from both at once it would run few small
+    # scenes. The timeout finds frames that never end; it leaves room for the slowest that do
+    # (marbles wedged so that the exact model collides them thousands of times a frame, up to its
+    # guards, stepped by up to four models a frame under the sanitizers: 5 s here).
+    half=$(( (fuzz_seconds + 1) / 2 ))
+    for run in "sceneio corpus * $fuzz_seconds" "physics physics-corpus *.json $half" \
+               "physics physics-corpus *.crowd $half"; do
+        read -r name folder pattern seconds <<<"$run"
+        section "libFuzzer: ${name} from fuzz/${folder}/${pattern} for ${seconds}s"
         corpus=$(mktemp -d)
-        cp "fuzz/${target#*:}"/* "$corpus"/
-        ./build-fuzz/fuzz/fuzz_"$name" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=30 \
+        cp "fuzz/${folder}"/$pattern "$corpus"/
+        ./build-fuzz/fuzz/fuzz_"$name" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=30 \
             -artifact_prefix=build-fuzz/artifacts/ -print_final_stats=1 "$corpus" 2>&1 | tail -n 15
         rm -rf "$corpus"
     done
