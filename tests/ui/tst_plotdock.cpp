@@ -1,3 +1,4 @@
+#include "core/presets.h"
 #include "core/world.h"
 #include "ui/plotdock.h"
 #include "ui/ringbuffer.h"
@@ -15,6 +16,7 @@
 #include <QValueAxis>
 
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <map>
 
@@ -25,6 +27,8 @@ class TestPlotDock : public QObject {
 
 private slots:
     void ringBuffer_data();
+    void randomTimelineKeepsTheRightSamples_data();
+    void randomTimelineKeepsTheRightSamples();
     void ringBuffer();
     void oneSamplePerFrame_data();
     void oneSamplePerFrame();
@@ -99,6 +103,156 @@ double maxY(const QLineSeries *series)
 }
 
 } // namespace
+
+void TestPlotDock::randomTimelineKeepsTheRightSamples_data()
+{
+    QTest::addColumn<int>("capacity");
+    QTest::addColumn<int>("seed");
+    QTest::addRow("capacity 5000") << 5000 << 1;
+    QTest::addRow("capacity 40, the oldest samples dropped") << 40 << 2;
+    QTest::addRow("capacity 7") << 7 << 3;
+}
+
+void TestPlotDock::randomTimelineKeepsTheRightSamples()
+{
+    // A run as the window drives the dock: frames appended, Step Back and Back to Start cutting
+    // the samples after the frame they return to (and the run going on from there, along a new
+    // timeline), the marbles plotted changing (a newly plotted one takes its speeds for the
+    // samples held from the kept frames), the comparison turned on and off, and a new scene now
+    // and then. After each action the dock must hold exactly the newest frames of the current
+    // timeline, up to its capacity, each with the speeds of the marbles plotted, the totals and,
+    // while comparing, the comparison's.
+    QFETCH(int, capacity);
+    QFETCH(int, seed);
+    constexpr int kMarbles = 20;
+    PlotDock dock;
+    dock.setCapacity(capacity);
+    World world = worldWith(kMarbles);
+    for (int i = 0; i < kMarbles; ++i)
+        world.setRadius(i, 5.0 + i);
+    std::map<std::int64_t, std::vector<Vec2>> kept;        // the current timeline's velocities
+    std::map<std::int64_t, std::vector<Vec2>> compareKept; // the comparison's, while comparing
+    auto lookupIn = [](const std::map<std::int64_t, std::vector<Vec2>> &frames) {
+        return [&frames](std::int64_t frame) -> const std::vector<Vec2> * {
+            const auto it = frames.find(frame);
+            return it == frames.end() ? nullptr : &it->second;
+        };
+    };
+    dock.setVelocityLookup(lookupIn(kept), lookupIn(compareKept));
+    dock.reset(world);
+    SplitMix64 rng(static_cast<std::uint64_t>(seed));
+    const auto pick = [&](int count) { return static_cast<int>(rng.next() % static_cast<std::uint64_t>(count)); };
+    std::deque<std::int64_t> held; // the frames the dock must hold, oldest first
+    bool comparing = false;
+    QList<int> plotted; // empty: the first kMaxPlottedMarbles
+    const auto speedOf = [](Vec2 v) { return std::sqrt(v.x * v.x + v.y * v.y); };
+    const auto close = [](double actual, double expected) {
+        return std::abs(actual - expected) <= 1e-12 * std::max(1.0, std::abs(expected));
+    };
+    std::int64_t frame = 0;
+    for (int action = 0; action < 400; ++action) {
+        switch (pick(10)) {
+        case 0:
+        case 1:
+        case 2:
+        case 3:
+            for (int f = 1 + pick(12); f > 0; --f) {
+                world.frame = ++frame;
+                std::vector<Vec2> compare(kMarbles);
+                for (int i = 0; i < kMarbles; ++i) {
+                    world.velocity[static_cast<std::size_t>(i)] = {rng.uniform(-5.0, 5.0), rng.uniform(-5.0, 5.0)};
+                    compare[static_cast<std::size_t>(i)] = {rng.uniform(-5.0, 5.0), 0.0};
+                }
+                kept[frame] = world.velocity;
+                World other = world;
+                other.velocity = compare;
+                if (comparing)
+                    compareKept[frame] = compare;
+                dock.appendFrame(world, comparing ? &other : nullptr);
+                held.push_back(frame);
+                if (static_cast<int>(held.size()) > capacity)
+                    held.pop_front(); // the oldest sample makes room
+            }
+            break;
+        case 4:
+        case 5: {
+            // Step Back (or Back to Start): the samples after the frame returned to go.
+            const std::int64_t to = std::max<std::int64_t>(0, frame - 1 - pick(15));
+            dock.cutAfter(to);
+            while (!held.empty() && held.back() > to)
+                held.pop_back();
+            kept.erase(kept.upper_bound(to), kept.end());
+            compareKept.erase(compareKept.upper_bound(to), compareKept.end());
+            frame = to;
+            break;
+        }
+        case 6: {
+            plotted.clear();
+            for (int k = pick(5); k > 0; --k) {
+                const int i = pick(kMarbles);
+                if (!plotted.contains(i))
+                    plotted << i;
+            }
+            dock.setSelectedMarbles(plotted);
+            break;
+        }
+        case 7:
+            comparing = !comparing;
+            dock.setCompareModel(comparing ? QStringLiteral("exact") : QString());
+            compareKept.clear(); // a new comparison forgets the samples of any other
+            break;
+        case 8:
+            if (pick(4) == 0) {
+                // An edit or a new scene: the samples start over from the current frame on.
+                dock.reset(world);
+                kept.clear();
+                compareKept.clear();
+                held.clear();
+            }
+            break;
+        default:
+            dock.refreshChart();
+            break;
+        }
+        const QString where = QStringLiteral("action %1, frame %2").arg(action).arg(frame);
+        QCOMPARE(dock.sampleCount(), static_cast<qsizetype>(held.size()));
+        QList<int> expectedPlotted = plotted;
+        if (expectedPlotted.isEmpty()) {
+            for (int i = 0; i < PlotDock::kMaxPlottedMarbles; ++i)
+                expectedPlotted << i;
+        }
+        QCOMPARE(dock.plottedMarbles(), expectedPlotted);
+        for (qsizetype k = 0; k < dock.sampleCount(); ++k) {
+            const std::int64_t f = held[static_cast<std::size_t>(k)];
+            QCOMPARE(dock.sampleFrame(k), f);
+            const std::vector<Vec2> &v = kept.at(f);
+            double energy = 0.0;
+            Vec2 momentum;
+            for (int i = 0; i < kMarbles; ++i) {
+                const double m = world.mass[static_cast<std::size_t>(i)];
+                const Vec2 vi = v[static_cast<std::size_t>(i)];
+                energy += 0.5 * m * (vi.x * vi.x + vi.y * vi.y);
+                momentum.x += m * vi.x;
+                momentum.y += m * vi.y;
+            }
+            QVERIFY2(close(dock.sampleKineticEnergy(k), energy), qPrintable(where));
+            QVERIFY2(close(dock.sampleMomentum(k), speedOf(momentum)), qPrintable(where));
+            for (int i : expectedPlotted)
+                QVERIFY2(close(dock.sampleSpeed(k, i), speedOf(v[static_cast<std::size_t>(i)])),
+                         qPrintable(where + QStringLiteral(": marble %1, sample %2").arg(i).arg(k)));
+            if (!comparing)
+                continue;
+            const auto c = compareKept.find(f);
+            if (c == compareKept.end()) {
+                QVERIFY2(std::isnan(dock.sampleCompareSpeed(k, expectedPlotted.front())), qPrintable(where));
+                continue;
+            }
+            for (int i : expectedPlotted)
+                QVERIFY2(close(dock.sampleCompareSpeed(k, i), speedOf(c->second[static_cast<std::size_t>(i)])),
+                         qPrintable(where + QStringLiteral(": comparison, marble %1, sample %2").arg(i).arg(k)));
+        }
+    }
+}
 
 void TestPlotDock::ringBuffer_data()
 {
