@@ -13,6 +13,8 @@
 #include "ui/stageview.h"
 
 #include <QAction>
+#include <QToolButton>
+#include <QAbstractButton>
 #include <QComboBox>
 #include <QDialog>
 #include <QDir>
@@ -785,12 +787,13 @@ void TestMainWindow::randomUseKeepsTheWindowWhole_data()
 void TestMainWindow::randomUseKeepsTheWindowWhole()
 {
     // A class let loose on the window: 250 random actions among every menu and toolbar action
-    // (but Quit and the About boxes), the keys of the Help list, clicks and drags on the stage
-    // in every tool, numbers typed into every field of the Parameters and Inspector docks (some
-    // refused), the model, speed and comparison boxes, and pauses while a run plays. The
-    // window must come through whole: the document's marble arrays agree in size, no marble is
-    // left held or pin dragged, the undo stack walks back to a clean scene and forward again,
-    // and (under the sanitizers in the test command) nothing reads or writes out of bounds.
+    // (but Quit, the file dialogs and the About boxes), the keys of the Help list, clicks and
+    // drags on the stage in every tool, numbers typed into every field of the Parameters and
+    // Inspector docks (some refused), the docks' check boxes and radio buttons, the model, speed
+    // and comparison boxes, and pauses while a run plays. The window must come through whole:
+    // the document's marble arrays agree in size, no marble is left held or pin dragged, the
+    // undo stack walks back to a clean scene and forward again, and (under the sanitizers in the
+    // test command) nothing reads or writes out of bounds.
     QFETCH(int, seed);
     m_prompts->saveChoice = Prompts::SaveChoice::Discard; // New and presets replace the scene
     SceneDocument *doc = m_window->document();
@@ -813,8 +816,15 @@ void TestMainWindow::randomUseKeepsTheWindowWhole()
     }
     QList<QDoubleSpinBox *> fields = m_window->findChildren<QDoubleSpinBox *>();
     QList<QComboBox *> boxes = m_window->findChildren<QComboBox *>();
+    // Check boxes and radio buttons (the docks' options), not the push buttons that open file dialogs.
+    QList<QAbstractButton *> toggles;
+    for (QAbstractButton *button : m_window->findChildren<QAbstractButton *>()) {
+        if (button->isCheckable() && !qobject_cast<QToolButton *>(button))
+            toggles << button;
+    }
     QVERIFY2(actions.size() > 25, qPrintable(QString::number(actions.size())));
     QVERIFY(fields.size() > 8);
+    QVERIFY(toggles.size() >= 4);
     const QStringList typed{QStringLiteral("0"),   QStringLiteral("0.5"), QStringLiteral("1.5"), QStringLiteral("2.5"),
                             QStringLiteral("-3"),  QStringLiteral("40"),  QStringLiteral("1e6"), QStringLiteral("abc"),
                             QStringLiteral("0.01"), QStringLiteral("7")};
@@ -865,6 +875,12 @@ void TestMainWindow::randomUseKeepsTheWindowWhole()
             break;
         }
         case 6: {
+            if (pick(2) == 0 && !toggles.isEmpty()) {
+                QAbstractButton *toggle = toggles[pick(static_cast<int>(toggles.size()))];
+                if (toggle->isEnabled() && toggle->isVisible())
+                    QTest::mouseClick(toggle, Qt::LeftButton, {}, QPoint(4, toggle->height() / 2));
+                break;
+            }
             QComboBox *box = boxes[pick(static_cast<int>(boxes.size()))];
             if (box->isEnabled() && box->count() > 0)
                 box->setCurrentIndex(pick(box->count()));
