@@ -162,15 +162,20 @@ void World::push(int i, Vec2 at)
     acceleration[i].y += ((p.y - at.y) * params.pushScale) / mass[i];
 }
 
+void World::applyScriptedPushes()
+{
+    for (const Push &p : pushes) {
+        if (p.frame == frame && p.marble >= 0 && p.marble < marbleCount())
+            push(p.marble, p.at);
+    }
+}
+
 StepResult World::step()
 {
     // Scripted pushes for this frame, in file order, all before the update: a push reads only
     // the marble's own position, which no other marble's update changes, so this is the same
     // as applying each just before its marble is processed.
-    for (const Push &p : pushes) {
-        if (p.frame == frame && p.marble >= 0 && p.marble < marbleCount())
-            push(p.marble, p.at);
-    }
+    applyScriptedPushes();
     if (!m_stepper || m_stepperKind != params.model) {
         m_stepper = makeStepper(params.model);
         m_stepperKind = params.model;

@@ -158,6 +158,9 @@ public:
     /// pending acceleration, so it acts on the next update. Exact and impulse models apply it
     /// as an instant velocity change at the start of that update.
     void push(int i, Vec2 at);
+    /// Applies the scripted pushes of the current frame (those in `pushes` for `frame`), in file
+    /// order, as step() does before the model runs.
+    void applyScriptedPushes();
 
     /// Advances one frame with params.model: scripted pushes for this frame, then the model.
     /// Returns whether every marble is still finite.

@@ -79,11 +79,6 @@ void compare(const World &kept, const World &other, const std::string &scene, co
     check(firstDifference(kept.lastHit, other.lastHit), "collision records");
 }
 
-bool finite(Vec2 v)
-{
-    return std::isfinite(v.x) && std::isfinite(v.y);
-}
-
 /// The deepest overlap of a marble with another, a pin or (with walls) the stage's edge, px
 /// (0 when none overlaps).
 double deepestOverlap(const World &w)
@@ -241,10 +236,7 @@ void edit(World &w, const std::vector<Snapshot> &since, int maxMarbles, SplitMix
 /// pushes, the update, the frame count.
 void stepWith(Stepper &model, World &w)
 {
-    for (const Push &push : w.pushes) {
-        if (push.frame == w.frame && push.marble >= 0 && push.marble < w.marbleCount())
-            w.push(push.marble, push.at);
-    }
+    w.applyScriptedPushes();
     model.step(w);
     ++w.frame;
 }
@@ -357,7 +349,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t *data, std::size_t size
             fail(kept, "the report of a marble that left finite numbers differs", a.badMarble, scene);
         int bad = -1;
         for (int i = 0; i < kept.marbleCount() && bad < 0; ++i) {
-            if (!finite(kept.position[static_cast<std::size_t>(i)]) || !finite(kept.velocity[static_cast<std::size_t>(i)]))
+            if (!isFinite(kept.position[static_cast<std::size_t>(i)]) || !isFinite(kept.velocity[static_cast<std::size_t>(i)]))
                 bad = i;
         }
         if (a.finite != (bad < 0) || (!a.finite && a.badMarble != bad))
