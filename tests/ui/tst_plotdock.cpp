@@ -62,6 +62,19 @@ private slots:
 namespace {
 
 /// Marbles at rest in a row; radius r gives mass 1.25 r.
+/// Frames' velocities as a test keeps them, by frame number.
+using KeptFrames = std::map<std::int64_t, std::vector<Vec2>>;
+
+/// A velocity lookup for PlotDock::setVelocityLookup() that answers from `frames` (which must
+/// outlive it), as Step Back's history does.
+PlotDock::VelocityLookup lookupIn(const KeptFrames &frames)
+{
+    return [&frames](std::int64_t frame) -> const std::vector<Vec2> * {
+        const auto it = frames.find(frame);
+        return it == frames.end() ? nullptr : &it->second;
+    };
+}
+
 World worldWith(int marbles)
 {
     World world;
@@ -130,14 +143,8 @@ void TestPlotDock::randomTimelineKeepsTheRightSamples()
     World world = worldWith(kMarbles);
     for (int i = 0; i < kMarbles; ++i)
         world.setRadius(i, 5.0 + i);
-    std::map<std::int64_t, std::vector<Vec2>> kept;        // the current timeline's velocities
-    std::map<std::int64_t, std::vector<Vec2>> compareKept; // the comparison's, while comparing
-    auto lookupIn = [](const std::map<std::int64_t, std::vector<Vec2>> &frames) {
-        return [&frames](std::int64_t frame) -> const std::vector<Vec2> * {
-            const auto it = frames.find(frame);
-            return it == frames.end() ? nullptr : &it->second;
-        };
-    };
+    KeptFrames kept;        // the current timeline's velocities
+    KeptFrames compareKept; // the comparison's, while comparing
     dock.setVelocityLookup(lookupIn(kept), lookupIn(compareKept));
     dock.reset(world);
     SplitMix64 rng(static_cast<std::uint64_t>(seed));
@@ -553,14 +560,8 @@ void TestPlotDock::newLineTakesEarlierSpeeds()
     // the samples already held; frames the lookup does not know stay gaps.
     PlotDock dock;
     World world = worldWith(3);
-    std::map<std::int64_t, std::vector<Vec2>> kept;        // the document's frames 4..10
-    std::map<std::int64_t, std::vector<Vec2>> compareKept; // the comparison's frames 9..10
-    auto lookupIn = [](const std::map<std::int64_t, std::vector<Vec2>> &frames) {
-        return [&frames](std::int64_t frame) -> const std::vector<Vec2> * {
-            const auto it = frames.find(frame);
-            return it == frames.end() ? nullptr : &it->second;
-        };
-    };
+    KeptFrames kept;        // the document's frames 4..10
+    KeptFrames compareKept; // the comparison's frames 9..10
     dock.setVelocityLookup(lookupIn(kept), lookupIn(compareKept));
     dock.reset(world);
     dock.setSelectedMarbles({0});
