@@ -46,9 +46,9 @@ public:
     static constexpr int freezeAfterElasticCollisions = 1 << 14;
     /// Whatever e: once more than this many events per marble of the world (on average;
     /// collisions and re-checks, not grid events) happen at one and the same instant, every
-    /// marble that collides again at that instant is frozen likewise. Marbles wedged where they cannot fit bounce between their contacts
-    /// without time passing; real simultaneous collisions (a Newton's cradle, a symmetric break)
-    /// are a few per marble.
+    /// marble that collides again at that instant is frozen likewise. Marbles wedged where they
+    /// cannot fit bounce between their contacts without time passing; real simultaneous
+    /// collisions (a Newton's cradle, a symmetric break) are a few per marble.
     static constexpr int freezeAfterInstantCollisions = 64;
     /// Whatever e: after this many wall bounces of a marble within one frame, it is frozen.
     /// (Elastic motion stays far below: at 1e6 px/frame across a 1,000 px stage a marble bounces
