@@ -548,12 +548,7 @@ void ExactModel::beginFrame(World &world)
     const int n = world.marbleCount();
     assert(n < (1 << 30)); // indices fit the packed tie-break of the calendar
     m_world = &world;
-    double k = world.params.friction;
-    assert(k >= 0.0 && k < 1.0);
-    if (!(k >= 0.0))
-        k = 0.0;
-    if (!(k < 1.0))
-        k = std::nextafter(1.0, 0.0);
+    const double k = newtonianFriction(world.params.friction);
     m_lambda = -std::log1p(-k);
     m_phi1End = flow(m_lambda, 1.0).phi1;
     m_restitution = std::clamp(world.params.restitution, 0.0, 1.0);

@@ -375,12 +375,7 @@ void ImpulseModel::step(World &world)
     if (n == 0)
         return;
 
-    double k = world.params.friction;
-    assert(k >= 0.0 && k < 1.0);
-    if (!(k >= 0.0))
-        k = 0.0;
-    if (!(k < 1.0))
-        k = std::nextafter(1.0, 0.0);
+    const double k = newtonianFriction(world.params.friction);
     const int substeps = std::max(1, world.params.substeps);
     const double h = 1.0 / substeps;
     // Drag: dv/dt = -lambda v over h multiplies v by e^{-lambda h} = (1 - k)^h, so the n factors of
