@@ -42,6 +42,9 @@ public:
     double uniform();
     /// Uniform in [lo, hi).
     double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+    /// An index in [0, count), count > 0: next() % count (the remainder's bias, under
+    /// count / 2^64, does not matter to the tests and fuzzers that draw them).
+    int below(std::uint64_t count) { return static_cast<int>(next() % count); }
 
 private:
     std::uint64_t m_state;

@@ -157,8 +157,8 @@ void edit(World &w, const std::vector<Snapshot> &since, int maxMarbles, SplitMix
     const auto anywhere = [&] { return Vec2{rng.uniform(0.0, width), rng.uniform(0.0, height)}; };
     const auto speed = [&] { return Vec2{rng.uniform(-8.0, 8.0), rng.uniform(-8.0, 8.0)}; };
     const int n = w.marbleCount();
-    const int i = n > 0 ? static_cast<int>(rng.next() % static_cast<std::uint64_t>(n)) : -1;
-    switch (rng.next() % 18) {
+    const int i = n > 0 ? rng.below(static_cast<std::uint64_t>(n)) : -1;
+    switch (rng.below(18)) {
     case 0:
         if (i >= 0)
             w.position[static_cast<std::size_t>(i)] = anywhere();
@@ -199,24 +199,24 @@ void edit(World &w, const std::vector<Snapshot> &since, int maxMarbles, SplitMix
         break;
     case 9:
         if (!w.pins.empty())
-            w.removePin(static_cast<int>(rng.next() % w.pins.size()));
+            w.removePin(rng.below(w.pins.size()));
         break;
     case 10:
         w.stage.walls = !w.stage.walls;
         break;
     case 11:
         // Inside every model's range: [0, 1) for exact and impulse.
-        w.params.friction = rng.next() % 2 == 0 ? 0.0 : rng.uniform(0.0, 0.9);
+        w.params.friction = rng.below(2) == 0 ? 0.0 : rng.uniform(0.0, 0.9);
         break;
     case 12:
-        w.params.zeroThreshold = rng.next() % 2 == 0 ? 0.0 : rng.uniform(0.0, 1.0);
+        w.params.zeroThreshold = rng.below(2) == 0 ? 0.0 : rng.uniform(0.0, 1.0);
         break;
     case 13:
-        w.params.gravity = rng.next() % 2 == 0 ? Vec2{} : Vec2{rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5)};
+        w.params.gravity = rng.below(2) == 0 ? Vec2{} : Vec2{rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5)};
         break;
     case 14:
         // The exact and impulse models' restitution, [0, 1] (the book model has none).
-        w.params.restitution = rng.next() % 2 == 0 ? 1.0 : rng.uniform(0.0, 1.0);
+        w.params.restitution = rng.below(2) == 0 ? 1.0 : rng.uniform(0.0, 1.0);
         break;
     case 15:
         w.setMassScale(rng.uniform(0.01, 100.0));
@@ -227,7 +227,7 @@ void edit(World &w, const std::vector<Snapshot> &since, int maxMarbles, SplitMix
     default:
         // Step Back: an earlier frame written into the same world.
         if (!since.empty())
-            since[rng.next() % since.size()].restoreInto(w);
+            since[rng.below(since.size())].restoreInto(w);
         break;
     }
 }

@@ -389,7 +389,6 @@ void TestCompareRun::randomSessionFollowsTheRules()
     CompareRun compare(&doc);
     compare.setModel(compared);
     SplitMix64 rng(static_cast<std::uint64_t>(seed));
-    const auto pick = [&](int count) { return static_cast<int>(rng.next() % static_cast<std::uint64_t>(count)); };
 
     World oracle;
     std::map<std::int64_t, World> oracleAt; // the oracle after each frame of its current run
@@ -405,13 +404,13 @@ void TestCompareRun::randomSessionFollowsTheRules()
     int backs = 0;
     for (int action = 0; action < 150; ++action) {
         const World &w = doc.world();
-        const int marble = pick(w.marbleCount());
+        const int marble = rng.below(w.marbleCount());
         QString what;
-        switch (pick(8)) {
+        switch (rng.below(8)) {
         case 0:
         case 1:
         case 2: {
-            const int frames = 1 + pick(15);
+            const int frames = 1 + rng.below(15);
             what = QStringLiteral("%1 frames").arg(frames);
             for (int f = 0; f < frames; ++f) {
                 doc.step();
@@ -423,7 +422,7 @@ void TestCompareRun::randomSessionFollowsTheRules()
         }
         case 3:
         case 4: {
-            const int frames = 1 + pick(20);
+            const int frames = 1 + rng.below(20);
             what = QStringLiteral("back %1 frames").arg(frames);
             for (int f = 0; f < frames && doc.stepBack(); ++f) {
                 ++backs;
@@ -454,10 +453,10 @@ void TestCompareRun::randomSessionFollowsTheRules()
             break;
         default: {
             QString error;
-            if (doc.undoStack()->canUndo() && pick(3) == 0) {
+            if (doc.undoStack()->canUndo() && rng.below(3) == 0) {
                 what = QStringLiteral("undo");
                 doc.undoStack()->undo();
-            } else if (pick(2) == 0) {
+            } else if (rng.below(2) == 0) {
                 what = QStringLiteral("velocity of marble %1").arg(marble);
                 error = doc.setMarbleVelocity(marble, {rng.uniform(-6.0, 6.0), rng.uniform(-6.0, 6.0)});
             } else {

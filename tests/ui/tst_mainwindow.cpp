@@ -799,7 +799,6 @@ void TestMainWindow::randomUseKeepsTheWindowWhole()
     SceneDocument *doc = m_window->document();
     StageView *view = m_window->stageView();
     SplitMix64 rng(static_cast<std::uint64_t>(seed));
-    const auto pick = [&](int count) { return static_cast<int>(rng.next() % static_cast<std::uint64_t>(count)); };
     const QStringList excluded{QStringLiteral("actionQuit"), QStringLiteral("actionAbout"), QStringLiteral("actionAboutQt"),
                                QStringLiteral("actionOpen"), QStringLiteral("actionSave"), QStringLiteral("actionSaveAs")};
     // The menus' actions (presets and comparison models included) and the toolbars'.
@@ -830,7 +829,7 @@ void TestMainWindow::randomUseKeepsTheWindowWhole()
                             QStringLiteral("0.01"), QStringLiteral("7")};
     const auto randomPoint = [&] {
         const QSize size = viewport()->size();
-        return QPoint(pick(std::max(1, size.width())), pick(std::max(1, size.height())));
+        return QPoint(rng.below(std::max(1, size.width())), rng.below(std::max(1, size.height())));
     };
     const QKeySequence keys[] = {QKeySequence(Qt::Key_Space),  QKeySequence(Qt::Key_Right),
                                  QKeySequence(Qt::Key_Left),   QKeySequence(Qt::Key_Home),
@@ -838,16 +837,16 @@ void TestMainWindow::randomUseKeepsTheWindowWhole()
                                  QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z)};
     m_window->findChild<QAction *>(QStringLiteral("actionPlay"))->trigger(); // from a running start
     for (int action = 0; action < 250; ++action) {
-        switch (pick(9)) {
+        switch (rng.below(9)) {
         case 0:
         case 1: {
-            QAction *chosen = actions[pick(static_cast<int>(actions.size()))];
+            QAction *chosen = actions[rng.below(static_cast<int>(actions.size()))];
             if (chosen->isEnabled())
                 chosen->trigger();
             break;
         }
         case 2: {
-            const QKeySequence key = keys[pick(static_cast<int>(std::size(keys)))];
+            const QKeySequence key = keys[rng.below(static_cast<int>(std::size(keys)))];
             QTest::keyClick(view, key[0].key(), key[0].keyboardModifiers());
             break;
         }
@@ -864,30 +863,30 @@ void TestMainWindow::randomUseKeepsTheWindowWhole()
             break;
         }
         case 5: {
-            QDoubleSpinBox *field = fields[pick(static_cast<int>(fields.size()))];
+            QDoubleSpinBox *field = fields[rng.below(static_cast<int>(fields.size()))];
             if (!field->isEnabled() || !field->isVisible())
                 break;
             field->setFocus();
             field->selectAll();
-            QTest::keyClicks(field, typed[pick(static_cast<int>(typed.size()))]);
+            QTest::keyClicks(field, typed[rng.below(static_cast<int>(typed.size()))]);
             QTest::keyClick(field, Qt::Key_Return);
             view->setFocus();
             break;
         }
         case 6: {
-            if (pick(2) == 0 && !toggles.isEmpty()) {
-                QAbstractButton *toggle = toggles[pick(static_cast<int>(toggles.size()))];
+            if (rng.below(2) == 0 && !toggles.isEmpty()) {
+                QAbstractButton *toggle = toggles[rng.below(static_cast<int>(toggles.size()))];
                 if (toggle->isEnabled() && toggle->isVisible())
                     QTest::mouseClick(toggle, Qt::LeftButton, {}, QPoint(4, toggle->height() / 2));
                 break;
             }
-            QComboBox *box = boxes[pick(static_cast<int>(boxes.size()))];
+            QComboBox *box = boxes[rng.below(static_cast<int>(boxes.size()))];
             if (box->isEnabled() && box->count() > 0)
-                box->setCurrentIndex(pick(box->count()));
+                box->setCurrentIndex(rng.below(box->count()));
             break;
         }
         default:
-            QTest::qWait(10 + pick(60)); // the run plays, if it is on
+            QTest::qWait(10 + rng.below(60)); // the run plays, if it is on
             break;
         }
         QCoreApplication::processEvents();

@@ -148,7 +148,6 @@ void TestPlotDock::randomTimelineKeepsTheRightSamples()
     dock.setVelocityLookup(lookupIn(kept), lookupIn(compareKept));
     dock.reset(world);
     SplitMix64 rng(static_cast<std::uint64_t>(seed));
-    const auto pick = [&](int count) { return static_cast<int>(rng.next() % static_cast<std::uint64_t>(count)); };
     std::deque<std::int64_t> held; // the frames the dock must hold, oldest first
     bool comparing = false;
     QList<int> plotted; // empty: the first kMaxPlottedMarbles
@@ -158,12 +157,12 @@ void TestPlotDock::randomTimelineKeepsTheRightSamples()
     };
     std::int64_t frame = 0;
     for (int action = 0; action < 400; ++action) {
-        switch (pick(10)) {
+        switch (rng.below(10)) {
         case 0:
         case 1:
         case 2:
         case 3:
-            for (int f = 1 + pick(12); f > 0; --f) {
+            for (int f = 1 + rng.below(12); f > 0; --f) {
                 world.frame = ++frame;
                 std::vector<Vec2> compare(kMarbles);
                 for (int i = 0; i < kMarbles; ++i) {
@@ -184,7 +183,7 @@ void TestPlotDock::randomTimelineKeepsTheRightSamples()
         case 4:
         case 5: {
             // Step Back (or Back to Start): the samples after the frame returned to go.
-            const std::int64_t to = std::max<std::int64_t>(0, frame - 1 - pick(15));
+            const std::int64_t to = std::max<std::int64_t>(0, frame - 1 - rng.below(15));
             dock.cutAfter(to);
             while (!held.empty() && held.back() > to)
                 held.pop_back();
@@ -195,8 +194,8 @@ void TestPlotDock::randomTimelineKeepsTheRightSamples()
         }
         case 6: {
             plotted.clear();
-            for (int k = pick(5); k > 0; --k) {
-                const int i = pick(kMarbles);
+            for (int k = rng.below(5); k > 0; --k) {
+                const int i = rng.below(kMarbles);
                 if (!plotted.contains(i))
                     plotted << i;
             }
@@ -209,7 +208,7 @@ void TestPlotDock::randomTimelineKeepsTheRightSamples()
             compareKept.clear(); // a new comparison forgets the samples of any other
             break;
         case 8:
-            if (pick(4) == 0) {
+            if (rng.below(4) == 0) {
                 // An edit or a new scene: the samples start over from the current frame on.
                 dock.reset(world);
                 kept.clear();

@@ -247,14 +247,13 @@ void TestSceneDocument::historyRandomWalkRestoresExactly()
     const World start = w;
     std::vector<World> recorded; // what each record() saw, oldest first (some forgotten since)
     SplitMix64 rng(tightBudget ? 5 : 6);
-    const auto pick = [&](int count) { return static_cast<int>(rng.next() % static_cast<std::uint64_t>(count)); };
     int restored = 0;
     int refused = 0;
     for (int action = 0; action < 200; ++action) {
-        switch (pick(6)) {
+        switch (rng.below(6)) {
         case 0:
         case 1: {
-            for (int f = 1 + pick(12); f > 0; --f) {
+            for (int f = 1 + rng.below(12); f > 0; --f) {
                 history.record(w);
                 recorded.push_back(w);
                 QVERIFY(w.step().finite);
@@ -263,7 +262,7 @@ void TestSceneDocument::historyRandomWalkRestoresExactly()
         }
         case 2:
         case 3: {
-            for (int f = 1 + pick(15); f > 0; --f) {
+            for (int f = 1 + rng.below(15); f > 0; --f) {
                 const std::size_t kept = history.size();
                 QCOMPARE(history.canStepBack(w), kept > 0);
                 if (!history.stepBack(w)) {
@@ -281,15 +280,15 @@ void TestSceneDocument::historyRandomWalkRestoresExactly()
         }
         case 4: {
             // An edit between frames: a marble's velocity, or a push.
-            const int i = pick(w.marbleCount());
-            if (pick(2) == 0)
+            const int i = rng.below(w.marbleCount());
+            if (rng.below(2) == 0)
                 w.velocity[static_cast<std::size_t>(i)] = {rng.uniform(-5.0, 5.0), rng.uniform(-5.0, 5.0)};
             else
                 w.push(i, {w.position[static_cast<std::size_t>(i)].x + 3.0, w.position[static_cast<std::size_t>(i)].y});
             break;
         }
         default:
-            if (pick(4) == 0) {
+            if (rng.below(4) == 0) {
                 QVERIFY(history.rewind(w));
                 QVERIFY(sameDynamicState(w, start));
                 recorded.clear();
@@ -388,7 +387,6 @@ void TestSceneDocument::randomEditsUndoAndRedoExactly()
     const World &w = doc.world();
     const auto anywhere = [&] { return Vec2{rng.uniform(0.0, w.stage.width), rng.uniform(0.0, w.stage.height)}; };
     const auto number = [](double x) { return QString::number(x, 'g', 17); };
-    const auto pick = [&](int count) { return static_cast<int>(rng.next() % static_cast<std::uint64_t>(count)); };
 
     // After[k]: the world once the undo stack holds k commands (after[0]: the session's start).
     std::vector<World> after{w};
@@ -398,10 +396,10 @@ void TestSceneDocument::randomEditsUndoAndRedoExactly()
         const int commandsBefore = doc.undoStack()->count();
         const int n = w.marbleCount();
         const int pins = static_cast<int>(w.pins.size());
-        const int marble = n > 0 ? pick(n) : -1;
+        const int marble = n > 0 ? rng.below(n) : -1;
         QString error;
         // The first edit is always one the document refuses; later ones are refused by chance.
-        switch (edit == 0 ? 6 : pick(12)) {
+        switch (edit == 0 ? 6 : rng.below(12)) {
         case 0:
             error = doc.addMarble(anywhere(), rng.uniform(5.0, 40.0));
             break;
@@ -414,7 +412,7 @@ void TestSceneDocument::randomEditsUndoAndRedoExactly()
             break;
         case 3:
             if (pins > 0)
-                doc.removePin(pick(pins));
+                doc.removePin(rng.below(pins));
             break;
         case 4:
             if (marble >= 0)
@@ -427,11 +425,11 @@ void TestSceneDocument::randomEditsUndoAndRedoExactly()
         case 6:
             // Sometimes an invalid radius (refused).
             if (marble >= 0)
-                error = doc.setMarbleRadius(marble, edit == 0 || rng.next() % 5 == 0 ? -1.0 : rng.uniform(3.0, 45.0));
+                error = doc.setMarbleRadius(marble, edit == 0 || rng.below(5) == 0 ? -1.0 : rng.uniform(3.0, 45.0));
             break;
         case 7:
             if (marble >= 0)
-                error = doc.setMarbleMass(marble, rng.next() % 3 == 0 ? 0.0 : rng.uniform(1.0, 500.0));
+                error = doc.setMarbleMass(marble, rng.below(3) == 0 ? 0.0 : rng.uniform(1.0, 500.0));
             break;
         case 8: {
             // A drag: held, moved about, dropped (moved to the nearest free spot, or refused).
@@ -446,7 +444,7 @@ void TestSceneDocument::randomEditsUndoAndRedoExactly()
         case 9: {
             if (pins == 0)
                 break;
-            doc.beginPinDrag(pick(pins));
+            doc.beginPinDrag(rng.below(pins));
             doc.movePinDrag(anywhere());
             error = doc.endPinDrag(anywhere());
             break;
@@ -454,18 +452,18 @@ void TestSceneDocument::randomEditsUndoAndRedoExactly()
         case 10: {
             static const char *const keys[] = {"massScale", "friction", "zeroThreshold", "restitution", "gravity",
                                                "walls", "model", "substeps", "shortCircuit", "pushScale"};
-            const QString key = QString::fromLatin1(keys[pick(10)]);
+            const QString key = QString::fromLatin1(keys[rng.below(10)]);
             QString value;
             if (key == QLatin1String("gravity"))
                 value = number(rng.uniform(-0.3, 0.3)) + QLatin1Char(',') + number(rng.uniform(-0.3, 0.3));
             else if (key == QLatin1String("walls") || key == QLatin1String("shortCircuit"))
-                value = rng.next() % 2 == 0 ? QStringLiteral("true") : QStringLiteral("false");
+                value = rng.below(2) == 0 ? QStringLiteral("true") : QStringLiteral("false");
             else if (key == QLatin1String("model"))
-                value = QString::fromLatin1(std::array{"book", "impulse", "exact"}[static_cast<std::size_t>(pick(3))]);
+                value = QString::fromLatin1(std::array{"book", "impulse", "exact"}[static_cast<std::size_t>(rng.below(3))]);
             else if (key == QLatin1String("substeps"))
-                value = QString::number(1 + pick(4));
+                value = QString::number(1 + rng.below(4));
             else if (key == QLatin1String("friction"))
-                value = number(rng.next() % 4 == 0 ? 1.5 : rng.uniform(0.0, 0.5)); // 1.5: refused outside the book model
+                value = number(rng.below(4) == 0 ? 1.5 : rng.uniform(0.0, 0.5)); // 1.5: refused outside the book model
             else
                 value = number(rng.uniform(0.0, 3.0));
             error = doc.setParam(key, value);
