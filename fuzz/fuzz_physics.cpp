@@ -8,11 +8,12 @@
 // calendars from frame to frame and must notice the edits) and once by a fresh copy (a new model
 // that builds everything from the World), and the two must agree bit for bit. It also checks
 // that a step reports a marble that left finite numbers exactly when there is one, that the book
-// model gives the bits of its plain all-pairs transcription, and that in the exact model the
-// deepest overlap never grows and keeping its sleepers' layer (or never keeping it) gives the
-// same bits. Besides scene files, an input can name a generated crowd ("#crowd" and a few
-// bytes), so that the scenes that only larger counts reach (the exact model's sleepers' layer,
-// the grids' overflow lists, the impulse model's partial sort) are fuzzed too.
+// model gives the bits of its plain all-pairs transcription, that in the exact model the deepest
+// overlap never grows and keeping its sleepers' layer (or never keeping it) gives the same bits,
+// and that the exact model (and the impulse model without gravity) keeps the energy and momentum
+// balance of PHYSICS.md. Besides scene files, an input can name a generated crowd ("#crowd" and
+// a few bytes), so that the scenes that only larger counts reach (the exact model's sleepers'
+// layer, the grids' overflow lists, the impulse model's partial sort) are fuzzed too.
 
 #include "core/bookmodel.h"
 #include "core/exactmodel.h"
@@ -115,6 +116,40 @@ double deepestOverlap(const World &w)
     }
     return deepest;
 }
+
+/// What the exact model must keep or lose (PHYSICS.md, model "exact"): the mechanical energy,
+/// kinetic (with each marble's pending push, which acts as an instant velocity change at the
+/// start of the frame) plus gravity's potential -m g.p, and the momentum; with the sizes of their
+/// terms, against which rounding is measured.
+struct Balance {
+    double energy = 0.0;
+    double energyScale = 0.0; // sum of the terms' sizes
+    Vec2 momentum;
+    double momentumScale = 0.0; // sum of m |v|
+
+    explicit Balance(const World &w)
+    {
+        const Vec2 g = w.params.gravity;
+        for (int i = 0; i < w.marbleCount(); ++i) {
+            const auto k = static_cast<std::size_t>(i);
+            const double m = w.mass[k];
+            const Vec2 v{w.velocity[k].x + w.acceleration[k].x, w.velocity[k].y + w.acceleration[k].y};
+            const double kinetic = 0.5 * m * (v.x * v.x + v.y * v.y);
+            const double potential = -m * (g.x * w.position[k].x + g.y * w.position[k].y);
+            energy += kinetic + potential;
+            energyScale += kinetic + std::abs(potential);
+            momentum.x += m * v.x;
+            momentum.y += m * v.y;
+            momentumScale += m * std::sqrt(v.x * v.x + v.y * v.y);
+        }
+    }
+    bool finite() const { return std::isfinite(energyScale) && std::isfinite(momentumScale); }
+};
+
+// Rounding allowed in a frame's energy and momentum balance, relative to the size of their terms:
+// about 1e-16 per operation, over the thousands of collisions a wedged marble has before the
+// exact model's guards stop it.
+constexpr double kBalanceTolerance = 1e-9;
 
 bool tooFast(const World &w)
 {
@@ -241,6 +276,49 @@ void stepWith(Stepper &model, World &w)
     ++w.frame;
 }
 
+/// Aborts if the frame from `start` to `after` broke the balance of PHYSICS.md: the mechanical
+/// energy never grows (e <= 1, drag, the zero threshold and the exact model's guards' freezing
+/// only take energy away); none is lost with e = 1 and neither friction, gravity nor zero
+/// threshold; without walls, pins, gravity and zero threshold the momentum is multiplied by the
+/// drag's 1 - k and nothing else (pair impulses keep it). The exact model holds this in
+/// continuous time; the impulse model too without gravity (its impulses act only on approaching
+/// pairs, its positional correction moves no velocity), but not with it: explicit sub-steps under
+/// gravity can gain energy, and the caller checks it only without. In the exact model a frame in
+/// which the guard against endless collision sequences froze a marble (which takes energy and
+/// momentum away) is excused: a suspect frame is stepped again from `start` to count them.
+void checkBalance(const Balance &before, const World &after, const Snapshot &start, const std::string &scene)
+{
+    const Balance now(after);
+    if (!now.finite())
+        return;
+    const Params &params = after.params;
+    const double energyTolerance = kBalanceTolerance * std::max(before.energyScale, now.energyScale);
+    if (!(now.energy <= before.energy + energyTolerance))
+        fail(after, "the mechanical energy grew", -1, scene);
+    const bool noGravity = params.gravity == Vec2{};
+    const bool elastic = params.restitution == 1.0 && params.friction == 0.0 && params.zeroThreshold == 0.0 && noGravity;
+    const bool free = !after.stage.walls && after.pins.empty() && noGravity && params.zeroThreshold == 0.0;
+    const double decay = 1.0 - params.friction;
+    const Vec2 expected{decay * before.momentum.x, decay * before.momentum.y};
+    const double momentumTolerance = kBalanceTolerance * std::max(before.momentumScale, now.momentumScale);
+    const bool energyLost = elastic && !(before.energy - now.energy <= energyTolerance);
+    const bool momentumChanged = free
+        && !(std::abs(now.momentum.x - expected.x) <= momentumTolerance
+             && std::abs(now.momentum.y - expected.y) <= momentumTolerance);
+    if (!energyLost && !momentumChanged)
+        return;
+    const char *const what = energyLost ? "an elastic frame lost energy" : "the momentum changed otherwise than by the drag";
+    if (after.params.model != ModelKind::Exact)
+        fail(after, what, -1, scene);
+    World again = after;
+    start.restoreInto(again);
+    ExactModel model;
+    stepWith(model, again);
+    compare(after, again, scene, "the exact model's stepped again");
+    if (model.lastFrozenCount() == 0)
+        fail(after, what, -1, scene);
+}
+
 /// A crowd described by the bytes after "#crowd": its size, model, share of moving marbles,
 /// pins and substeps. The rest of the scene is marbles-cli gen crowd's (walls, e = 1, no
 /// friction or gravity; edits change those).
@@ -328,6 +406,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t *data, std::size_t size
             withLayer = kept;
         if (layerByDefault)
             withoutLayer = kept;
+        // The energy and momentum balance (checkBalance) in the exact model, and in the impulse
+        // model without gravity; not in a frame with a scripted push (it adds energy before the
+        // update), nor with a marble as wide as the stage (held centred between the walls, which
+        // may lift it).
+        const bool scripted = std::any_of(kept.pushes.begin(), kept.pushes.end(),
+                                          [&](const Push &push) { return push.frame == kept.frame; });
+        const double side = std::min(kept.stage.width, kept.stage.height);
+        const bool tooWide = kept.stage.walls
+            && std::any_of(kept.radius.begin(), kept.radius.end(), [&](double r) { return !(2.0 * r < side); });
+        const Balance before(kept);
+        const bool impulseWithoutGravity = kept.params.model == ModelKind::Impulse && kept.params.gravity == Vec2{};
+        const bool balanced = (exact || impulseWithoutGravity) && !scripted && !tooWide && before.finite();
         const StepResult a = kept.step();
         const StepResult b = fresh.step();
         compare(kept, fresh, scene);
@@ -363,6 +453,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t *data, std::size_t size
             if (deepestOverlap(kept) > overlapBefore + 1e-9 * scale)
                 fail(kept, "an overlap grew", -1, scene);
         }
+        if (balanced)
+            checkBalance(before, kept, since.back(), scene);
         if (tooFast(kept))
             break;
     }
