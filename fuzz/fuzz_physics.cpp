@@ -117,33 +117,44 @@ double deepestOverlap(const World &w)
     return deepest;
 }
 
-/// What the exact model must keep or lose (PHYSICS.md, model "exact"): the mechanical energy,
-/// kinetic (with each marble's pending push, which acts as an instant velocity change at the
-/// start of the frame) plus gravity's potential -m g.p, and the momentum; with the sizes of their
-/// terms, against which rounding is measured.
+/// What the models must keep or lose (PHYSICS.md): the mechanical energy, kinetic (with each
+/// marble's pending push, which acts as an instant velocity change at the start of the frame)
+/// plus gravity's potential -m g.p, the momentum and the angular momentum about the stage's
+/// centre; with the sizes of their terms, against which rounding is measured.
 struct Balance {
     double energy = 0.0;
     double energyScale = 0.0; // sum of the terms' sizes
     Vec2 momentum;
     double momentumScale = 0.0; // sum of m |v|
+    double angular = 0.0;
+    double angularScale = 0.0; // sum of m |r| |v|
 
     explicit Balance(const World &w)
     {
         const Vec2 g = w.params.gravity;
+        const Vec2 centre{0.5 * w.stage.width, 0.5 * w.stage.height};
         for (int i = 0; i < w.marbleCount(); ++i) {
             const auto k = static_cast<std::size_t>(i);
             const double m = w.mass[k];
+            const Vec2 p = w.position[k];
             const Vec2 v{w.velocity[k].x + w.acceleration[k].x, w.velocity[k].y + w.acceleration[k].y};
             const double kinetic = 0.5 * m * (v.x * v.x + v.y * v.y);
-            const double potential = -m * (g.x * w.position[k].x + g.y * w.position[k].y);
+            const double potential = -m * (g.x * p.x + g.y * p.y);
             energy += kinetic + potential;
             energyScale += kinetic + std::abs(potential);
             momentum.x += m * v.x;
             momentum.y += m * v.y;
-            momentumScale += m * std::sqrt(v.x * v.x + v.y * v.y);
+            const double speed = std::sqrt(v.x * v.x + v.y * v.y);
+            momentumScale += m * speed;
+            const Vec2 r{p.x - centre.x, p.y - centre.y};
+            angular += m * (r.x * v.y - r.y * v.x);
+            angularScale += m * std::sqrt(r.x * r.x + r.y * r.y) * speed;
         }
     }
-    bool finite() const { return std::isfinite(energyScale) && std::isfinite(momentumScale); }
+    bool finite() const
+    {
+        return std::isfinite(energyScale) && std::isfinite(momentumScale) && std::isfinite(angularScale);
+    }
 };
 
 // Rounding allowed in a frame's energy and momentum balance, relative to the size of their terms:
@@ -280,11 +291,16 @@ void stepWith(Stepper &model, World &w)
 /// energy never grows (e <= 1, drag, the zero threshold and the exact model's guards' freezing
 /// only take energy away); none is lost with e = 1 and neither friction, gravity nor zero
 /// threshold; without walls, pins, gravity and zero threshold the momentum is multiplied by the
-/// drag's 1 - k and nothing else (pair impulses keep it). The exact model holds this in
-/// continuous time; the impulse model too without gravity (its impulses act only on approaching
-/// pairs, its positional correction moves no velocity), but not with it: explicit sub-steps under
-/// gravity can gain energy, and the caller checks it only without. In the exact model a frame in
-/// which the guard against endless collision sequences froze a marble (which takes energy and
+/// drag's 1 - k and nothing else (pair impulses keep it), and in the exact model the angular
+/// momentum too. (Between events p(t) = a + b phi1(t) and v(t) = b e^(-lambda t), so
+/// m p x v = m a x b e^(-lambda t) decays like the momentum; a pair's impulses are opposite and
+/// along the line of the centres at contact, so their torques cancel. An impulse along any other
+/// line keeps energy and momentum but not this. The impulse model's positional correction moves
+/// marbles without their velocity, which changes it.) The exact model holds this in continuous
+/// time; the impulse model too without gravity (its impulses act only on approaching pairs, its
+/// positional correction moves no velocity), but not with it: explicit sub-steps under gravity
+/// can gain energy, and the caller checks it only without. In the exact model a frame in which
+/// the guard against endless collision sequences froze a marble (which takes energy and
 /// momentum away) is excused: a suspect frame is stepped again from `start` to count them.
 void checkBalance(const Balance &before, const World &after, const Snapshot &start, const std::string &scene)
 {
@@ -305,10 +321,15 @@ void checkBalance(const Balance &before, const World &after, const Snapshot &sta
     const bool momentumChanged = free
         && !(std::abs(now.momentum.x - expected.x) <= momentumTolerance
              && std::abs(now.momentum.y - expected.y) <= momentumTolerance);
-    if (!energyLost && !momentumChanged)
+    const bool exact = after.params.model == ModelKind::Exact;
+    const double angularTolerance = kBalanceTolerance * std::max(before.angularScale, now.angularScale);
+    const bool angularChanged = free && exact && !(std::abs(now.angular - decay * before.angular) <= angularTolerance);
+    if (!energyLost && !momentumChanged && !angularChanged)
         return;
-    const char *const what = energyLost ? "an elastic frame lost energy" : "the momentum changed otherwise than by the drag";
-    if (after.params.model != ModelKind::Exact)
+    const char *const what = energyLost        ? "an elastic frame lost energy"
+                             : momentumChanged ? "the momentum changed otherwise than by the drag"
+                                               : "the angular momentum changed otherwise than by the drag";
+    if (!exact)
         fail(after, what, -1, scene);
     World again = after;
     start.restoreInto(again);
