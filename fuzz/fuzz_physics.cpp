@@ -157,9 +157,9 @@ struct Balance {
     }
 };
 
-// Rounding allowed in a frame's energy and momentum balance, relative to the size of their terms:
-// about 1e-16 per operation, over the thousands of collisions a wedged marble has before the
-// exact model's guards stop it.
+// Rounding allowed in a frame's balance of energy, momentum and angular momentum, relative to the
+// size of their terms: about 1e-16 per operation, over the thousands of collisions a wedged
+// marble has before the exact model's guards stop it.
 constexpr double kBalanceTolerance = 1e-9;
 
 bool tooFast(const World &w)
@@ -295,10 +295,10 @@ void stepWith(Stepper &model, World &w)
 /// momentum too. (Between events p(t) = a + b phi1(t) and v(t) = b e^(-lambda t), so
 /// m p x v = m a x b e^(-lambda t) decays like the momentum; a pair's impulses are opposite and
 /// along the line of the centres at contact, so their torques cancel. An impulse along any other
-/// line keeps energy and momentum but not this. The impulse model's positional correction moves
-/// marbles without their velocity, which changes it.) The exact model holds this in continuous
-/// time; the impulse model too without gravity (its impulses act only on approaching pairs, its
-/// positional correction moves no velocity), but not with it: explicit sub-steps under gravity
+/// line keeps energy and momentum but not this.) The exact model holds all of this in continuous
+/// time. The impulse model holds it without gravity (its impulses act only on approaching pairs,
+/// and its positional correction moves no velocity), the angular momentum aside (that correction
+/// moves marbles without their velocity, which changes it); with gravity its explicit sub-steps
 /// can gain energy, and the caller checks it only without. In the exact model a frame in which
 /// the guard against endless collision sequences froze a marble (which takes energy and
 /// momentum away) is excused: a suspect frame is stepped again from `start` to count them.
@@ -321,7 +321,7 @@ void checkBalance(const Balance &before, const World &after, const Snapshot &sta
     const bool momentumChanged = free
         && !(std::abs(now.momentum.x - expected.x) <= momentumTolerance
              && std::abs(now.momentum.y - expected.y) <= momentumTolerance);
-    const bool exact = after.params.model == ModelKind::Exact;
+    const bool exact = params.model == ModelKind::Exact;
     const double angularTolerance = kBalanceTolerance * std::max(before.angularScale, now.angularScale);
     const bool angularChanged = free && exact && !(std::abs(now.angular - decay * before.angular) <= angularTolerance);
     if (!energyLost && !momentumChanged && !angularChanged)
@@ -427,7 +427,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t *data, std::size_t size
             withLayer = kept;
         if (layerByDefault)
             withoutLayer = kept;
-        // The energy and momentum balance (checkBalance) in the exact model, and in the impulse
+        // The balance of energy and momentum (checkBalance) in the exact model, and in the impulse
         // model without gravity; not in a frame with a scripted push (it adds energy before the
         // update), nor with a marble as wide as the stage (held centred between the walls, which
         // may lift it).
