@@ -22,6 +22,48 @@ double largestOf(std::span<const double> values, double floor)
     return std::max(std::max(lane[0], lane[1]), std::max(lane[2], lane[3]));
 }
 
+RadiusSplit splitRadii(std::span<const double> radii)
+{
+    const double largest = largestOf(radii);
+    const std::size_t n = radii.size();
+    if (n <= static_cast<std::size_t>(RadiusSplit::maxOversize))
+        return {largest, largest, 0};
+    // The sum, in four lanes like largestOf (its rounding decides nothing but the grid's size).
+    double lane[4] = {0.0, 0.0, 0.0, 0.0};
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        for (int k = 0; k < 4; ++k)
+            lane[k] += radii[i + static_cast<std::size_t>(k)];
+    }
+    for (; i < n; ++i)
+        lane[0] += radii[i];
+    return splitRadii(radii, largest, (lane[0] + lane[1]) + (lane[2] + lane[3]));
+}
+
+RadiusSplit splitRadii(std::span<const double> radii, double largest, double sum)
+{
+    RadiusSplit split{largest, largest, 0};
+    const std::size_t n = radii.size();
+    if (n <= static_cast<std::size_t>(RadiusSplit::maxOversize))
+        return split;
+    const double bound = RadiusSplit::oversizeFactor * sum / static_cast<double>(n);
+    if (!(split.largest > bound)) // also when the sum is not finite
+        return split;
+    double rest = 0.0;
+    int over = 0;
+    for (const double r : radii) {
+        if (r > bound)
+            ++over;
+        else
+            rest = std::max(rest, r);
+    }
+    if (over > RadiusSplit::maxOversize || !(rest > 0.0) || !(2.0 * rest <= split.largest))
+        return split;
+    split.cut = rest;
+    split.oversize = over;
+    return split;
+}
+
 void accumulateCounts(std::span<int> counts)
 {
     if (counts.empty())
