@@ -80,6 +80,10 @@
 //    its anchor (its grid event, rare when m exceeds a frame's travel) is anchored afresh where
 //    it is, and if that is in another bucket it joins that bucket's overflow list and looks for
 //    partners in its new neighbourhood. The lattice is folded as described in broadphase.h.
+//    A few marbles far larger than the rest would make every cell hold dozens of marbles: they
+//    are left out of the grid (RadiusSplit in broadphase.h), whose rMax is then the largest of
+//    the others. They come first in the arrays, in no bucket and without grid events; each
+//    marble's neighbourhood includes them, and theirs is every marble (every pin, too).
 //
 //    Sleepers. In a large world where nearly every marble is at rest, reading, renumbering and
 //    writing back every marble each frame would cost far more than the few that move. Marbles at
@@ -461,7 +465,7 @@ void ExactModel::setContact(int i, const Event &e)
 }
 
 template<typename Map>
-[[gnu::always_inline]] inline int ExactModel::runsAround(int bucket, int out[12], Map map) const
+[[gnu::always_inline]] inline int ExactModel::runsAround(int bucket, int out[rangeSlots], Map map) const
 {
     // The 3 x 3 buckets around `bucket` as runs [first, last) of consecutive buckets, row by row
     // (the three buckets of a row are consecutive, except where the row wraps around: then two
@@ -494,19 +498,37 @@ template<typename Map>
     return count;
 }
 
-int ExactModel::neighbourRanges(int i, int out[12]) const
+int ExactModel::neighbourRanges(int i, int out[rangeSlots]) const
 {
     // The 3 x 3 buckets around i's as ranges of internal indices (a run of buckets holds
-    // consecutive indices).
+    // consecutive indices), and the oversize marbles 0 .. m_oversize - 1. An oversize marble's
+    // partners are all marbles.
     if (m_singleCell) {
         out[0] = 0;
         out[1] = m_count;
         return 1;
     }
-    return runsAround(m_body[i].bucket, out, [&](int b) { return m_start[b]; });
+    const int bucket = m_body[i].bucket;
+    if (m_oversize > 0) [[unlikely]]
+        return oversizeRanges(bucket, out);
+    return runsAround(bucket, out, [&](int b) { return m_start[b]; });
 }
 
-int ExactModel::sleeperRanges(int i, int out[12]) const
+int ExactModel::oversizeRanges(int bucket, int out[rangeSlots]) const
+{
+    // neighbourRanges() while some marbles are left out of the grid.
+    if (bucket < 0) {
+        out[0] = 0;
+        out[1] = m_count;
+        return 1;
+    }
+    const int count = runsAround(bucket, out, [&](int b) { return m_start[b]; });
+    out[2 * count] = 0;
+    out[2 * count + 1] = m_oversize;
+    return count + 1;
+}
+
+int ExactModel::sleeperRanges(int i, int out[rangeSlots]) const
 {
     // The same buckets as ranges of the sleepers' layer.
     return runsAround(m_body[i].bucket, out, [&](int b) { return m_sleepStart[b]; });
@@ -518,6 +540,8 @@ int ExactModel::neighbourBuckets(int i, int out[9]) const
         out[0] = 0;
         return 1;
     }
+    if (m_body[i].bucket < 0)
+        return 0; // oversize: tested against every pin and marble, in no overflow list
     m_geometry.bucketNeighbourhood(m_body[i].bucket, out);
     return 9;
 }
@@ -560,19 +584,25 @@ void ExactModel::beginFrame(World &world)
     m_restSpeed = std::sqrt(2.0 * length(m_gravity) * restHeightPx);
     setNow(0.0);
 
-    const double rMax = largestOf(world.radius);
-    // Contacts happen at centre distances up to 2 rMax (marble-marble) or rMax (pins). A marble
-    // stays within the margin of its anchor (or gets a new anchor): two marbles whose anchor cells
-    // are not neighbours are then more than cell - 2 margin = 2 rMax apart.
+    const int items = n + static_cast<int>(world.pins.size());
+    // A few bodies are cheaper to test all against all than to track through a grid: at extreme
+    // speeds the grid events would outnumber the collisions a hundred to one.
+    m_singleCell = items <= singleCellItems;
+    // The grid's marbles have radii up to rMax; a few far larger ones may be left out of it
+    // (RadiusSplit): they come first in the arrays, outside every bucket, and are the partners of
+    // every marble (see neighbourRanges()).
+    const RadiusSplit split = splitRadii(world.radius);
+    m_oversize = m_singleCell || !m_splitRadii ? 0 : split.oversize;
+    const double rMax = m_oversize > 0 ? split.cut : split.largest;
+    // Contacts happen at centre distances up to 2 rMax (marble-marble) or rMax (pins) between
+    // marbles of the grid. A marble stays within the margin of its anchor (or gets a new anchor):
+    // two marbles whose anchor cells are not neighbours are then more than cell - 2 margin =
+    // 2 rMax apart.
     const double contact = 2.0 * rMax;
     m_margin = anchorMargin * contact;
     const double width = m_walls ? m_width : std::max(m_width, 1.0);
     const double height = m_walls ? m_height : std::max(m_height, 1.0);
-    const int items = n + static_cast<int>(world.pins.size());
     m_geometry = GridGeometry::fit(contact + 2.0 * m_margin, width, height, items);
-    // A few bodies are cheaper to test all against all than to track through a grid: at extreme
-    // speeds the grid events would outnumber the collisions a hundred to one.
-    m_singleCell = items <= singleCellItems;
     m_prefetchEvents = n >= prefetchEventsFrom;
     const int buckets = m_singleCell ? 1 : m_geometry.bucketCount();
 
@@ -590,9 +620,12 @@ void ExactModel::beginFrame(World &world)
     int outsideSleepers = 0;
     // The marbles outside the layer, in World order (at rest, eight flags are passed at a time).
     const auto nextAwake = [layer, inLayer, n](int w) { return layer ? nextOutsideLayer(inLayer, w, n) : w; };
+    const bool oversize = m_oversize > 0;
     for (int w = nextAwake(0); w < n; w = nextAwake(w + 1)) {
         const Vec2 p = world.position[w];
-        const int b = m_singleCell ? 0 : m_geometry.bucketAt(p.x, p.y);
+        int b = m_singleCell ? 0 : m_geometry.bucketAt(p.x, p.y);
+        if (oversize && split.isOversize(world.radius[w]))
+            b = -1; // counted in m_start[0]: the buckets' marbles follow the oversize ones
         m_sortBucket[w] = b;
         ++m_start[b + 1];
         if (!gravity && !anyResting) {
@@ -611,8 +644,11 @@ void ExactModel::beginFrame(World &world)
     m_cursor.assign(m_start.begin(), m_start.end() - 1);
     m_body.resize(n);
     m_rec.resize(n);
-    for (int w = nextAwake(0); w < n; w = nextAwake(w + 1))
-        m_body[m_cursor[m_sortBucket[w]]++].id = w;
+    int nextOversize = 0;
+    for (int w = nextAwake(0); w < n; w = nextAwake(w + 1)) {
+        const int b = m_sortBucket[w];
+        m_body[b < 0 ? nextOversize++ : m_cursor[b]++].id = w;
+    }
     m_overflowHead.assign(buckets, -1);
     m_overflowCount = 0;
     // A frame ends with an empty calendar (every entry out of its slot) unless it stopped early.
@@ -656,7 +692,7 @@ bool ExactModel::layerAllowed(int n) const
     // Sleepers need a world without gravity, and a grid (below singleCellItems bodies there is
     // none); by default, many marbles.
     return m_sleepingUse != Sleeping::Never && m_gravity.x == 0.0 && m_gravity.y == 0.0 && !m_singleCell
-        && (m_sleepingUse == Sleeping::Always || n >= sleepingLayerFrom);
+        && m_oversize == 0 && (m_sleepingUse == Sleeping::Always || n >= sleepingLayerFrom);
 }
 
 bool ExactModel::useLayer(const World &world, int n)
@@ -1123,8 +1159,8 @@ void ExactModel::nextEscape(int i, Vec2 p, Vec2 v)
 {
     m_rec[i].crossTime = noTime;
     const Body &body = m_body[i];
-    if (m_singleCell || body.frozen)
-        return;
+    if (m_singleCell || body.frozen || body.bucket < 0)
+        return; // (an oversize marble's partners do not depend on where it is)
     // The centre reaching a side of the square of half-width margin around the anchor.
     const Vec2 g = gravityOf(body);
     const Vec2 anchor = m_rec[i].anchor;
@@ -1296,7 +1332,7 @@ void ExactModel::scanPins(int i, Vec2 p, Vec2 v, const int *buckets, int count, 
                 best = e;
         }
     };
-    if (m_singleCell) {
+    if (m_singleCell || body.bucket < 0) {
         for (int pin = 0; pin < static_cast<int>(m_world->pins.size()); ++pin)
             testPin(pin);
         return;
@@ -1325,7 +1361,7 @@ inline void ExactModel::offerPair(int i, int j, const Vec2 &p, const Vec2 &v, Ev
 
 void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best)
 {
-    int ranges[12];
+    int ranges[rangeSlots];
     const int rangeCount = neighbourRanges(i, ranges);
     for (int r = 0; r < rangeCount; ++r) {
         for (int j = ranges[2 * r]; j < ranges[2 * r + 1]; ++j) {
@@ -1345,12 +1381,22 @@ void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int coun
     }
 }
 
+void ExactModel::scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &best)
+{
+    // An oversize marble's partners: every marble, wherever it is anchored (there is no
+    // sleepers' layer while there are oversize marbles).
+    for (int j = 0; j < m_count; ++j) {
+        if (j != i)
+            offerPair(i, j, p, v, best);
+    }
+}
+
 void ExactModel::scanSleepers(int i, const Vec2 &p, const Vec2 &v, Event &best)
 {
     // The sleepers around i's bucket: one that joined the arrays this frame is offered like any
     // marble (unless it left its bucket: then it is in an overflow list), and one within reach
     // joins them first.
-    int ranges[12];
+    int ranges[rangeSlots];
     const int rangeCount = sleeperRanges(i, ranges);
     const double r = m_body[i].radius;
     for (int k = 0; k < rangeCount; ++k) {
@@ -1371,7 +1417,10 @@ void ExactModel::prefetchNear(int i) const
 {
     // Requests the records of every marble in i's static neighbourhood (a hint: no effect on
     // results), so that a scan that follows finds them on their way instead of missing one by one.
-    int ranges[12];
+    // (Not for an oversize marble: its neighbourhood is the whole world.)
+    if (m_body[i].bucket < 0)
+        return;
+    int ranges[rangeSlots];
     const int rangeCount = neighbourRanges(i, ranges);
     for (int r = 0; r < rangeCount; ++r) {
         for (int j = ranges[2 * r]; j < ranges[2 * r + 1]; ++j)
@@ -1392,7 +1441,10 @@ void ExactModel::predict(int i)
     if (!m_world->pins.empty() || m_overflowCount > 0)
         count = neighbourBuckets(i, buckets);
     scanPins(i, p, v, buckets, count, best);
-    scanMarbles(i, p, v, buckets, count, best);
+    if (m_body[i].bucket < 0)
+        scanEveryMarble(i, p, v, best); // oversize (a reanchor() never comes for these)
+    else
+        scanMarbles(i, p, v, buckets, count, best);
     setContact(i, best);
 }
 
@@ -1428,12 +1480,12 @@ void ExactModel::predict(int i)
     }
 }
 
-void ExactModel::firstLookWithSleepers(int i, const FirstLook &look, const int ranges[12], Event &best)
+void ExactModel::firstLookWithSleepers(int i, const FirstLook &look, const int ranges[rangeSlots], Event &best)
 {
     // The same partners in the same order, bucket by bucket: the awake marbles of each
     // bucket and its sleepers, merged by World index (their order among all marbles).
     // Sleepers rest: they are partners from either side. One within reach joins the arrays.
-    int runs[12];
+    int runs[rangeSlots];
     const int runCount = runsAround(m_body[i].bucket, runs, [](int b) { return b; });
     for (int r = 0; r < runCount; ++r) {
         if (m_sleepStart[runs[2 * r]] == m_sleepStart[runs[2 * r + 1]]) {
@@ -1498,7 +1550,7 @@ void ExactModel::predictAll()
             const int count = neighbourBuckets(i, buckets);
             scanPins(i, p, v, buckets, count, best);
         }
-        int ranges[12];
+        int ranges[rangeSlots];
         const int rangeCount = neighbourRanges(i, ranges);
         for (int r = 0; r < rangeCount; ++r) {
             if (ranges[2 * r + 1] > m_ready)

@@ -17,10 +17,11 @@ namespace marbles {
 /// are renumbered in the order of a folded uniform grid, so that neighbours lie side by side in
 /// memory, in 64-byte records that hold all a neighbour test reads. Each marble is "anchored" in
 /// a cell a margin wider than the contact distance and needs a grid event only when it strays
-/// further than the margin from its anchor within one frame. Per marble the calendar keeps its
-/// best contact and that next grid event; a calendar queue (time slots over the frame) holds only
-/// the marbles with an event inside the frame, and per-marble collision stamps reveal stale
-/// partner events lazily.
+/// further than the margin from its anchor within one frame. A few marbles far larger than the
+/// rest (RadiusSplit) are left out of the grid and are the neighbours of every marble. Per
+/// marble the calendar keeps its best contact and that next grid event; a calendar queue (time
+/// slots over the frame) holds only the marbles with an event inside the frame, and per-marble
+/// collision stamps reveal stale partner events lazily.
 /// All buffers are kept between frames (no allocation in steady state) and are rebuilt from the
 /// World at the start of every frame, so they are caches only; the one exception, the layer
 /// that keeps marbles at rest out of that rebuilding (Sleeping), is checked against the World
@@ -102,6 +103,12 @@ public:
     /// Sleepers the last frame left alone: neither read nor written (0 without the layer).
     int lastSleepingCount() const { return m_layer ? m_layerLive - (m_count - m_awake) : 0; }
 
+    /// Whether a few marbles far larger than the rest are left out of the grid (RadiusSplit; on
+    /// unless set). Off, the grid is sized from the largest radius. For tests and benchmarks.
+    void setSplitRadii(bool on) { m_splitRadii = on; }
+    /// Marbles the last frame left out of the grid as oversize (RadiusSplit).
+    int lastOversizeCount() const { return m_oversize; }
+
     /// Events handled in the last frame: collisions, grid events and re-predictions.
     std::int64_t lastEventCount() const { return m_eventCount; }
     /// Collisions (impulses applied) in the last frame.
@@ -126,7 +133,7 @@ private:
         Vec2 b;
         double radius = 0.0;
         double contactTime = 0.0;    // time of its best contact (infinity: none)
-        int bucket = 0;              // bucket of its anchor cell
+        int bucket = 0;              // bucket of its anchor cell (-1: oversize, in none)
         int id = 0;                  // index in the World
         int rank = 0;                // place in the order of ties (see the .cpp, point 4)
         std::uint8_t gravityOff = 0; // bit 0: no gravity along x (held on a wall, or frozen), bit 1: y
@@ -165,11 +172,15 @@ private:
     void stateAt(const Body &body, Vec2 &p, Vec2 &v) const;
     void setState(int i, Vec2 p, Vec2 v);
     void setContact(int i, const Event &e);
+    // Up to 6 runs of buckets (3 rows, each split in two where it wraps around) and the oversize
+    // marbles: the ranges of internal indices a marble's partners lie in, as [first, last) pairs.
+    static constexpr int rangeSlots = 14;
     int neighbourBuckets(int i, int out[9]) const;
     template<typename Map>
-    int runsAround(int bucket, int out[12], Map map) const;
-    int sleeperRanges(int i, int out[12]) const;
-    int neighbourRanges(int i, int out[12]) const;
+    int runsAround(int bucket, int out[rangeSlots], Map map) const;
+    int sleeperRanges(int i, int out[rangeSlots]) const;
+    int neighbourRanges(int i, int out[rangeSlots]) const;
+    [[gnu::noinline]] int oversizeRanges(int bucket, int out[rangeSlots]) const;
     bool layerAllowed(int n) const;
     bool useLayer(const World &world, int n);
     /// A marble at rest without gravity: it stays put until something hits it.
@@ -195,7 +206,9 @@ private:
     };
     void offerFirstLook(int i, int j, const FirstLook &look, Event &best);
     void scanSleepers(int i, const Vec2 &p, const Vec2 &v, Event &best);
-    [[gnu::noinline]] void firstLookWithSleepers(int i, const FirstLook &look, const int ranges[12], Event &best);
+    /// Out of line, so that scanMarbles() keeps its one inlined copy of the pair test.
+    [[gnu::noinline]] void scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &best);
+    [[gnu::noinline]] void firstLookWithSleepers(int i, const FirstLook &look, const int ranges[rangeSlots], Event &best);
     void predictAll();
     void predictOwn(int i, Vec2 p, Vec2 v, Event &best);
     void predict(int i);
@@ -246,6 +259,7 @@ private:
     GridGeometry m_geometry;
     double m_margin = 0.0;       // how far a marble may stray from its anchor, px
     bool m_singleCell = false;   // no grid: one bucket, no grid events
+    int m_oversize = 0;          // marbles left out of the grid (RadiusSplit): internal 0 .. m_oversize - 1
     bool m_prefetchEvents = false; // at least prefetchEventsFrom marbles
     bool m_finite = true;        // every marble's state and the parameters are finite
     bool m_anyResting = false;   // some marble is at rest (and there is no gravity)
@@ -324,6 +338,7 @@ private:
     };
     static_assert(sizeof(Sleeper) == 32);
     Sleeping m_sleepingUse = Sleeping::Auto;
+    bool m_splitRadii = true;
     bool m_layer = false;              // this frame keeps the sleepers in the layer
     std::vector<Sleeper> m_sleepers;
     std::vector<double> m_sleeperMass; // per entry
