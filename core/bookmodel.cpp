@@ -319,9 +319,12 @@ void BookModel::step(World &world)
                 //   every j > first touching old, in ascending order.
                 // (When a wall or pin has already put it back, p = old throughout.) The grid lists
                 // every marble that can touch a point, so these are exactly the all-pairs hits.
+                // Oversize marbles (RadiusSplit) are not in the grid: every marble is tested
+                // against them, and they against every marble.
+                const bool oversize = m_split.isOversize(r);
                 auto touchersOf = [&](Vec2 at, int after) {
                     m_hits.clear();
-                    m_marbleGrid.forEachNear(at, [&](int j) __attribute__((always_inline)) {
+                    auto test = [&](int j) __attribute__((always_inline)) {
                         // One well-predicted branch per candidate: the clear-miss test of
                         // touches() evaluated without short-circuits. Only marble i itself, the
                         // empty slots' record (at infinity, when `at` is too) and near
@@ -336,7 +339,15 @@ void BookModel::step(World &world)
                             if (j > after && j != i && j < n && touches(at, r, b.p, b.r))
                                 m_hits.push_back(j);
                         }
-                    });
+                    };
+                    if (oversize) [[unlikely]] {
+                        for (int j = after + 1; j < n; ++j)
+                            test(j); // in ascending order: no sort
+                        return;
+                    }
+                    m_marbleGrid.forEachNear(at, test);
+                    for (const int j : m_oversize)
+                        test(j);
                     sortSmall(m_hits.begin(), m_hits.end());
                 };
                 touchersOf(p, -1);
@@ -362,14 +373,16 @@ void BookModel::step(World &world)
 
         if (m_useMarbleGrid && !sameBits(p, m_bodies[static_cast<std::size_t>(i)].p)) {
             m_bodies[static_cast<std::size_t>(i)].p = p;
-            m_marbleGrid.update(i, p);
+            if (!m_split.isOversize(r))
+                m_marbleGrid.update(i, p);
         }
     }
 }
 
 // The broad phase. A hit needs distance < r_i + r_j <= 2 rMax (marbles) or <= r_i <= rMax
 // (pins), so with cells of side >= 2 rMax every partner of a point lies in the 3 x 3 cells
-// around it. Marble i is tested at its new position and, after a first hit, at its old one;
+// around it. The marble grid's rMax leaves out a few far larger marbles (RadiusSplit), which
+// are tested against every marble instead; the pin grid's is the largest radius. Marble i is tested at its new position and, after a first hit, at its old one;
 // pins are tested in sorted order and marble hits are collided in scene order (see step 7), so
 // the results are bit-identical to the all-pairs loop.
 void BookModel::prepare(const World &world)
@@ -403,19 +416,26 @@ void BookModel::prepare(const World &world)
         }
         valid = differ == 0;
     }
-    // Same radii as at the last build: same largest radius.
-    const double rMax = valid ? m_gridRMax : largestOf(world.radius);
-    const double contact = std::max(2.0 * rMax, 1e-6);
+    // Same radii as at the last build: the same split.
+    const RadiusSplit split = valid ? m_split : splitRadii(world.radius);
 
     if (m_usePinGrid) {
         // Pins change only between frames (by editing); sorting them costs O(pins).
-        m_pinGrid.build(GridGeometry::fit(contact, world.stage.width, world.stage.height, pinCount),
+        m_pinGrid.build(GridGeometry::fit(std::max(2.0 * split.largest, 1e-6), world.stage.width,
+                                          world.stage.height, pinCount),
                         world.pins.data(), pinCount);
         m_pinMark.assign(static_cast<std::size_t>(pinCount), 0);
     }
     if (m_useMarbleGrid && !valid) {
-        m_marbleGrid.build(GridGeometry::fit(contact, world.stage.width, world.stage.height, n),
+        m_marbleGrid.build(GridGeometry::fit(std::max(2.0 * split.cut, 1e-6), world.stage.width, world.stage.height, n),
                            world.position.data(), n);
+        m_oversize.clear();
+        for (int i = 0; split.oversize > 0 && i < n; ++i) {
+            if (split.isOversize(world.radius[i])) {
+                m_oversize.push_back(i);
+                m_marbleGrid.leaveOut(i);
+            }
+        }
         // One record past the end stands for the grid's empty slots: at infinity with no
         // radius, every distance to it is infinite (or NaN), never a hit.
         m_bodies.resize(static_cast<std::size_t>(n) + 1);
@@ -423,7 +443,7 @@ void BookModel::prepare(const World &world)
             m_bodies[i] = {world.position[i], world.radius[i], world.mass[i]};
         constexpr double far = std::numeric_limits<double>::infinity();
         m_bodies.back() = {Vec2{far, far}, 0.0, 0.0};
-        m_gridRMax = rMax;
+        m_split = split;
     }
 }
 
@@ -521,6 +541,12 @@ void MovingGrid::remove(int i, int b)
     --bucket.count;
     if (bucket.count < inlineCapacity)
         bucket.items[bucket.count] = size(); // the slot is empty again
+}
+
+void MovingGrid::leaveOut(int i)
+{
+    remove(i, m_bucketOf[static_cast<std::size_t>(i)]);
+    m_bucketOf[static_cast<std::size_t>(i)] = -1;
 }
 
 void MovingGrid::update(int i, Vec2 to)

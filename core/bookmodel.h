@@ -19,8 +19,11 @@ public:
     void build(const GridGeometry &geometry, const Vec2 *points, int count);
     /// Bodies held.
     int size() const { return static_cast<int>(m_bucketOf.size()); }
-    /// Moves body i to the bucket of `to` (no-op when the bucket is unchanged).
+    /// Moves body i to the bucket of `to` (no-op when the bucket is unchanged). Not for a body
+    /// left out.
     void update(int i, Vec2 to);
+    /// Takes body i out of the grid (until the next build): forEachNear() no longer visits it.
+    void leaveOut(int i);
     /// Calls `visit(j)` for every body j (self included) in the 3 x 3 cells around `at`, each
     /// once, in no particular order; also calls `visit(size())` for some empty slots, which the
     /// caller must treat as a sure miss. `visit` must not move bodies.
@@ -123,7 +126,7 @@ private:
     bool m_forceAllPairs = false;
     bool m_useMarbleGrid = false;
     bool m_usePinGrid = false;
-    MovingGrid m_marbleGrid;
+    MovingGrid m_marbleGrid; // every marble but the oversize ones
     UniformGrid m_pinGrid;
     // What the marble tests read of each marble, packed in one cache line's half: the position
     // the grid holds it at, the radius and the mass (kept equal to the world's, bit for bit).
@@ -133,7 +136,8 @@ private:
         double m;
     };
     std::vector<Body> m_bodies;
-    double m_gridRMax = 0.0; // largest radius, px, when the marble grid was built
+    RadiusSplit m_split;     // the radii when the marble grid was built
+    std::vector<int> m_oversize; // the marbles left out of the marble grid, ascending
     std::vector<int> m_allPins; // 0..pins-1
     std::vector<int> m_candidates;
     std::vector<int> m_hits;

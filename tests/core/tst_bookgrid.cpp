@@ -88,6 +88,8 @@ private slots:
     void gridMatchesAllPairs_data();
     void gridMatchesAllPairs();
     void gridWithCrowdedCells();
+    void gridWithOversizeMarbles_data();
+    void gridWithOversizeMarbles();
     void gridFollowsEditsBetweenFrames();
     void sleepingMarblesStayAsleep();
 };
@@ -120,13 +122,54 @@ void TestBookGrid::gridMatchesAllPairs()
 
 void TestBookGrid::gridWithCrowdedCells()
 {
-    // One large marble makes the cells 2 rMax = 120 px wide, so each holds a dozen small marbles
-    // or more: most of a bucket's bodies are past the few it holds inline, in its overflow list,
-    // and bodies move in and out of those lists every frame.
+    // Large marbles, too many to be left out of the grid (RadiusSplit), make the cells
+    // 2 rMax = 120 px wide, so each holds a dozen small marbles or more: most of a bucket's
+    // bodies are past the few it holds inline, in its overflow list, and bodies move in and out
+    // of those lists every frame.
     for (std::uint64_t seed = 1; seed <= 3; ++seed) {
         World w = randomScene({300, 20, 5.0, 0.2, 0.0, 0.0, {0, 0}, true, false, false}, seed);
-        w.setRadius(0, 60.0);
+        for (int k = 0; k <= RadiusSplit::maxOversize; ++k)
+            w.setRadius(k, 60.0);
+        QCOMPARE(splitRadii(w.radius).oversize, 0);
         const int diff = firstDifference(w, w, 120, seed);
+        QVERIFY2(diff < 0, qPrintable(QString("seed %1: first difference at frame %2").arg(seed).arg(diff)));
+    }
+}
+
+void TestBookGrid::gridWithOversizeMarbles_data()
+{
+    QTest::addColumn<SceneShape>("shape");
+    QTest::addColumn<int>("giants");
+    QTest::addColumn<double>("giantSpeed");
+    //                                   marbles pins speed rest   k     Z     gravity     walls  short  overlap
+    QTest::addRow("one giant") << SceneShape{300, 0, 4.0, 0.0, 0.0, 0.0, {0, 0}, true, false, false} << 1 << 6.0;
+    QTest::addRow("16 giants, pins") << SceneShape{400, 80, 4.0, 0.2, 0.05, 0.01, {0, 0}, true, false, false}
+                                     << RadiusSplit::maxOversize << 4.0;
+    QTest::addRow("giants, short circuit") << SceneShape{300, 60, 5.0, 0.0, 0.0, 0.0, {0, 0}, true, true, false} << 3 << 8.0;
+    QTest::addRow("giants, gravity") << SceneShape{250, 40, 2.0, 0.0, 0.02, 0.0, {0, 0.3}, true, false, false} << 2 << 3.0;
+    QTest::addRow("giants at rest among sleepers") << SceneShape{400, 20, 4.0, 0.9, 0.1, 0.01, {0, 0}, true, false, false} << 4 << 0.0;
+    QTest::addRow("fast giants, no walls") << SceneShape{200, 40, 30.0, 0.0, 0.0, 0.0, {0, 0}, false, false, false} << 2 << 80.0;
+}
+
+void TestBookGrid::gridWithOversizeMarbles()
+{
+    QFETCH(SceneShape, shape);
+    QFETCH(int, giants);
+    QFETCH(double, giantSpeed);
+    // A few marbles far larger than the rest are left out of the grid, whose cells are sized
+    // from the others; every marble is then tested against them and they against every marble,
+    // in the same order as all pairs.
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+        World w = randomScene(shape, seed);
+        SplitMix64 rng(seed + 100);
+        for (int k = 0; k < giants; ++k) {
+            const int i = k * (w.marbleCount() / giants);
+            w.setRadius(i, rng.uniform(40.0, 120.0));
+            const double angle = rng.uniform(0.0, 6.283185307179586);
+            w.velocity[i] = {giantSpeed * std::cos(angle), giantSpeed * std::sin(angle)};
+        }
+        QCOMPARE(splitRadii(w.radius).oversize, giants);
+        const int diff = firstDifference(w, w, 150, seed);
         QVERIFY2(diff < 0, qPrintable(QString("seed %1: first difference at frame %2").arg(seed).arg(diff)));
     }
 }
@@ -147,6 +190,11 @@ void TestBookGrid::gridFollowsEditsBetweenFrames()
                 w->addMarble({300, 200}, 8, {1, 1});
                 w->removeMarble(f + 3);
             }
+        }
+        // A marble grown far larger than the rest (left out of the grid), then shrunk back.
+        if (f == 25 || f == 45) {
+            for (World *w : {&a, &b})
+                w->setRadius(7, f == 25 ? 90.0 : 5.0);
         }
         fast.step(a);
         reference.step(b);
