@@ -73,13 +73,16 @@ void ImpulseModel::sortAll(const World &world)
     // Counting sort, stable: each bucket lists its marbles in ascending scene order.
     const int n = world.marbleCount();
     const int buckets = m_geometry.bucketCount();
-    m_start.assign(static_cast<std::size_t>(buckets) + 1, 0);
+    m_start.assign(static_cast<std::size_t>(buckets) + 2, 0);
     m_bucketOf.resize(static_cast<std::size_t>(n));
     m_bodies.resize(static_cast<std::size_t>(n) + windowPadding);
     constexpr double far = std::numeric_limits<double>::infinity();
     std::fill(m_bodies.begin() + n, m_bodies.end(), Body{far, far, 0.0, -1, 0});
+    const bool oversize = m_split.oversize > 0;
     for (int i = 0; i < n; ++i) {
-        const int b = m_geometry.bucketAt(world.position[i].x, world.position[i].y);
+        int b = m_geometry.bucketAt(world.position[i].x, world.position[i].y);
+        if (oversize && m_split.isOversize(world.radius[i]))
+            b = buckets;
         m_bucketOf[i] = b;
         ++m_start[b + 1];
     }
@@ -90,7 +93,7 @@ void ImpulseModel::sortAll(const World &world)
         m_bodies[slot] = {world.position[i].x, world.position[i].y, world.radius[i], i,
                           m_sleepy[i] == 1 ? asleep : 0};
     }
-    for (int b = buckets; b > 0; --b)
+    for (int b = buckets + 1; b > 0; --b)
         m_start[b] = m_start[b - 1];
     m_start[0] = 0;
     m_slotsKnown = false;
@@ -120,7 +123,7 @@ bool ImpulseModel::resortChanged(const World &world)
     long budget = 4L * n;
     for (int id : m_changed) {
         const Vec2 p = world.position[id];
-        const int to = m_geometry.bucketAt(p.x, p.y);
+        const int to = m_split.isOversize(world.radius[id]) ? oversizeBucket() : m_geometry.bucketAt(p.x, p.y);
         const int from = m_bucketOf[id];
         if (to != from) {
             budget -= moveToBucket(id, from, to);
@@ -170,8 +173,8 @@ int ImpulseModel::moveToBucket(int id, int from, int to)
 void ImpulseModel::markActive(int bucket)
 {
     // The bucket itself and its backward half (left, and the three above): the buckets whose
-    // forward half holds it.
-    if (m_allActive)
+    // forward half holds it. (The oversize marbles' pairs are all visited anyway.)
+    if (m_allActive || bucket == oversizeBucket())
         return;
     const int nx = m_geometry.bucketsX();
     const int ny = m_geometry.bucketsY();
@@ -280,6 +283,26 @@ void ImpulseModel::resolvePair(World &world, double e, std::int64_t hitFrame, in
     bj.y += nrm.y * sJ;
 }
 
+void ImpulseModel::resolveOversizePairs(World &world, double e, std::int64_t hitFrame)
+{
+    // Each oversize marble (the last slots) with every other marble, in slot order, each pair once.
+    const int n = static_cast<int>(m_bodies.size()) - windowPadding;
+    const int first = m_start[static_cast<std::size_t>(oversizeBucket())];
+    for (int so = first; so < n; ++so) {
+        for (int t = 0; t < n; ++t) {
+            if (t >= first && t <= so)
+                continue;
+            const Body &bi = m_bodies[so];
+            const Body &bj = m_bodies[t];
+            const double reach = bi.r + bj.r;
+            const double dx = bj.x - bi.x;
+            const double dy = bj.y - bi.y;
+            if (dx * dx + dy * dy < reach * reach) [[unlikely]]
+                resolvePair(world, e, hitFrame, oversizeBucket(), so, t);
+        }
+    }
+}
+
 void ImpulseModel::resolvePairs(World &world, double e, std::int64_t hitFrame)
 {
     // Marble pairs, each once, in a fixed order: buckets in row-major order; in a bucket its
@@ -366,11 +389,13 @@ void ImpulseModel::step(World &world)
     const int pinCount = static_cast<int>(world.pins.size());
     // Pushes act at the frame boundary: an instant velocity change.
     double rMax = 0.0;
+    double rSum = 0.0;
     for (int i = 0; i < n; ++i) {
         world.velocity[i].x += world.acceleration[i].x;
         world.velocity[i].y += world.acceleration[i].y;
         world.acceleration[i] = {};
         rMax = std::max(rMax, world.radius[i]);
+        rSum += world.radius[i];
     }
     if (n == 0)
         return;
@@ -389,10 +414,13 @@ void ImpulseModel::step(World &world)
     const std::int64_t hitFrame = world.frame + 1;
     const double z = world.params.zeroThreshold;
 
-    const GridGeometry geometry = GridGeometry::fit(2.0 * rMax, stage.width, stage.height, n + pinCount);
-    if (!(geometry == m_geometry) || m_bodies.size() != static_cast<std::size_t>(n) + windowPadding)
+    const RadiusSplit split = splitRadii(world.radius, rMax, rSum);
+    const GridGeometry geometry = GridGeometry::fit(2.0 * split.cut, stage.width, stage.height, n + pinCount);
+    if (!(geometry == m_geometry) || m_bodies.size() != static_cast<std::size_t>(n) + windowPadding
+        || split.cut != m_split.cut || split.oversize != m_split.oversize)
         m_sorted = false;
     m_geometry = geometry;
+    m_split = split;
     if (pinCount > 0)
         m_pinGrid.build(m_geometry, world.pins.data(), pinCount);
     // Without gravity a marble at rest stays at rest unless something touches it: only then can
@@ -433,6 +461,8 @@ void ImpulseModel::step(World &world)
         const bool partial = sortIntoBuckets(world, awake);
         const std::size_t visitBeforePairs = m_visit.size();
         resolvePairs(world, e, hitFrame);
+        if (m_split.oversize > 0)
+            resolveOversizePairs(world, e, hitFrame);
         const int woken = static_cast<int>(m_visit.size() - visitBeforePairs);
 
         // Pins and walls act on each marble alone, so the order they run in changes nothing. A
@@ -446,31 +476,36 @@ void ImpulseModel::step(World &world)
             const double r = b.r;
             bool clear = (b.flags & touched) == 0; // overlapped nothing in this sub-step
             // Pins: immovable points; the marble is moved out to touching and reflected if approaching.
-            if (pinCount > 0) {
+            auto pin = [&](const Vec2 q) __attribute__((always_inline)) {
+                const Vec2 d{q.x - b.x, q.y - b.y};
+                const double d2 = d.x * d.x + d.y * d.y;
+                if (!(d2 < r * r))
+                    return;
+                clear = false;
+                const double dist = std::sqrt(d2);
+                if (!(dist > 0.0))
+                    return;
+                const Vec2 nrm{d.x / dist, d.y / dist};
+                const double approach = vel.x * nrm.x + vel.y * nrm.y;
+                if (approach > 0.0) {
+                    const Vec2 in = vel;
+                    vel.x -= (1.0 + e) * approach * nrm.x;
+                    vel.y -= (1.0 + e) * approach * nrm.y;
+                    world.lastHit[b.id] = HitRecord::of(hitFrame, in, nrm, vel);
+                }
+                b.x -= nrm.x * (r - dist);
+                b.y -= nrm.y * (r - dist);
+            };
+            if (pinCount > 0 && m_split.isOversize(r)) {
+                // Left out of the grid (the pin grid's cells are too small for it): every pin.
+                for (const Vec2 q : world.pins)
+                    pin(q);
+            } else if (pinCount > 0) {
                 int buckets[9];
                 m_geometry.neighbourhood(m_geometry.coord(b.x), m_geometry.coord(b.y), buckets);
                 for (int bucket : buckets) {
-                    for (int it = m_pinGrid.begin(bucket); it < m_pinGrid.end(bucket); ++it) {
-                        const Vec2 q = world.pins[m_pinGrid.items()[it]];
-                        const Vec2 d{q.x - b.x, q.y - b.y};
-                        const double d2 = d.x * d.x + d.y * d.y;
-                        if (!(d2 < r * r))
-                            continue;
-                        clear = false;
-                        const double dist = std::sqrt(d2);
-                        if (!(dist > 0.0))
-                            continue;
-                        const Vec2 nrm{d.x / dist, d.y / dist};
-                        const double approach = vel.x * nrm.x + vel.y * nrm.y;
-                        if (approach > 0.0) {
-                            const Vec2 in = vel;
-                            vel.x -= (1.0 + e) * approach * nrm.x;
-                            vel.y -= (1.0 + e) * approach * nrm.y;
-                            world.lastHit[b.id] = HitRecord::of(hitFrame, in, nrm, vel);
-                        }
-                        b.x -= nrm.x * (r - dist);
-                        b.y -= nrm.y * (r - dist);
-                    }
+                    for (int it = m_pinGrid.begin(bucket); it < m_pinGrid.end(bucket); ++it)
+                        pin(world.pins[m_pinGrid.items()[it]]);
                 }
             }
 

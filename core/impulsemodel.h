@@ -18,7 +18,9 @@ namespace marbles {
 /// sub-step copies the marbles into bucket order (a stable counting sort), and pairs are taken
 /// in that order: bucket by bucket in row-major order, each marble with the later marbles of
 /// its bucket and then with the forward half of its neighbourhood. Neighbours are thus side by
-/// side in memory, and every candidate is examined once.
+/// side in memory, and every candidate is examined once. A few marbles far larger than the rest
+/// (RadiusSplit) are left out of the grid: they come last in the order, and after the buckets
+/// each is paired with every marble (in slot order, the other oversize ones from the next on).
 ///
 /// Sleeping: a marble at rest (velocity exactly 0, no gravity) that overlapped nothing in the
 /// last sub-step is asleep. Two sleeping marbles did not overlap then and have not moved since,
@@ -76,10 +78,15 @@ private:
     /// Out of line: the pair pass's loops stay small, and most candidates do not overlap.
     [[gnu::noinline]] void resolvePair(World &world, double e, std::int64_t hitFrame, int bucket, int si, int t);
 
+    /// The oversize marbles' place in m_start: the bucket after the lattice's.
+    int oversizeBucket() const { return m_geometry.bucketCount(); }
+    void resolveOversizePairs(World &world, double e, std::int64_t hitFrame);
+
     GridGeometry m_geometry;
+    RadiusSplit m_split;            // this frame's (the lattice is sized for radii up to m_split.cut)
     UniformGrid m_pinGrid;          // rebuilt every frame
     std::vector<int> m_bucketOf;    // per marble (scene order): its bucket this sub-step
-    std::vector<int> m_start;       // per bucket: first slot; m_start[bucketCount] = n
+    std::vector<int> m_start;       // per bucket, and the oversize marbles: first slot; then n
     std::vector<Body> m_bodies;     // per slot, then padding (see resolvePairs())
     std::vector<std::uint64_t> m_active; // per bucket, one bit: has pairs that may do something
     bool m_allActive = true;             // every bucket is visited (m_active unused)

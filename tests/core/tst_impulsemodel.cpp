@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 using namespace marbles;
 
@@ -54,6 +55,7 @@ private slots:
     void sleepingChangesNoBit_data();
     void sleepingChangesNoBit();
     void pairsInBucketOrderOnFoldedLattice();
+    void oversizeMarbleMeetsEverythingItOverlaps();
 };
 
 void TestImpulseModel::momentumKeptInFreeSpace_data()
@@ -235,6 +237,8 @@ void TestImpulseModel::sleepingChangesNoBit_data()
     QTest::addRow("resting, 3 substeps, pin") << "resting" << 3 << 0.05 << true << true;
     QTest::addRow("big cells, 1 substep") << "bigcells" << 1 << 0.05 << false << true;
     QTest::addRow("big cells, 2 substeps, pins") << "bigcells" << 2 << 0.05 << true << true;
+    QTest::addRow("giants, 1 substep") << "giants" << 1 << 0.05 << false << true;
+    QTest::addRow("giants, 3 substeps, pins") << "giants" << 3 << 0.02 << true << true;
     QTest::addRow("fast movers, 1 substep") << "fast" << 1 << 0.05 << false << true;
     QTest::addRow("rows, 1 substep") << "rows" << 1 << 0.0 << false << true;
     QTest::addRow("rows, 4 substeps") << "rows" << 4 << 0.0 << false << true;
@@ -253,9 +257,19 @@ void TestImpulseModel::sleepingChangesNoBit()
         slept = makeCrowd(2500, 11, 0.03);
     } else if (scene == "bigcells") {
         // One large marble makes the grid's cells large enough for several marbles each: the
-        // few movers change cells among sleepers, and friction puts marbles back to sleep.
+        // few movers change cells among sleepers, and friction puts marbles back to sleep. (Not
+        // so large that it is left out of the grid: see RadiusSplit.)
         slept = makeCrowd(2500, 11, 0.02);
-        slept.setRadius(0, 40.0);
+        slept.setRadius(0, 30.0);
+        QCOMPARE(splitRadii(slept.radius).oversize, 0);
+    } else if (scene == "giants") {
+        // Three marbles far larger than the rest, left out of the grid, plough through sleepers.
+        slept = makeCrowd(2500, 11, 0.02);
+        for (int k = 0; k < 3; ++k) {
+            slept.setRadius(400 + 700 * k, 70.0 + 10.0 * k);
+            slept.velocity[400 + 700 * k] = {4.0 - 3.0 * k, 2.0 + k};
+        }
+        QCOMPARE(splitRadii(slept.radius).oversize, 3);
     } else if (scene == "fast") {
         // A few marbles crossing many rows of cells per frame among sleepers: moving them in the
         // kept bucket order costs more than the partial sort's budget, which then gives way to
@@ -338,6 +352,41 @@ void TestImpulseModel::sleepingChangesNoBit()
     // marbles that changed.
     QCOMPARE_GE(mostAsleep, slept.marbleCount() / 2);
     QCOMPARE_GE(kept.partialSortCount(), 5);
+}
+
+void TestImpulseModel::oversizeMarbleMeetsEverythingItOverlaps()
+{
+    // A marble of radius 100 among marbles of radius 5 is left out of the grid (RadiusSplit),
+    // whose cells are then sized for the small ones: marbles overlapping its rim, far from its
+    // cell, must still be pushed out to touching, and so must it from a pin on its rim and from
+    // another such marble. It is all but immovable (its mass is 1e12), so each correction leaves
+    // the other overlaps as they were.
+    for (const QString overlap : {"marbles", "pin", "giant"}) {
+        World w = bareWorld(0.0, 1);
+        const Vec2 centre{400, 300};
+        const int giant = w.addMarble(centre, 100.0, {}, 1e12);
+        for (int k = 0; k < 40; ++k)
+            w.addMarble({20.0 + 15.0 * k, 20.0}, 5.0); // far away: nothing to do
+        std::vector<int> rim;
+        for (int k = 0; k < 3 && overlap == "marbles"; ++k) {
+            const double angle = 2.0 * std::numbers::pi * k / 3.0;
+            rim.push_back(w.addMarble({centre.x + 103.0 * std::cos(angle), centre.y + 103.0 * std::sin(angle)}, 5.0));
+        }
+        if (overlap == "pin")
+            w.addPin({centre.x - 98.0, centre.y}); // (outside the grid neighbourhood of its cell)
+        const int other = overlap == "giant" ? w.addMarble({centre.x - 185.0, centre.y}, 90.0) : -1;
+        QCOMPARE(splitRadii(w.radius).oversize, overlap == "giant" ? 2 : 1);
+        ImpulseModel model;
+        run(w, model, 1);
+        for (int i : rim)
+            QCOMPARE_GE(distance(w.position[i], w.position[giant]), 105.0 - 1e-9);
+        if (overlap == "pin")
+            QCOMPARE_GE(distance(w.pins[0], w.position[giant]), 100.0 - 1e-9);
+        else
+            QCOMPARE_LE(distance(w.position[giant], centre), 1e-6);
+        if (other >= 0)
+            QCOMPARE_GE(distance(w.position[other], w.position[giant]), 190.0 - 1e-9);
+    }
 }
 
 void TestImpulseModel::pairsInBucketOrderOnFoldedLattice()
