@@ -377,7 +377,12 @@ struct ScaleCase {
     std::string name;
     int n;
     double moving;
+    int giants = 0; // marbles of radius kGiantRadius among the crowd (makeCrowdWithGiants)
 };
+
+// The giants' radius: about ten times the crowd's largest, so that the grids leave them out.
+constexpr double kGiantRadius = 100.0;
+constexpr int kGiants = 4;
 
 constexpr int kScaleSizes[] = {1000, 10000, 100000};
 
@@ -409,10 +414,15 @@ std::vector<Row> scaleBench(int frames, int repeats, int maxN)
     // a frame costs when every marble sleeps).
     cases.push_back({crowdName(largest) + "-1%", largest, 0.01});
     cases.push_back({crowdName(largest) + "-rest", largest, 0.0});
+    // A crowd of up to 10k with four marbles of radius 100 among it (the marbles they would
+    // overlap taken out): what one large marble costs where the grids are sized from the rest.
+    const int giantCrowd = std::min(largest, 10000);
+    cases.push_back({crowdName(giantCrowd) + "-giants", giantCrowd, 1.0, kGiants});
 
     std::vector<Row> rows;
     for (const ScaleCase &c : cases) {
-        const World base = makeCrowd(c.n, 1, c.moving);
+        const World base = c.giants > 0 ? makeCrowdWithGiants(c.n, 1, c.giants, kGiantRadius, c.moving)
+                                         : makeCrowd(c.n, 1, c.moving);
         for (const Variant &v : {Variant{ModelKind::Book}, Variant{ModelKind::Impulse, 1}, Variant{ModelKind::Exact}}) {
             const World start = withVariant(base, v);
             Row row{c.name, std::string(modelName(v.model)), v.setting()};

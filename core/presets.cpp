@@ -107,6 +107,39 @@ void pachinko(World &w)
     w.params.substeps = 4;
 }
 
+// Brownian motion: one heavy marble among hundreds of small, fast ones. Nothing pushes it, yet
+// it wanders: each small marble that hits it gives it a kick in a random direction (its trail
+// draws the random walk), and the heavier it is, the less it moves. The small marbles start on
+// a jittered lattice, clear of the heavy one and of each other, in random directions.
+void brownian(World &w)
+{
+    const Vec2 centre{400, 300};
+    const double heavyRadius = 50;
+    named(w, w.addMarble(centre, heavyRadius, {}, 500), "heavy", "#c0392b");
+    SplitMix64 rng(29);
+    const double r = 4;
+    const double spacing = 24;
+    for (double y = spacing / 2; y < w.stage.height; y += spacing) {
+        for (double x = spacing / 2; x < w.stage.width; x += spacing) {
+            // One draw per statement (see pachinko()).
+            const double dx = rng.uniform(-5, 5);
+            const double dy = rng.uniform(-5, 5);
+            const double speed = rng.uniform(2, 5);
+            const double angle = rng.uniform(0, 6.283185307179586);
+            const Vec2 p{x + dx, y + dy};
+            if (distance(p, centre) < heavyRadius + r + 6)
+                continue;
+            w.addMarble(p, r, {speed * std::cos(angle), speed * std::sin(angle)});
+        }
+    }
+    w.params.friction = 0;
+    w.params.zeroThreshold = 0;
+    w.params.restitution = 1;
+    // The exact model, where each kick conserves momentum; in the book model the heavy marble
+    // hardly moves (a comparison worth showing).
+    w.params.model = ModelKind::Exact;
+}
+
 struct PresetEntry {
     PresetInfo info;
     void (*build)(World &);
@@ -129,6 +162,9 @@ const std::vector<PresetEntry> &entries()
          newtonsCradle},
         {{"pachinko", "Pachinko board", "Marbles fall under gravity through staggered rows of pins."},
          pachinko},
+        {{"brownian", "Brownian motion",
+          "A heavy marble among hundreds of small fast ones wanders at random, kicked by their hits."},
+         brownian},
     };
     return list;
 }
@@ -193,6 +229,38 @@ World makeCrowd(int n, std::uint64_t seed, double movingFraction)
         const bool moving = rng.uniform() < movingFraction;
         const Vec2 v = moving ? Vec2{speed * std::cos(angle), speed * std::sin(angle)} : Vec2{};
         w.addMarble({x, y}, r, v, std::numbers::pi * r * r);
+    }
+    return w;
+}
+
+World makeCrowdWithGiants(int n, std::uint64_t seed, int giants, double giantRadius, double movingFraction)
+{
+    World w = makeCrowd(n, seed, movingFraction);
+    constexpr double cell = 30.0; // makeCrowd's lattice
+    const int columns = static_cast<int>(std::lround(w.stage.width / cell));
+    std::vector<int> giant;
+    for (int k = 0; k < giants && n > 0; ++k) {
+        const double x = std::clamp(w.stage.width * (k + 0.5) / giants, giantRadius, w.stage.width - giantRadius);
+        const double y = std::clamp(w.stage.height * (0.5 + (k % 2 == 0 ? -0.25 : 0.25)), giantRadius,
+                                    w.stage.height - giantRadius);
+        // The marble of the lattice cell there becomes the giant.
+        const int i = std::min(n - 1, static_cast<int>(y / cell) * columns + static_cast<int>(x / cell));
+        w.position[i] = {x, y};
+        w.setRadius(i, giantRadius);
+        w.setExplicitMass(i, std::numbers::pi * giantRadius * giantRadius);
+        giant.push_back(i);
+    }
+    for (int i = w.marbleCount() - 1; i >= 0; --i) {
+        if (std::find(giant.begin(), giant.end(), i) != giant.end())
+            continue;
+        bool clear = true;
+        for (const int g : giant)
+            clear = clear && distance(w.position[i], w.position[g]) > w.radius[i] + w.radius[g];
+        if (!clear) {
+            w.removeMarble(i);
+            for (int &g : giant)
+                g -= g > i ? 1 : 0;
+        }
     }
     return w;
 }

@@ -351,7 +351,8 @@ void TestCli::genCrowdIsDeterministic()
 
 void TestCli::benchScaleReportsCostAndMovingShare()
 {
-    // The smallest scale run: the 1k crowd, all moving, 1 % moving and at rest, in each model.
+    // The smallest scale run: the 1k crowd, all moving, 1 % moving, at rest and with four giants
+    // among it, in each model.
     QTemporaryDir dir;
     const QString csvPath = dir.filePath("scale.csv");
     constexpr int frames = 20;
@@ -365,7 +366,7 @@ void TestCli::benchScaleReportsCostAndMovingShare()
     const QList<QByteArray> lines = file.readAll().trimmed().split('\n');
     QCOMPARE(lines.value(0), QByteArray("scene,model,setting,ms_per_frame,position_error_px,energy_error,momentum_error,"
                                         "max_overlap_px,escapes,moving_share"));
-    QCOMPARE(lines.size(), 10);
+    QCOMPARE(lines.size(), 13);
 
     // The moving share the core gives for the 1 % crowd in the exact model, frame by frame.
     World w = makeCrowd(1000, 1, 0.01);
@@ -389,7 +390,7 @@ void TestCli::benchScaleReportsCostAndMovingShare()
         QVERIFY2(f[3].toDouble() > 0.0, lines[k].constData());
         QCOMPARE(f[8].toInt(), 0); // escapes
         const double moving = f[9].toDouble();
-        if (scene == "crowd-1000")
+        if (scene == "crowd-1000" || scene == "crowd-1000-giants")
             QVERIFY2(moving > 0.99 && moving <= 1.0, lines[k].constData());
         else if (scene == "crowd-1000-rest")
             QCOMPARE(moving, 0.0);
@@ -425,7 +426,7 @@ void TestCli::benchScaleJudgesTheTargets()
         QCOMPARE(f.size(), 10);
         rows.insert(f[0] + ' ' + f[1], {f[3].toDouble(), f[5].toDouble(), f[7].toDouble(), f[8].toInt()});
     }
-    QCOMPARE(rows.size(), 15);
+    QCOMPARE(rows.size(), 18); // with the 10k crowd with giants
 
     const QList<QByteArray> out = r.out.split('\n');
     const qsizetype start = out.indexOf("issue 5's targets at 100000 marbles (one core, 220 frames; this run: 2):");

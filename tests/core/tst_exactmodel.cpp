@@ -162,6 +162,7 @@ private slots:
     void sleepersLayerUsedWhenMostRest();
     void oversizeMarblesLeftOutOfGrid_data();
     void oversizeMarblesLeftOutOfGrid();
+    void brownianPresetWanders();
 };
 
 void TestExactModel::dragOnly_data()
@@ -1161,48 +1162,34 @@ void TestExactModel::oversizeMarblesLeftOutOfGrid()
     // are sized from the others: they must still meet every marble and pin, from either side,
     // and the run must be the one a grid sized from the largest radius gives. (Not the same bits:
     // the giants' places in the order change, and with them the order of a pair's arithmetic.)
-    World w = makeCrowd(1500, 23, movingFraction);
+    World w = makeCrowdWithGiants(1500, 23, giants, 70.0, movingFraction);
     w.stage.walls = walls;
     w.params.gravity = {0.0, gravity};
     w.params.restitution = restitution;
-    for (Vec2 &v : w.velocity)
-        v = {v.x * crowdSpeedup, v.y * crowdSpeedup};
     SplitMix64 rng(5);
     std::vector<int> giantIndex;
-    for (int k = 0; k < giants; ++k) {
-        const int i = 100 + k * (1300 / giants);
-        giantIndex.push_back(i);
-        w.setRadius(i, rng.uniform(50.0, 90.0));
-        const double angle = rng.uniform(0.0, 6.283185307179586);
-        w.velocity[i] = {giantSpeed * std::cos(angle), giantSpeed * std::sin(angle)};
-    }
-    if (withPins) {
-        for (int j = 0; j < 40; ++j)
-            w.addPin({rng.uniform(0.0, w.stage.width), rng.uniform(0.0, w.stage.height)});
+    for (int i = 0; i < w.marbleCount(); ++i) {
+        if (w.radius[i] == 70.0) {
+            giantIndex.push_back(i);
+            const double angle = rng.uniform(0.0, 6.283185307179586);
+            w.velocity[i] = {giantSpeed * std::cos(angle), giantSpeed * std::sin(angle)};
+        } else {
+            w.velocity[i] = {w.velocity[i].x * crowdSpeedup, w.velocity[i].y * crowdSpeedup};
+        }
     }
     // No overlap at the start (an overlap collides at once, at the same instant as others, and
-    // the order of such ties is the order of the arrays): a small marble in a giant's way, or on
-    // a pin, is taken out.
-    for (int i = w.marbleCount() - 1; i >= 0; --i) {
-        if (std::find(giantIndex.begin(), giantIndex.end(), i) != giantIndex.end())
-            continue;
+    // the order of such ties is the order of the arrays): pins clear of every marble.
+    for (int j = 0; withPins && j < 40; ++j) {
+        const Vec2 q{rng.uniform(0.0, w.stage.width), rng.uniform(0.0, w.stage.height)};
         bool clear = true;
-        for (int g : giantIndex)
-            clear = clear && distance(w.position[i], w.position[g]) > w.radius[i] + w.radius[g] + 1.0;
-        for (Vec2 q : w.pins)
+        for (int i = 0; i < w.marbleCount(); ++i)
             clear = clear && distance(w.position[i], q) > w.radius[i] + 1.0;
-        if (!clear) {
-            w.removeMarble(i);
-            for (int &g : giantIndex)
-                g -= g > i;
-        }
+        if (clear)
+            w.addPin(q);
     }
-    for (Vec2 &q : w.pins) {
-        for (int g : giantIndex) {
-            if (distance(q, w.position[g]) <= w.radius[g] + 1.0)
-                q = {-1000.0, -1000.0}; // nor a pin inside a giant
-        }
-    }
+    QCOMPARE(static_cast<int>(giantIndex.size()), giants);
+    QVERIFY(!withPins || w.pins.size() >= 10);
+    QCOMPARE_GE(smallestGap(w), 0.0);
     QCOMPARE(splitRadii(w.radius).oversize, giants);
     World reference = w;
     const double e0 = w.kineticEnergy();
@@ -1245,6 +1232,30 @@ void TestExactModel::oversizeMarblesLeftOutOfGrid()
         QCOMPARE_LE(std::abs(p1.x - p0.x), 1e-12 * scale);
         QCOMPARE_LE(std::abs(p1.y - p0.y), 1e-12 * scale);
     }
+}
+
+void TestExactModel::brownianPresetWanders()
+{
+    // The "Brownian motion" preset: nothing pushes the heavy marble, yet the small ones' kicks
+    // move it about, with the energy kept (e = 1, no friction). It is the one marble the grid
+    // leaves out.
+    World w;
+    QVERIFY(makePreset("brownian", w));
+    QCOMPARE(w.info[0].name, std::string("heavy"));
+    QCOMPARE(w.velocity[0], Vec2{});
+    QCOMPARE_GE(smallestGap(w), 0.0);
+    const Vec2 start = w.position[0];
+    const double e0 = w.kineticEnergy();
+    ExactModel model;
+    double farthest = 0.0;
+    for (int f = 0; f < 300; ++f) {
+        run(w, model, 1);
+        QCOMPARE(model.lastOversizeCount(), 1);
+        farthest = std::max(farthest, distance(w.position[0], start));
+    }
+    QCOMPARE_GE(farthest, 10.0);
+    QCOMPARE_GE(smallestGap(w), -1e-9);
+    QCOMPARE_LE(relativeError(w.kineticEnergy(), e0), 1e-12);
 }
 
 #include "tst_exactmodel.moc"
