@@ -348,14 +348,17 @@ void checkBalance(const Balance &before, const World &after, const Snapshot &sta
 }
 
 /// A crowd described by the bytes after "#crowd": its size, model, share of moving marbles,
-/// pins and substeps. The rest of the scene is marbles-cli gen crowd's (walls, e = 1, no
-/// friction or gravity; edits change those).
+/// pins, substeps, and up to three giants (marbles the grids leave out, see RadiusSplit) and
+/// their radius. The rest of the scene is marbles-cli gen crowd's (walls, e = 1, no friction or
+/// gravity; edits change those).
 World crowdFromBytes(const std::uint8_t *data, std::size_t size, std::uint64_t hash)
 {
     const auto byte = [&](std::size_t k) -> unsigned { return k < size ? data[k] : 0u; };
     const int n = kCrowdMin + static_cast<int>((byte(0) | byte(1) << 8) % (kCrowdMax - kCrowdMin + 1));
     static constexpr double moving[] = {0.0, 0.005, 0.02, 0.0625, 0.25, 1.0};
-    World w = makeCrowd(n, hash, moving[byte(3) % std::size(moving)]);
+    const int giants = static_cast<int>(byte(6) % 4);
+    const double giantRadius = 40.0 + 10.0 * (byte(7) % 8);
+    World w = makeCrowdWithGiants(n, hash, giants, giantRadius, moving[byte(3) % std::size(moving)]);
     w.params.model = static_cast<ModelKind>(byte(2) % 3);
     w.params.substeps = 1 + static_cast<int>(byte(5) % kSubstepsAtMost);
     SplitMix64 rng(hash ^ 0x9e3779b97f4a7c15ull);
