@@ -594,6 +594,7 @@ void ExactModel::beginFrame(World &world)
     const RadiusSplit split = splitRadii(world.radius);
     m_oversize = m_singleCell || !m_splitRadii ? 0 : split.oversize;
     const double rMax = m_oversize > 0 ? split.cut : split.largest;
+    m_gridRadius = rMax;
     // Contacts happen at centre distances up to 2 rMax (marble-marble) or rMax (pins) between
     // marbles of the grid. A marble stays within the margin of its anchor (or gets a new anchor):
     // two marbles whose anchor cells are not neighbours are then more than cell - 2 margin =
@@ -1381,14 +1382,87 @@ void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int coun
     }
 }
 
+template<typename Run>
+bool ExactModel::bucketsInReach(int i, const Vec2 &p, const Vec2 &v, Run run) const
+{
+    // An oversize marble at p moving at v, without gravity, stays on the segment from p to
+    // p + v sLeft (straight in s) for the rest of the frame. A marble of the grid that touches it
+    // there is within r_i + rMax of the segment, and its anchor (in its bucket) within a margin
+    // more, until it strays further and, anchored afresh in another bucket, looks for partners
+    // itself (its neighbourhood includes every oversize marble). So the buckets of the cells that
+    // box the segment, widened by that reach, hold every partner it can meet in this frame:
+    // calls run(first, last) for them, as runs of consecutive buckets. Returns false without
+    // calling it when the box covers the whole lattice (or the path is not straight).
+    if (m_gravity.x != 0.0 || m_gravity.y != 0.0)
+        return false;
+    const double reach = m_body[i].radius + m_gridRadius + m_margin;
+    const Vec2 q{p.x + v.x * m_sLeft, p.y + v.y * m_sLeft};
+    const std::int64_t kx0 = m_geometry.coord(std::min(p.x, q.x) - reach);
+    const std::int64_t kx1 = m_geometry.coord(std::max(p.x, q.x) + reach);
+    const std::int64_t ky0 = m_geometry.coord(std::min(p.y, q.y) - reach);
+    const std::int64_t ky1 = m_geometry.coord(std::max(p.y, q.y) + reach);
+    const int nx = m_geometry.bucketsX();
+    const int ny = m_geometry.bucketsY();
+    if (!(isFinite(p) && isFinite(q)) || (kx1 - kx0 + 1 >= nx && ky1 - ky0 + 1 >= ny))
+        return false;
+    // Folded, the columns kx0..kx1 are one run of buckets, or two where they wrap around (or all
+    // columns once, if there are more than nx of them); likewise the rows, taken one by one.
+    const int columns = static_cast<int>(std::min<std::int64_t>(kx1 - kx0 + 1, nx));
+    const int rows = static_cast<int>(std::min<std::int64_t>(ky1 - ky0 + 1, ny));
+    const int first = m_geometry.bucket(kx0, ky0);
+    const int bx0 = columns == nx ? 0 : first % nx;
+    const int by0 = first / nx;
+    for (int r = 0; r < rows; ++r) {
+        const int row = (by0 + r) % ny * nx;
+        const int end = bx0 + columns;
+        run(row + bx0, row + std::min(end, nx));
+        if (end > nx)
+            run(row, row + end - nx);
+    }
+    return true;
+}
+
 void ExactModel::scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &best)
 {
-    // An oversize marble's partners: every marble, wherever it is anchored (there is no
-    // sleepers' layer while there are oversize marbles).
-    for (int j = 0; j < m_count; ++j) {
+    // An oversize marble's partners: the other oversize marbles, and every marble anchored in
+    // the buckets within its reach (each once: those still in their sorted bucket from its
+    // range, the others from its overflow list). There is no sleepers' layer meanwhile.
+    for (int j = 0; j < m_oversize; ++j) {
         if (j != i)
             offerPair(i, j, p, v, best);
     }
+    const bool bounded = bucketsInReach(i, p, v, [&](int b0, int b1) {
+        for (int j = m_start[b0]; j < m_start[b1]; ++j) {
+            if (!m_body[j].moved)
+                offerPair(i, j, p, v, best);
+        }
+        for (int b = b0; m_overflowCount > 0 && b < b1; ++b) {
+            for (int j = m_overflowHead[b]; j >= 0; j = m_rec[j].overflowNext)
+                offerPair(i, j, p, v, best);
+        }
+    });
+    if (bounded)
+        return;
+    for (int j = m_oversize; j < m_count; ++j)
+        offerPair(i, j, p, v, best);
+}
+
+void ExactModel::firstLookOversize(int i, const FirstLook &look, Event &best)
+{
+    // The first look of an oversize marble (they come first: every partner has a higher index,
+    // unless it rests): as scanEveryMarble(), before any marble has left its bucket.
+    for (int j = 0; j < m_oversize; ++j) {
+        if (testedFrom(i, j))
+            offerFirstLook(i, j, look, best);
+    }
+    const bool bounded = bucketsInReach(i, look.p, look.v, [&](int b0, int b1) {
+        for (int j = m_start[b0]; j < m_start[b1]; ++j)
+            offerFirstLook(i, j, look, best);
+    });
+    if (bounded)
+        return;
+    for (int j = m_oversize; j < m_count; ++j)
+        offerFirstLook(i, j, look, best);
 }
 
 void ExactModel::scanSleepers(int i, const Vec2 &p, const Vec2 &v, Event &best)
@@ -1556,7 +1630,9 @@ void ExactModel::predictAll()
             if (ranges[2 * r + 1] > m_ready)
                 makeReady(ranges[2 * r + 1]);
         }
-        if (!m_layer) {
+        if (m_body[i].bucket < 0) {
+            firstLookOversize(i, look, best);
+        } else if (!m_layer) {
             for (int r = 0; r < rangeCount; ++r) {
                 // Partners below i only if some marbles rest (those are not looked at from their side).
                 for (int j = anyResting ? ranges[2 * r] : std::max(ranges[2 * r], i + 1); j < ranges[2 * r + 1]; ++j) {

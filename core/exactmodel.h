@@ -206,8 +206,12 @@ private:
     };
     void offerFirstLook(int i, int j, const FirstLook &look, Event &best);
     void scanSleepers(int i, const Vec2 &p, const Vec2 &v, Event &best);
-    /// Out of line, so that scanMarbles() keeps its one inlined copy of the pair test.
+    // An oversize marble's scans. Out of line, so that scanMarbles() and predictAll() keep their
+    // one inlined copy of the pair test.
+    template<typename Run>
+    bool bucketsInReach(int i, const Vec2 &p, const Vec2 &v, Run run) const;
     [[gnu::noinline]] void scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &best);
+    [[gnu::noinline]] void firstLookOversize(int i, const FirstLook &look, Event &best);
     [[gnu::noinline]] void firstLookWithSleepers(int i, const FirstLook &look, const int ranges[rangeSlots], Event &best);
     void predictAll();
     void predictOwn(int i, Vec2 p, Vec2 v, Event &best);
@@ -260,6 +264,7 @@ private:
     double m_margin = 0.0;       // how far a marble may stray from its anchor, px
     bool m_singleCell = false;   // no grid: one bucket, no grid events
     int m_oversize = 0;          // marbles left out of the grid (RadiusSplit): internal 0 .. m_oversize - 1
+    double m_gridRadius = 0.0;   // the largest radius of the grid's marbles, px
     bool m_prefetchEvents = false; // at least prefetchEventsFrom marbles
     bool m_finite = true;        // every marble's state and the parameters are finite
     bool m_anyResting = false;   // some marble is at rest (and there is no gravity)

@@ -162,6 +162,7 @@ private slots:
     void sleepersLayerUsedWhenMostRest();
     void oversizeMarblesLeftOutOfGrid_data();
     void oversizeMarblesLeftOutOfGrid();
+    void oversizeMarbleReachesFarInOneFrame();
     void brownianPresetWanders();
 };
 
@@ -1232,6 +1233,30 @@ void TestExactModel::oversizeMarblesLeftOutOfGrid()
         QCOMPARE_LE(std::abs(p1.x - p0.x), 1e-12 * scale);
         QCOMPARE_LE(std::abs(p1.y - p0.y), 1e-12 * scale);
     }
+}
+
+void TestExactModel::oversizeMarbleReachesFarInOneFrame()
+{
+    // An oversize marble looks for partners only in the buckets its path can reach this frame:
+    // at 800 px/frame that is most of the way across the stage, to a marble at rest far beyond
+    // its neighbourhood, which it must hit 0.79 of the way through the first frame. (A band of
+    // 2,720 marbles at rest along the top keeps the lattice from folding, which would make every
+    // bucket reachable.)
+    World w = bareWorld(0.0, true);
+    w.stage = {2000, 600, true};
+    for (int k = 0; k < 2720; ++k)
+        w.addMarble({20.0 + 11.6 * (k % 170), 15.0 + 11.5 * (k / 170)}, 5.0);
+    const int lone = w.addMarble({1000, 450}, 5.0);
+    const int giant = w.addMarble({1700, 450}, 60.0, {-800.0, 0.0});
+    QCOMPARE(splitRadii(w.radius).oversize, 1);
+    QCOMPARE_GE(smallestGap(w), 0.0);
+    ExactModel model;
+    run(w, model, 1);
+    QCOMPARE(model.lastOversizeCount(), 1);
+    QCOMPARE(model.lastCollisionCount(), 1);
+    QCOMPARE_LT(w.velocity[lone].x, -800.0); // the lighter marble leaves faster than the giant came
+    QCOMPARE_GT(w.velocity[giant].x, -800.0);
+    QCOMPARE_GE(smallestGap(w), -1e-9);
 }
 
 void TestExactModel::brownianPresetWanders()
