@@ -320,7 +320,8 @@ void BookModel::step(World &world)
                 // (When a wall or pin has already put it back, p = old throughout.) The grid lists
                 // every marble that can touch a point, so these are exactly the all-pairs hits.
                 // Oversize marbles (RadiusSplit) are not in the grid: every marble is tested
-                // against them, and they against every marble.
+                // against them, and they against the marbles of the cells within their radius
+                // and the grid's largest (every marble, where that is the whole lattice).
                 const bool oversize = m_split.isOversize(r);
                 auto touchersOf = [&](Vec2 at, int after) {
                     m_hits.clear();
@@ -340,12 +341,14 @@ void BookModel::step(World &world)
                                 m_hits.push_back(j);
                         }
                     };
-                    if (oversize) [[unlikely]] {
+                    if (!oversize) [[likely]] {
+                        m_marbleGrid.forEachNear(at, test);
+                    } else if (const double reach = r + m_split.cut;
+                               !m_marbleGrid.forEachInBox(at.x - reach, at.x + reach, at.y - reach, at.y + reach, test)) {
                         for (int j = after + 1; j < n; ++j)
                             test(j); // in ascending order: no sort
                         return;
                     }
-                    m_marbleGrid.forEachNear(at, test);
                     for (const int j : m_oversize)
                         test(j);
                     sortSmall(m_hits.begin(), m_hits.end());

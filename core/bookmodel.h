@@ -29,6 +29,11 @@ public:
     /// caller must treat as a sure miss. `visit` must not move bodies.
     template<typename Visit>
     void forEachNear(Vec2 at, Visit &&visit) const;
+    /// Calls `visit(j)` for every body j in the cells meeting the box [x0, x1] x [y0, y1], each
+    /// once (and for some empty slots, as forEachNear()); returns false, visiting nothing, when
+    /// that would be every bucket.
+    template<typename Visit>
+    bool forEachInBox(double x0, double x1, double y0, double y1, Visit &&visit) const;
 
 private:
     // A bucket is a quarter of a cache line. Its first `scannedSlots` slots are always read,
@@ -99,6 +104,15 @@ void MovingGrid::forEachNear(Vec2 at, Visit &&visit) const
     m_geometry.neighbourhood(m_geometry.coord(at.x), m_geometry.coord(at.y), buckets);
     for (int b : buckets)
         forEachIn(b, visit);
+}
+
+template<typename Visit>
+bool MovingGrid::forEachInBox(double x0, double x1, double y0, double y1, Visit &&visit) const
+{
+    return m_geometry.forEachRunInBox(x0, x1, y0, y1, [&](int b0, int b1) {
+        for (int b = b0; b < b1; ++b)
+            forEachIn(b, visit);
+    });
 }
 
 /// The chapter's updateMarbles(), verbatim (PHYSICS.md, model "book"): one explicit update per

@@ -2,6 +2,8 @@
 
 #include "core/vec2.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -94,6 +96,13 @@ public:
     /// The 9 buckets around bucket b (the neighbourhood of any cell stored in b), row by row.
     void bucketNeighbourhood(int b, int out[9]) const;
 
+    /// Calls run(first, last) for runs of consecutive buckets [first, last) that together are
+    /// the buckets of the cells meeting the box [x0, x1] x [y0, y1], each bucket once. Returns
+    /// false, calling nothing, when that is every bucket (or the box is not finite): the caller
+    /// then visits everything its own way.
+    template<typename Run>
+    bool forEachRunInBox(double x0, double x1, double y0, double y1, Run &&run) const;
+
     /// The same lattice (every body lands in the same bucket).
     bool operator==(const GridGeometry &) const = default;
 
@@ -103,6 +112,34 @@ private:
     int m_nx = 3;
     int m_ny = 3;
 };
+
+template<typename Run>
+bool GridGeometry::forEachRunInBox(double x0, double x1, double y0, double y1, Run &&run) const
+{
+    if (!(x0 <= x1 && y0 <= y1) || !std::isfinite(x0) || !std::isfinite(x1) || !std::isfinite(y0) || !std::isfinite(y1))
+        return false;
+    const std::int64_t kx0 = coord(x0);
+    const std::int64_t ky0 = coord(y0);
+    const std::int64_t spanX = coord(x1) - kx0 + 1;
+    const std::int64_t spanY = coord(y1) - ky0 + 1;
+    if (spanX >= m_nx && spanY >= m_ny)
+        return false;
+    // Folded, the columns are one run of buckets, or two where they wrap around (all columns
+    // once if there are at least nx of them); the rows are taken one by one, likewise at most ny.
+    const int columns = static_cast<int>(std::min<std::int64_t>(spanX, m_nx));
+    const int rows = static_cast<int>(std::min<std::int64_t>(spanY, m_ny));
+    const int first = bucket(kx0, ky0);
+    const int bx0 = columns == m_nx ? 0 : first % m_nx;
+    const int by0 = first / m_nx;
+    for (int r = 0; r < rows; ++r) {
+        const int row = (by0 + r) % m_ny * m_nx;
+        const int end = bx0 + columns;
+        run(row + bx0, row + std::min(end, m_nx));
+        if (end > m_nx)
+            run(row, row + end - m_nx);
+    }
+    return true;
+}
 
 /// A static uniform grid: bodies sorted into buckets by a counting sort (stable, so each bucket
 /// lists its bodies in ascending index order). Rebuilt from scratch when asked; the buffers are

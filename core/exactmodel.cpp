@@ -1397,29 +1397,8 @@ bool ExactModel::bucketsInReach(int i, const Vec2 &p, const Vec2 &v, Run run) co
         return false;
     const double reach = m_body[i].radius + m_gridRadius + m_margin;
     const Vec2 q{p.x + v.x * m_sLeft, p.y + v.y * m_sLeft};
-    const std::int64_t kx0 = m_geometry.coord(std::min(p.x, q.x) - reach);
-    const std::int64_t kx1 = m_geometry.coord(std::max(p.x, q.x) + reach);
-    const std::int64_t ky0 = m_geometry.coord(std::min(p.y, q.y) - reach);
-    const std::int64_t ky1 = m_geometry.coord(std::max(p.y, q.y) + reach);
-    const int nx = m_geometry.bucketsX();
-    const int ny = m_geometry.bucketsY();
-    if (!(isFinite(p) && isFinite(q)) || (kx1 - kx0 + 1 >= nx && ky1 - ky0 + 1 >= ny))
-        return false;
-    // Folded, the columns kx0..kx1 are one run of buckets, or two where they wrap around (or all
-    // columns once, if there are more than nx of them); likewise the rows, taken one by one.
-    const int columns = static_cast<int>(std::min<std::int64_t>(kx1 - kx0 + 1, nx));
-    const int rows = static_cast<int>(std::min<std::int64_t>(ky1 - ky0 + 1, ny));
-    const int first = m_geometry.bucket(kx0, ky0);
-    const int bx0 = columns == nx ? 0 : first % nx;
-    const int by0 = first / nx;
-    for (int r = 0; r < rows; ++r) {
-        const int row = (by0 + r) % ny * nx;
-        const int end = bx0 + columns;
-        run(row + bx0, row + std::min(end, nx));
-        if (end > nx)
-            run(row, row + end - nx);
-    }
-    return true;
+    return m_geometry.forEachRunInBox(std::min(p.x, q.x) - reach, std::max(p.x, q.x) + reach,
+                                      std::min(p.y, q.y) - reach, std::max(p.y, q.y) + reach, run);
 }
 
 void ExactModel::scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &best)

@@ -285,13 +285,13 @@ void ImpulseModel::resolvePair(World &world, double e, std::int64_t hitFrame, in
 
 void ImpulseModel::resolveOversizePairs(World &world, double e, std::int64_t hitFrame)
 {
-    // Each oversize marble (the last slots) with every other marble, in slot order, each pair once.
+    // Each oversize marble (the last slots) in turn: with the marbles of the buckets it reaches
+    // where it is when its turn comes (its radius and the grid's largest, around its centre), in
+    // slot order, then with the oversize marbles after it.
     const int n = static_cast<int>(m_bodies.size()) - windowPadding;
     const int first = m_start[static_cast<std::size_t>(oversizeBucket())];
     for (int so = first; so < n; ++so) {
-        for (int t = 0; t < n; ++t) {
-            if (t >= first && t <= so)
-                continue;
+        auto test = [&](int t) __attribute__((always_inline)) {
             const Body &bi = m_bodies[so];
             const Body &bj = m_bodies[t];
             const double reach = bi.r + bj.r;
@@ -299,6 +299,17 @@ void ImpulseModel::resolveOversizePairs(World &world, double e, std::int64_t hit
             const double dy = bj.y - bi.y;
             if (dx * dx + dy * dy < reach * reach) [[unlikely]]
                 resolvePair(world, e, hitFrame, oversizeBucket(), so, t);
+        };
+        const Body &giant = m_bodies[so];
+        const double reach = giant.r + m_split.cut;
+        const bool boxed = m_geometry.forEachRunInBox(giant.x - reach, giant.x + reach, giant.y - reach, giant.y + reach,
+                                                      [&](int b0, int b1) {
+                                                          for (int t = m_start[b0]; t < m_start[b1]; ++t)
+                                                              test(t);
+                                                      });
+        for (int t = boxed ? first : 0; t < n; ++t) {
+            if (t < first || t > so)
+                test(t);
         }
     }
 }

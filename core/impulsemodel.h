@@ -20,7 +20,8 @@ namespace marbles {
 /// its bucket and then with the forward half of its neighbourhood. Neighbours are thus side by
 /// side in memory, and every candidate is examined once. A few marbles far larger than the rest
 /// (RadiusSplit) are left out of the grid: they come last in the order, and after the buckets
-/// each is paired with every marble (in slot order, the other oversize ones from the next on).
+/// each is paired with the marbles of the buckets within its reach (in slot order), then with
+/// the other oversize ones after it.
 ///
 /// Sleeping: a marble at rest (velocity exactly 0, no gravity) that overlapped nothing in the
 /// last sub-step is asleep. Two sleeping marbles did not overlap then and have not moved since,

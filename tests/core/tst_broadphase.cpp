@@ -6,6 +6,7 @@
 
 #include <QtTest>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -48,6 +49,7 @@ private slots:
     void fewRadiiAreNotSplit();
     void nonFiniteRadii();
     void callerSumsAgree();
+    void runsInBoxAreTheBoxsBuckets();
 };
 
 void TestBroadPhase::crowdIsNotSplit()
@@ -169,6 +171,50 @@ void TestBroadPhase::callerSumsAgree()
     QCOMPARE(b.cut, a.cut);
     QCOMPARE(b.oversize, 2);
     QCOMPARE(a.oversize, 2);
+}
+
+void TestBroadPhase::runsInBoxAreTheBoxsBuckets()
+{
+    // forEachRunInBox() visits the buckets of the cells meeting a box, each once, as runs of
+    // consecutive buckets, on an unfolded and on a folded lattice, for boxes inside the stage,
+    // across its edges, far outside it (folded onto it) and wider than the lattice.
+    SplitMix64 rng(11);
+    for (const int items : {5000, 50}) {
+        const GridGeometry g = GridGeometry::fit(10.0, 800.0, 600.0, items);
+        int boxed = 0;
+        for (int trial = 0; trial < 2000; ++trial) {
+            const double x0 = rng.uniform(-2000.0, 2000.0);
+            const double y0 = rng.uniform(-2000.0, 2000.0);
+            const double w = trial % 10 == 0 ? rng.uniform(0.0, 1500.0) : rng.uniform(0.0, 150.0);
+            const double h = trial % 10 == 0 ? rng.uniform(0.0, 1500.0) : rng.uniform(0.0, 150.0);
+            std::vector<int> expected(static_cast<std::size_t>(g.bucketCount()), 0);
+            for (std::int64_t kx = g.coord(x0); kx <= g.coord(x0 + w); ++kx) {
+                for (std::int64_t ky = g.coord(y0); ky <= g.coord(y0 + h); ++ky)
+                    expected[static_cast<std::size_t>(g.bucket(kx, ky))] = 1;
+            }
+            std::vector<int> visited(expected.size(), 0);
+            bool runsOk = true;
+            const bool some = g.forEachRunInBox(x0, x0 + w, y0, y0 + h, [&](int b0, int b1) {
+                runsOk = runsOk && 0 <= b0 && b0 < b1 && b1 <= g.bucketCount() && b0 / g.bucketsX() == (b1 - 1) / g.bucketsX();
+                for (int b = b0; b < b1; ++b)
+                    ++visited[static_cast<std::size_t>(b)];
+            });
+            QVERIFY(runsOk);
+            if (!some) {
+                // Only when the box covers every bucket, and then nothing was visited.
+                QCOMPARE(std::count(expected.begin(), expected.end(), 1), std::ptrdiff_t(g.bucketCount()));
+                QCOMPARE(std::count(visited.begin(), visited.end(), 0), std::ptrdiff_t(g.bucketCount()));
+                continue;
+            }
+            ++boxed;
+            QCOMPARE(visited, expected);
+        }
+        QCOMPARE_GE(boxed, 1000);
+    }
+    const GridGeometry g = GridGeometry::fit(10.0, 800.0, 600.0, 5000);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    QVERIFY(!g.forEachRunInBox(nan, 10.0, 0.0, 10.0, [](int, int) { QFAIL("visited"); }));
+    QVERIFY(!g.forEachRunInBox(0.0, std::numeric_limits<double>::infinity(), 0.0, 10.0, [](int, int) { QFAIL("visited"); }));
 }
 
 QTEST_GUILESS_MAIN(TestBroadPhase)

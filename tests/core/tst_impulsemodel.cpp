@@ -360,32 +360,37 @@ void TestImpulseModel::oversizeMarbleMeetsEverythingItOverlaps()
     // whose cells are then sized for the small ones: marbles overlapping its rim, far from its
     // cell, must still be pushed out to touching, and so must it from a pin on its rim and from
     // another such marble. It is all but immovable (its mass is 1e12), so each correction leaves
-    // the other overlaps as they were.
-    for (const QString overlap : {"marbles", "pin", "giant"}) {
-        World w = bareWorld(0.0, 1);
-        const Vec2 centre{400, 300};
-        const int giant = w.addMarble(centre, 100.0, {}, 1e12);
-        for (int k = 0; k < 40; ++k)
-            w.addMarble({20.0 + 15.0 * k, 20.0}, 5.0); // far away: nothing to do
-        std::vector<int> rim;
-        for (int k = 0; k < 3 && overlap == "marbles"; ++k) {
-            const double angle = 2.0 * std::numbers::pi * k / 3.0;
-            rim.push_back(w.addMarble({centre.x + 103.0 * std::cos(angle), centre.y + 103.0 * std::sin(angle)}, 5.0));
+    // the other overlaps as they were. With 40 small marbles the lattice is folded so much that
+    // it pairs with every marble; with 2,520 (a band at rest along the top) only with those in
+    // the cells within its reach (its radius and the grid's largest).
+    for (const bool band : {false, true}) {
+        for (const QString overlap : {"marbles", "pin", "giant"}) {
+            World w = bareWorld(0.0, 1);
+            w.stage = {800, band ? 1200.0 : 600.0, false};
+            const Vec2 centre{400, band ? 900.0 : 300.0};
+            const int giant = w.addMarble(centre, 100.0, {}, 1e12);
+            for (int k = 0; k < (band ? 2520 : 40); ++k)
+                w.addMarble({10.0 + (band ? 11.0 * (k % 72) : 15.0 * k), 10.0 + (band ? 11.0 * (k / 72) : 0.0)}, 5.0);
+            std::vector<int> rim;
+            for (int k = 0; k < 3 && overlap == "marbles"; ++k) {
+                const double angle = 2.0 * std::numbers::pi * k / 3.0;
+                rim.push_back(w.addMarble({centre.x + 103.0 * std::cos(angle), centre.y + 103.0 * std::sin(angle)}, 5.0));
+            }
+            if (overlap == "pin")
+                w.addPin({centre.x - 98.0, centre.y}); // (outside the grid neighbourhood of its cell)
+            const int other = overlap == "giant" ? w.addMarble({centre.x - 185.0, centre.y}, 90.0) : -1;
+            QCOMPARE(splitRadii(w.radius).oversize, overlap == "giant" ? 2 : 1);
+            ImpulseModel model;
+            run(w, model, 1);
+            for (int i : rim)
+                QCOMPARE_GE(distance(w.position[i], w.position[giant]), 105.0 - 1e-9);
+            if (overlap == "pin")
+                QCOMPARE_GE(distance(w.pins[0], w.position[giant]), 100.0 - 1e-9);
+            else
+                QCOMPARE_LE(distance(w.position[giant], centre), 1e-6);
+            if (other >= 0)
+                QCOMPARE_GE(distance(w.position[other], w.position[giant]), 190.0 - 1e-9);
         }
-        if (overlap == "pin")
-            w.addPin({centre.x - 98.0, centre.y}); // (outside the grid neighbourhood of its cell)
-        const int other = overlap == "giant" ? w.addMarble({centre.x - 185.0, centre.y}, 90.0) : -1;
-        QCOMPARE(splitRadii(w.radius).oversize, overlap == "giant" ? 2 : 1);
-        ImpulseModel model;
-        run(w, model, 1);
-        for (int i : rim)
-            QCOMPARE_GE(distance(w.position[i], w.position[giant]), 105.0 - 1e-9);
-        if (overlap == "pin")
-            QCOMPARE_GE(distance(w.pins[0], w.position[giant]), 100.0 - 1e-9);
-        else
-            QCOMPARE_LE(distance(w.position[giant], centre), 1e-6);
-        if (other >= 0)
-            QCOMPARE_GE(distance(w.position[other], w.position[giant]), 190.0 - 1e-9);
     }
 }
 
