@@ -72,18 +72,21 @@ void TestDeterminism::goldenHash_data()
     QTest::addRow("book masses") << "masses" << "book" << 600 << Q_UINT64_C(0x09dff3f22afc66d5);
     QTest::addRow("book newtons-cradle") << "newtons-cradle" << "book" << 600 << Q_UINT64_C(0xa11ae8f47c414c00);
     QTest::addRow("book pachinko") << "pachinko" << "book" << 600 << Q_UINT64_C(0x9560e8bfb3b3e80f);
+    QTest::addRow("book brownian") << "brownian" << "book" << 600 << Q_UINT64_C(0x8d10fe3a5774b150);
     QTest::addRow("book crowd") << "crowd" << "book" << 200 << Q_UINT64_C(0x465ebe00817bd342);
     QTest::addRow("exact four-marbles") << "four-marbles" << "exact" << 600 << Q_UINT64_C(0x9d5145e261cc7a18);
     QTest::addRow("exact pins") << "pins" << "exact" << 600 << Q_UINT64_C(0x6a6a960620967692);
     QTest::addRow("exact masses") << "masses" << "exact" << 600 << Q_UINT64_C(0x96c0baedd3b58f33);
     QTest::addRow("exact newtons-cradle") << "newtons-cradle" << "exact" << 600 << Q_UINT64_C(0x14dcf6894c9e1e87);
     QTest::addRow("exact pachinko") << "pachinko" << "exact" << 600 << Q_UINT64_C(0xb377180de6b19d49);
+    QTest::addRow("exact brownian") << "brownian" << "exact" << 600 << Q_UINT64_C(0x72653f40157dd0c6);
     QTest::addRow("exact crowd") << "crowd" << "exact" << 200 << Q_UINT64_C(0x7a57b0784348d287);
     QTest::addRow("impulse four-marbles") << "four-marbles" << "impulse" << 600 << Q_UINT64_C(0x3b51679133f1439d);
     QTest::addRow("impulse pins") << "pins" << "impulse" << 600 << Q_UINT64_C(0x402b79bc3a364758);
     QTest::addRow("impulse masses") << "masses" << "impulse" << 600 << Q_UINT64_C(0xb7fb44f7cd815783);
     QTest::addRow("impulse newtons-cradle") << "newtons-cradle" << "impulse" << 600 << Q_UINT64_C(0x012267d32e44fe4e);
     QTest::addRow("impulse pachinko") << "pachinko" << "impulse" << 600 << Q_UINT64_C(0xb95146af5ffa9c99);
+    QTest::addRow("impulse brownian") << "brownian" << "impulse" << 600 << Q_UINT64_C(0x7d286c11d0ec61cd);
     QTest::addRow("impulse crowd") << "crowd" << "impulse" << 200 << Q_UINT64_C(0x3a4e7a79baa7d4ee);
 }
 
@@ -104,7 +107,7 @@ void TestDeterminism::snapshotContinuesIdentically_data()
 {
     QTest::addColumn<QString>("preset");
     QTest::addColumn<QString>("model");
-    for (const char *preset : {"four-marbles", "pins", "masses", "newtons-cradle", "pachinko"}) {
+    for (const char *preset : {"four-marbles", "pins", "masses", "newtons-cradle", "pachinko", "brownian"}) {
         for (const char *model : {"book", "exact", "impulse"})
             QTest::addRow("%s %s", model, preset) << preset << model;
     }
