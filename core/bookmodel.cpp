@@ -385,9 +385,10 @@ void BookModel::step(World &world)
 // The broad phase. A hit needs distance < r_i + r_j <= 2 rMax (marbles) or <= r_i <= rMax
 // (pins), so with cells of side >= 2 rMax every partner of a point lies in the 3 x 3 cells
 // around it. The marble grid's rMax leaves out a few far larger marbles (RadiusSplit), which
-// are tested against every marble instead; the pin grid's is the largest radius. Marble i is tested at its new position and, after a first hit, at its old one;
-// pins are tested in sorted order and marble hits are collided in scene order (see step 7), so
-// the results are bit-identical to the all-pairs loop.
+// are tested apart (see step 7); the pin grid's is the largest radius. Marble i is tested at its
+// new position and, after a first hit, at its old one; pins are tested in sorted order and
+// marble hits are collided in scene order (see step 7), so the results are bit-identical to the
+// all-pairs loop.
 void BookModel::prepare(const World &world)
 {
     const int n = world.marbleCount();

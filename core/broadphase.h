@@ -19,7 +19,8 @@ double largestOf(std::span<const double> values, double floor = 0.0);
 /// one marble far larger than the rest would make every cell hold dozens of small marbles (a
 /// 100-px marble among 20,000 of radius 4 to 12 made the exact model 16 times slower). When a
 /// few marbles are that much larger, they are left out of the grid ("oversize": each is tested
-/// against every body, and every body against them) and the cells are sized from the others.
+/// against the bodies of the cells within its reach, and every body against them) and the
+/// cells are sized from the others.
 struct RadiusSplit {
     /// At most this many marbles are left out: each costs every other marble one more test.
     static constexpr int maxOversize = 16;

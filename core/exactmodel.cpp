@@ -83,7 +83,9 @@
 //    A few marbles far larger than the rest would make every cell hold dozens of marbles: they
 //    are left out of the grid (RadiusSplit in broadphase.h), whose rMax is then the largest of
 //    the others. They come first in the arrays, in no bucket and without grid events; each
-//    marble's neighbourhood includes them, and theirs is every marble (every pin, too).
+//    marble's neighbourhood includes them, and theirs is every marble anchored in the cells
+//    their straight path can reach before the frame ends (with gravity, every marble), and
+//    every pin.
 //
 //    Sleepers. In a large world where nearly every marble is at rest, reading, renumbering and
 //    writing back every marble each frame would cost far more than the few that move. Marbles at

@@ -18,7 +18,7 @@ namespace marbles {
 /// memory, in 64-byte records that hold all a neighbour test reads. Each marble is "anchored" in
 /// a cell a margin wider than the contact distance and needs a grid event only when it strays
 /// further than the margin from its anchor within one frame. A few marbles far larger than the
-/// rest (RadiusSplit) are left out of the grid and are the neighbours of every marble. Per
+/// rest (RadiusSplit) are left out of the grid: every marble is their neighbour and they its. Per
 /// marble the calendar keeps its best contact and that next grid event; a calendar queue (time
 /// slots over the frame) holds only the marbles with an event inside the frame, and per-marble
 /// collision stamps reveal stale partner events lazily.
