@@ -576,7 +576,9 @@ void ExactModel::beginFrame(World &world)
     m_world = &world;
     const double k = newtonianFriction(world.params.friction);
     m_lambda = -std::log1p(-k);
-    m_phi1End = flow(m_lambda, 1.0).phi1;
+    const Flow end = flow(m_lambda, 1.0);
+    m_phi1End = end.phi1;
+    m_phi2End = end.phi2;
     m_restitution = std::clamp(world.params.restitution, 0.0, 1.0);
     m_inelastic = m_restitution < 1.0;
     m_gravity = world.params.gravity;
@@ -1385,22 +1387,33 @@ void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int coun
 }
 
 template<typename Run>
-bool ExactModel::bucketsInReach(int i, const Vec2 &p, const Vec2 &v, Run run) const
+bool ExactModel::bucketsInReach(int i, Run run) const
 {
-    // An oversize marble at p moving at v, without gravity, stays on the segment from p to
-    // p + v sLeft (straight in s) for the rest of the frame. A marble of the grid that touches it
-    // there is within r_i + rMax of the segment, and its anchor (in its bucket) within a margin
-    // more, until it strays further and, anchored afresh in another bucket, looks for partners
-    // itself (its neighbourhood includes every oversize marble). So the buckets of the cells that
-    // box the segment, widened by that reach, hold every partner it can meet in this frame:
-    // calls run(first, last) for them, as runs of consecutive buckets. Returns false without
-    // calling it when the box covers the whole lattice (or the path is not straight).
-    if (m_gravity.x != 0.0 || m_gravity.y != 0.0)
-        return false;
-    const double reach = m_body[i].radius + m_gridRadius + m_margin;
-    const Vec2 q{p.x + v.x * m_sLeft, p.y + v.y * m_sLeft};
-    return m_geometry.forEachRunInBox(std::min(p.x, q.x) - reach, std::max(p.x, q.x) + reach,
-                                      std::min(p.y, q.y) - reach, std::max(p.y, q.y) + reach, run);
+    // Oversize marble i moves on p(t) = a + b phi1(t) + g phi2(t) until its next event. From now
+    // to the end of the frame phi1 and phi2 only grow, by at most d1 = phi1(1) - phi1(now) and
+    // d2 = phi2(1) - phi2(now), so along each axis it moves by b d1' + g d2' with d1' in [0, d1]
+    // and d2' in [0, d2]: within the box of its position now widened by those two terms' ranges.
+    // A marble of the grid that touches it is within r_i + rMax of that path, and its anchor (in
+    // its bucket) within a margin more, until it strays further and, anchored afresh in another
+    // bucket, looks for partners itself (its neighbourhood includes every oversize marble). So
+    // the buckets of the cells meeting the box widened by that reach hold every partner it can
+    // meet in this frame: calls run(first, last) for them, as runs of consecutive buckets.
+    // Returns false without calling it when the box covers the whole lattice.
+    const Body &body = m_body[i];
+    Vec2 p;
+    Vec2 v;
+    stateAt(body, p, v);
+    const Vec2 g = gravityOf(body);
+    const double d1 = (m_phi1End - m_phi1Now) * (1.0 + 1e-12);
+    const double d2 = (m_phi2End - m_phi2Now) * (1.0 + 1e-12);
+    const double reach = body.radius + m_gridRadius + m_margin;
+    const auto range = [&](double from, double b, double g1) {
+        return std::pair{from + std::min(0.0, b * d1) + std::min(0.0, g1 * d2) - reach,
+                         from + std::max(0.0, b * d1) + std::max(0.0, g1 * d2) + reach};
+    };
+    const auto [x0, x1] = range(p.x, body.b.x, g.x);
+    const auto [y0, y1] = range(p.y, body.b.y, g.y);
+    return m_geometry.forEachRunInBox(x0, x1, y0, y1, run);
 }
 
 void ExactModel::scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &best)
@@ -1412,7 +1425,7 @@ void ExactModel::scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &bes
         if (j != i)
             offerPair(i, j, p, v, best);
     }
-    const bool bounded = bucketsInReach(i, p, v, [&](int b0, int b1) {
+    const bool bounded = bucketsInReach(i, [&](int b0, int b1) {
         for (int j = m_start[b0]; j < m_start[b1]; ++j) {
             if (!m_body[j].moved)
                 offerPair(i, j, p, v, best);
@@ -1436,7 +1449,7 @@ void ExactModel::firstLookOversize(int i, const FirstLook &look, Event &best)
         if (testedFrom(i, j))
             offerFirstLook(i, j, look, best);
     }
-    const bool bounded = bucketsInReach(i, look.p, look.v, [&](int b0, int b1) {
+    const bool bounded = bucketsInReach(i, [&](int b0, int b1) {
         for (int j = m_start[b0]; j < m_start[b1]; ++j)
             offerFirstLook(i, j, look, best);
     });

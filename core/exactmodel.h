@@ -209,7 +209,7 @@ private:
     // An oversize marble's scans. Out of line, so that scanMarbles() and predictAll() keep their
     // one inlined copy of the pair test.
     template<typename Run>
-    bool bucketsInReach(int i, const Vec2 &p, const Vec2 &v, Run run) const;
+    bool bucketsInReach(int i, Run run) const;
     [[gnu::noinline]] void scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &best);
     [[gnu::noinline]] void firstLookOversize(int i, const FirstLook &look, Event &best);
     [[gnu::noinline]] void firstLookWithSleepers(int i, const FirstLook &look, const int ranges[rangeSlots], Event &best);
@@ -277,6 +277,7 @@ private:
     double m_phi1Now = 0.0;
     double m_phi2Now = 0.0;
     double m_phi1End = 1.0;  // phi1(1)
+    double m_phi2End = 0.5;  // phi2(1)
     double m_sLeft = 1.0;    // >= phi1(1 - now), for quick rejections
 
     // Everything else the calendar and the guard keep of a marble, in one cache line. Its best

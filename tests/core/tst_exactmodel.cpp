@@ -163,6 +163,7 @@ private slots:
     void oversizeMarblesLeftOutOfGrid_data();
     void oversizeMarblesLeftOutOfGrid();
     void oversizeMarbleReachesFarInOneFrame();
+    void oversizeMarbleFallsFarInOneFrame();
     void brownianPresetWanders();
 };
 
@@ -1257,6 +1258,35 @@ void TestExactModel::oversizeMarbleReachesFarInOneFrame()
     QCOMPARE_LT(w.velocity[lone].x, -800.0); // the lighter marble leaves faster than the giant came
     QCOMPARE_GT(w.velocity[giant].x, -800.0);
     QCOMPARE_GE(smallestGap(w), -1e-9);
+}
+
+void TestExactModel::oversizeMarbleFallsFarInOneFrame()
+{
+    // The same under gravity, where the path is a parabola, boxed with what gravity adds. A giant
+    // thrown up at 250 px/frame (g = 400 px/frame^2, e = 0) stops dead on a pin 10 px above it
+    // and falls 160 px onto a marble lying on the floor, all in the first frame. That marble
+    // looked for partners at the start of the frame, when the giant's path stayed above it; only
+    // the giant's search after the pin, at rest, can find it: its box must reach down as far as
+    // gravity takes it. A band of 2,700 pins along the top keeps the lattice from folding.
+    World w = bareWorld(0.0, true, 0.0);
+    w.stage = {2000, 600, true};
+    w.params.gravity = {0.0, 400.0};
+    for (int k = 0; k < 2700; ++k)
+        w.addPin({10.0 + 11.0 * (k % 180), 5.0 + 11.0 * (k / 180)});
+    w.addPin({1000, 310});
+    const int lone = w.addMarble({1000, 595}, 5.0);
+    for (int k = 0; k < 20; ++k)
+        w.addMarble({100.0 + 20.0 * k, 595}, 5.0); // more marbles on the floor, far away
+    const int giant = w.addMarble({1000, 380}, 60.0, {0.0, -250.0});
+    QCOMPARE(splitRadii(w.radius).oversize, 1);
+    QCOMPARE_GE(smallestGap(w), 0.0);
+    ExactModel model;
+    run(w, model, 1);
+    QCOMPARE(model.lastOversizeCount(), 1);
+    QCOMPARE_GE(smallestGap(w), -1e-9);
+    QCOMPARE_GE(model.lastCollisionCount(), 2); // the pin, then the marble on the floor
+    QCOMPARE_GT(w.position[giant].y, 500.0);
+    QVERIFY(w.lastHit[lone].frame == 1);
 }
 
 void TestExactModel::brownianPresetWanders()
