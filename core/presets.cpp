@@ -109,8 +109,8 @@ void pachinko(World &w)
 
 // Brownian motion: one heavy marble among hundreds of small, fast ones. Nothing pushes it, yet
 // it wanders: each small marble that hits it gives it a kick in a random direction (a random
-// walk), and the heavier it is, the less it moves. The small marbles start on
-// a jittered lattice, clear of the heavy one and of each other, in random directions.
+// walk), and the heavier it is, the less it moves. The small marbles start on a jittered
+// lattice, clear of the heavy one and of each other, in random directions.
 void brownian(World &w)
 {
     const Vec2 centre{400, 300};

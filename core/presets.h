@@ -33,9 +33,9 @@ World defaultScene();
 World makeCrowd(int n, std::uint64_t seed, double movingFraction = 1.0);
 
 /// The crowd with `giants` marbles of radius `giantRadius` (mass pi r^2, moving or not like the
-/// others) spread over the stage, a row of them across its middle in turn a
-/// quarter above and below it, and the marbles they would overlap taken out. A scene whose grids
-/// are sized from the small marbles (RadiusSplit), for benchmarks and tests.
+/// others) spread across the stage, in turn a quarter of its height above and below its middle,
+/// and the marbles they would overlap taken out. A scene whose grids are sized from the small
+/// marbles (RadiusSplit), for benchmarks and tests.
 World makeCrowdWithGiants(int n, std::uint64_t seed, int giants, double giantRadius, double movingFraction = 1.0);
 
 /// A small deterministic random source (SplitMix64), identical on every platform.
