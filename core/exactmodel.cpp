@@ -605,6 +605,24 @@ void ExactModel::beginFrame(World &world)
     // 2 rMax apart.
     const double contact = 2.0 * rMax;
     m_margin = anchorMargin * contact;
+    if (m_oversize > 0) {
+        // Cells sized for marbles far smaller than the giants can be small next to how far the
+        // marbles move in a frame, and every margin crossed is a grid event: the margin is at
+        // least twice the mean of |vx| + |vy| (pushes included) times phi1(1), the distance the
+        // marbles cover in a frame along the axes. stress's "radii 0.5 to 500" row (400 marbles
+        // of 0.5 to 3 px at up to 20 px/frame among three giants): 1.5e3 frames per second with
+        // the quarter of the contact distance alone, 1.9e4 with the mean once, 3.0e4 twice,
+        // 3.6e4 three times; twice leaves the crowd's margin (a quarter of 24 px) as it was.
+        double speeds = 0.0;
+        for (int w = 0; w < n; ++w) {
+            const Vec2 v = world.velocity[w];
+            const Vec2 a = world.acceleration[w];
+            speeds += std::abs(v.x + a.x) + std::abs(v.y + a.y);
+        }
+        const double travel = 2.0 * speeds / n * m_phi1End;
+        if (travel > m_margin && std::isfinite(travel))
+            m_margin = travel;
+    }
     const double width = m_walls ? m_width : std::max(m_width, 1.0);
     const double height = m_walls ? m_height : std::max(m_height, 1.0);
     m_geometry = GridGeometry::fit(contact + 2.0 * m_margin, width, height, items);
