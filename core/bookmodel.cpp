@@ -344,7 +344,8 @@ void BookModel::step(World &world)
                     if (!oversize) [[likely]] {
                         m_marbleGrid.forEachNear(at, test);
                     } else if (const double reach = r + m_split.cut;
-                               !m_marbleGrid.forEachInBox(at.x - reach, at.x + reach, at.y - reach, at.y + reach, test)) {
+                               !m_marbleGrid.forEachInBox(at.x - reach, at.x + reach, at.y - reach, at.y + reach,
+                                                          test)) {
                         for (int j = after + 1; j < n; ++j)
                             test(j); // in ascending order: no sort
                         return;

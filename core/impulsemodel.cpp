@@ -302,11 +302,12 @@ void ImpulseModel::resolveOversizePairs(World &world, double e, std::int64_t hit
         };
         const Body &giant = m_bodies[so];
         const double reach = giant.r + m_split.cut;
-        const bool boxed = m_geometry.forEachRunInBox(giant.x - reach, giant.x + reach, giant.y - reach, giant.y + reach,
-                                                      [&](int b0, int b1) {
-                                                          for (int t = m_start[b0]; t < m_start[b1]; ++t)
-                                                              test(t);
-                                                      });
+        const auto slots = [&](int b0, int b1) {
+            for (int t = m_start[b0]; t < m_start[b1]; ++t)
+                test(t);
+        };
+        const bool boxed =
+            m_geometry.forEachRunInBox(giant.x - reach, giant.x + reach, giant.y - reach, giant.y + reach, slots);
         for (int t = boxed ? first : 0; t < n; ++t) {
             if (t < first || t > so)
                 test(t);
