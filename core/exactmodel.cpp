@@ -596,6 +596,7 @@ void ExactModel::beginFrame(World &world)
     // (RadiusSplit): they come first in the arrays, outside every bucket, and are the partners of
     // every marble (see neighbourRanges()).
     const RadiusSplit split = splitRadii(world.radius);
+    m_split = split;
     m_oversize = m_singleCell || !m_splitRadii ? 0 : split.oversize;
     const double rMax = m_oversize > 0 ? split.cut : split.largest;
     m_gridRadius = rMax;
@@ -660,7 +661,7 @@ void ExactModel::beginFrame(World &world)
             const Vec2 a = world.acceleration[w];
             anyResting = v.x + a.x == 0.0 && v.y + a.y == 0.0;
         }
-        if (layer && sleeps(world, w))
+        if (layer && layerSleeper(world, w))
             ++outsideSleepers;
     }
     m_anyResting = anyResting;
@@ -714,12 +715,18 @@ bool ExactModel::sleeps(const World &world, int w)
         && std::isfinite(world.radius[w]) && std::isfinite(1.0 / world.mass[w]);
 }
 
+bool ExactModel::layerSleeper(const World &world, int w) const
+{
+    // Oversize marbles stay in the frame's arrays, where every marble finds them.
+    return sleeps(world, w) && !(m_oversize > 0 && m_split.isOversize(world.radius[w]));
+}
+
 bool ExactModel::layerAllowed(int n) const
 {
     // Sleepers need a world without gravity, and a grid (below singleCellItems bodies there is
     // none); by default, many marbles.
     return m_sleepingUse != Sleeping::Never && m_gravity.x == 0.0 && m_gravity.y == 0.0 && !m_singleCell
-        && m_oversize == 0 && (m_sleepingUse == Sleeping::Always || n >= sleepingLayerFrom);
+        && (m_sleepingUse == Sleeping::Always || n >= sleepingLayerFrom);
 }
 
 bool ExactModel::useLayer(const World &world, int n)
@@ -747,7 +754,7 @@ bool ExactModel::useLayer(const World &world, int n)
                 counted = n;
             } else {
                 for (int w = 0; w < n; w += 64, ++counted)
-                    awake += !sleeps(world, w);
+                    awake += !layerSleeper(world, w);
             }
             if (16 * awake > counted) {
                 m_inLayer.clear();
@@ -768,7 +775,7 @@ void ExactModel::buildLayer(const World &world, int n)
     m_inLayer.assign(static_cast<std::size_t>(n), 0);
     m_sleepStart.assign(static_cast<std::size_t>(buckets) + 1, 0);
     for (int w = 0; w < n; ++w) {
-        if (!sleeps(world, w))
+        if (!layerSleeper(world, w))
             continue;
         m_inLayer[w] = 1;
         const Vec2 p = world.position[w];
@@ -814,7 +821,7 @@ void ExactModel::checkLayer(const World &world)
                 && std::bit_cast<std::uint64_t>(world.position[w].y) == std::bit_cast<std::uint64_t>(s.p.y)
                 && std::bit_cast<std::uint64_t>(world.radius[w]) == std::bit_cast<std::uint64_t>(s.radius)
                 && std::bit_cast<std::uint64_t>(world.mass[w]) == std::bit_cast<std::uint64_t>(m_sleeperMass[q])
-                && stillWithNothingPending(world, w);
+                && stillWithNothingPending(world, w) && !(m_oversize > 0 && m_split.isOversize(s.radius));
             if (s.promoted >= 0)
                 s.promoted = -1;
             if (!same) {
@@ -907,6 +914,7 @@ void ExactModel::makeReady(int end)
     bool finite = m_finite;
     const int n = m_awake;
     const bool layer = m_layer;
+    end = std::min(end, n); // (past the awake marbles: sleepers that joined the arrays, ready already)
     for (int i = m_ready; i < end; ++i) {
         if (i + makeReadyAhead < n) {
             const int ahead = m_body[i + makeReadyAhead].id;
@@ -924,7 +932,7 @@ void ExactModel::makeReady(int end)
             world.acceleration[w] = {}; // (written only when set: most marbles have no push)
         const int bucket = m_sortBucket[w];
         // Its place among all marbles (sleepers included) in bucket order, for the ties.
-        const int rank = layer ? i + sleepersBelow(bucket, w) : i;
+        const int rank = layer && bucket >= 0 ? i + sleepersBelow(bucket, w) : i; // (oversize marbles come first)
         startRecords(i, p, b, world.radius[w], world.mass[w], bucket, w, rank);
         const Body &body = m_body[i];
         const Record &rec = m_rec[i];
@@ -1442,11 +1450,12 @@ void ExactModel::scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &bes
 {
     // An oversize marble's partners: the other oversize marbles, and every marble anchored in
     // the buckets within its reach (each once: those still in their sorted bucket from its
-    // range, the others from its overflow list). There is no sleepers' layer meanwhile.
+    // range, the others from its overflow list), and the sleepers there (as scanSleepers()).
     for (int j = 0; j < m_oversize; ++j) {
         if (j != i)
             offerPair(i, j, p, v, best);
     }
+    const double r = m_body[i].radius;
     const bool bounded = bucketsInReach(i, [&](int b0, int b1) {
         for (int j = m_start[b0]; j < m_start[b1]; ++j) {
             if (!m_body[j].moved)
@@ -1456,9 +1465,23 @@ void ExactModel::scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &bes
             for (int j = m_overflowHead[b]; j >= 0; j = m_rec[j].overflowNext)
                 offerPair(i, j, p, v, best);
         }
+        for (int q = m_layer ? m_sleepStart[b0] : 0; q < (m_layer ? m_sleepStart[b1] : 0); ++q) {
+            if (m_sleepers[q].id < 0)
+                continue;
+            int j = m_sleepers[q].promoted;
+            if (j < 0 && nearSleeper(p, v, r, q))
+                j = promote(q);
+            if (j >= 0 && !m_body[j].moved)
+                offerPair(i, j, p, v, best);
+        }
     });
     if (bounded)
         return;
+    // Every marble: first the sleepers within reach join the arrays, then all are offered.
+    for (int q = 0; m_layer && q < static_cast<int>(m_sleepers.size()); ++q) {
+        if (m_sleepers[q].id >= 0 && m_sleepers[q].promoted < 0 && nearSleeper(p, v, r, q))
+            promote(q);
+    }
     for (int j = m_oversize; j < m_count; ++j)
         offerPair(i, j, p, v, best);
 }
@@ -1471,14 +1494,9 @@ void ExactModel::firstLookOversize(int i, const FirstLook &look, Event &best)
         if (testedFrom(i, j))
             offerFirstLook(i, j, look, best);
     }
-    const bool bounded = bucketsInReach(i, [&](int b0, int b1) {
-        for (int j = m_start[b0]; j < m_start[b1]; ++j)
-            offerFirstLook(i, j, look, best);
-    });
-    if (bounded)
-        return;
-    for (int j = m_oversize; j < m_count; ++j)
-        offerFirstLook(i, j, look, best);
+    const bool bounded = bucketsInReach(i, [&](int b0, int b1) { firstLookRun(i, look, b0, b1, best); });
+    if (!bounded)
+        firstLookRun(i, look, 0, m_singleCell ? 1 : m_geometry.bucketCount(), best);
 }
 
 void ExactModel::scanSleepers(int i, const Vec2 &p, const Vec2 &v, Event &best)
@@ -1570,44 +1588,55 @@ void ExactModel::predict(int i)
     }
 }
 
-void ExactModel::firstLookWithSleepers(int i, const FirstLook &look, const int ranges[rangeSlots], Event &best)
+void ExactModel::firstLookWithSleepers(int i, const FirstLook &look, Event &best)
 {
     // The same partners in the same order, bucket by bucket: the awake marbles of each
-    // bucket and its sleepers, merged by World index (their order among all marbles).
-    // Sleepers rest: they are partners from either side. One within reach joins the arrays.
+    // bucket and its sleepers, merged by World index (their order among all marbles); then the
+    // oversize marbles (at rest, they have no turn of their own).
     int runs[rangeSlots];
     const int runCount = runsAround(m_body[i].bucket, runs, [](int b) { return b; });
-    for (int r = 0; r < runCount; ++r) {
-        if (m_sleepStart[runs[2 * r]] == m_sleepStart[runs[2 * r + 1]]) {
-            for (int j = ranges[2 * r]; j < ranges[2 * r + 1]; ++j) {
+    for (int r = 0; r < runCount; ++r)
+        firstLookRun(i, look, runs[2 * r], runs[2 * r + 1], best);
+    for (int j = 0; j < m_oversize; ++j) {
+        if (testedFrom(i, j))
+            offerFirstLook(i, j, look, best);
+    }
+}
+
+void ExactModel::firstLookRun(int i, const FirstLook &look, int firstBucket, int lastBucket, Event &best)
+{
+    // The first look of i at buckets firstBucket .. lastBucket - 1 (consecutive), with their
+    // sleepers in their places. Sleepers rest: they are partners from either side. One within
+    // reach joins the arrays.
+    if (!m_layer || m_sleepStart[firstBucket] == m_sleepStart[lastBucket]) {
+        for (int j = m_start[firstBucket]; j < m_start[lastBucket]; ++j) {
+            if (testedFrom(i, j))
+                offerFirstLook(i, j, look, best);
+        }
+        return;
+    }
+    for (int b = firstBucket; b < lastBucket; ++b) {
+        int j = m_start[b];
+        int q = m_sleepStart[b];
+        const int jEnd = m_start[b + 1];
+        const int qEnd = m_sleepStart[b + 1];
+        while (j < jEnd || q < qEnd) {
+            if (q < qEnd && m_sleepers[q].id < 0) {
+                ++q;
+                continue;
+            }
+            if (q == qEnd || (j < jEnd && m_body[j].id < m_sleepers[q].id)) {
                 if (testedFrom(i, j))
                     offerFirstLook(i, j, look, best);
+                ++j;
+                continue;
             }
-            continue;
-        }
-        for (int b = runs[2 * r]; b < runs[2 * r + 1]; ++b) {
-            int j = m_start[b];
-            int q = m_sleepStart[b];
-            const int jEnd = m_start[b + 1];
-            const int qEnd = m_sleepStart[b + 1];
-            while (j < jEnd || q < qEnd) {
-                if (q < qEnd && m_sleepers[q].id < 0) {
-                    ++q;
-                    continue;
-                }
-                if (q == qEnd || (j < jEnd && m_body[j].id < m_sleepers[q].id)) {
-                    if (testedFrom(i, j))
-                        offerFirstLook(i, j, look, best);
-                    ++j;
-                    continue;
-                }
-                int k = m_sleepers[q].promoted;
-                if (k < 0 && nearSleeper(look.p, look.v, look.radius, q))
-                    k = promote(q);
-                if (k >= 0)
-                    offerFirstLook(i, k, look, best);
-                ++q;
-            }
+            int k = m_sleepers[q].promoted;
+            if (k < 0 && nearSleeper(look.p, look.v, look.radius, q))
+                k = promote(q);
+            if (k >= 0)
+                offerFirstLook(i, k, look, best);
+            ++q;
         }
     }
 }
@@ -1657,7 +1686,7 @@ void ExactModel::predictAll()
                 }
             }
         } else {
-            firstLookWithSleepers(i, look, ranges, best);
+            firstLookWithSleepers(i, look, best);
         }
         setContact(i, best);
         // Its event (keyOf) is the earlier of that contact and its grid event: inside the frame

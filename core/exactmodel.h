@@ -195,6 +195,7 @@ private:
     void buildLayer(const World &world, int n);
     void checkLayer(const World &world);
     static bool sleeps(const World &world, int w);
+    bool layerSleeper(const World &world, int w) const;
     int sleepersBelow(int bucket, int id) const;
     void startRecords(int k, Vec2 p, Vec2 b, double radius, double mass, int bucket, int id, int rank);
     int promote(int q);
@@ -213,7 +214,8 @@ private:
     bool bucketsInReach(int i, Run run) const;
     [[gnu::noinline]] void scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &best);
     [[gnu::noinline]] void firstLookOversize(int i, const FirstLook &look, Event &best);
-    [[gnu::noinline]] void firstLookWithSleepers(int i, const FirstLook &look, const int ranges[rangeSlots], Event &best);
+    [[gnu::noinline]] void firstLookWithSleepers(int i, const FirstLook &look, Event &best);
+    void firstLookRun(int i, const FirstLook &look, int firstBucket, int lastBucket, Event &best);
     void predictAll();
     void predictOwn(int i, Vec2 p, Vec2 v, Event &best);
     void predict(int i);
@@ -265,6 +267,7 @@ private:
     double m_margin = 0.0;       // how far a marble may stray from its anchor, px
     bool m_singleCell = false;   // no grid: one bucket, no grid events
     int m_oversize = 0;          // marbles left out of the grid (RadiusSplit): internal 0 .. m_oversize - 1
+    RadiusSplit m_split;         // this frame's
     double m_gridRadius = 0.0;   // the largest radius of the grid's marbles, px
     bool m_prefetchEvents = false; // at least prefetchEventsFrom marbles
     bool m_finite = true;        // every marble's state and the parameters are finite

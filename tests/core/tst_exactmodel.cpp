@@ -1016,12 +1016,20 @@ void TestExactModel::sleepersLayerSameBits_data()
     QTest::addColumn<double>("restitution");
     QTest::addColumn<bool>("walls");
     QTest::addColumn<int>("pins");
-    QTest::addRow("2%% moving") << 2000 << 0.02 << 1.0 << 0.0 << 1.0 << true << 0;
+    QTest::addColumn<int>("giants");
+    QTest::addColumn<double>("giantSpeed");
+    QTest::addRow("2%% moving") << 2000 << 0.02 << 1.0 << 0.0 << 1.0 << true << 0 << 0 << 0.0;
     // Fast marbles leave their anchors: woken sleepers move bucket and come back.
-    QTest::addRow("10%% moving, 5x speed, no walls") << 2000 << 0.1 << 5.0 << 0.0 << 1.0 << false << 0;
+    QTest::addRow("10%% moving, 5x speed, no walls") << 2000 << 0.1 << 5.0 << 0.0 << 1.0 << false << 0 << 0 << 0.0;
     // Marbles come to rest (friction and threshold), so the layer is built again as they do.
-    QTest::addRow("friction, pins") << 2000 << 0.3 << 3.0 << 0.05 << 1.0 << true << 30;
-    QTest::addRow("e = 0.5") << 1500 << 0.1 << 3.0 << 0.0 << 0.5 << true << 0;
+    QTest::addRow("friction, pins") << 2000 << 0.3 << 3.0 << 0.05 << 1.0 << true << 30 << 0 << 0.0;
+    QTest::addRow("e = 0.5") << 1500 << 0.1 << 3.0 << 0.0 << 0.5 << true << 0 << 0 << 0.0;
+    // Giants (left out of the grid, never in the layer) ploughing through sleepers, or at rest
+    // among them while a few marbles move: their searches take the sleepers in.
+    QTest::addRow("giants through sleepers") << 2000 << 0.0 << 1.0 << 0.0 << 1.0 << true << 0 << 3 << 12.0;
+    QTest::addRow("fast giants, no walls, pins") << 2000 << 0.02 << 2.0 << 0.0 << 1.0 << false << 20 << 2 << 60.0;
+    QTest::addRow("giants at rest, 5%% moving") << 2000 << 0.05 << 3.0 << 0.0 << 1.0 << true << 0 << 4 << 0.0;
+    QTest::addRow("giants, friction") << 2000 << 0.05 << 3.0 << 0.05 << 1.0 << true << 10 << 2 << 20.0;
 }
 
 void TestExactModel::sleepersLayerSameBits()
@@ -1035,9 +1043,18 @@ void TestExactModel::sleepersLayerSameBits()
     QFETCH(double, restitution);
     QFETCH(bool, walls);
     QFETCH(int, pins);
-    World w = makeCrowd(marbles, 11, movingFraction);
+    QFETCH(int, giants);
+    QFETCH(double, giantSpeed);
+    World w = makeCrowdWithGiants(marbles, 11, giants, 70.0, movingFraction);
     for (Vec2 &v : w.velocity)
         v = {v.x * speedScale, v.y * speedScale};
+    for (int i = 0, k = 0; i < w.marbleCount(); ++i) {
+        if (w.radius[i] == 70.0) {
+            const double angle = 1.0 + 2.1 * k++;
+            w.velocity[i] = {giantSpeed * std::cos(angle), giantSpeed * std::sin(angle)};
+        }
+    }
+    QCOMPARE(splitRadii(w.radius).oversize, giants);
     w.params.friction = friction;
     w.params.zeroThreshold = friction > 0.0 ? 0.05 : 0.0;
     w.params.restitution = restitution;
