@@ -84,8 +84,7 @@
 //    are left out of the grid (RadiusSplit in broadphase.h), whose rMax is then the largest of
 //    the others. They come first in the arrays, in no bucket and without grid events; each
 //    marble's neighbourhood includes them, and theirs is every marble anchored in the cells
-//    their straight path can reach before the frame ends (with gravity, every marble), and
-//    every pin.
+//    their path can reach before the frame ends (see bucketsInReach()), and every pin.
 //
 //    Sleepers. In a large world where nearly every marble is at rest, reading, renumbering and
 //    writing back every marble each frame would cost far more than the few that move. Marbles at
@@ -718,7 +717,7 @@ bool ExactModel::sleeps(const World &world, int w)
 bool ExactModel::layerSleeper(const World &world, int w) const
 {
     // Oversize marbles stay in the frame's arrays, where every marble finds them.
-    return sleeps(world, w) && !(m_oversize > 0 && m_split.isOversize(world.radius[w]));
+    return sleeps(world, w) && !leftOut(world.radius[w]);
 }
 
 bool ExactModel::layerAllowed(int n) const
@@ -821,7 +820,7 @@ void ExactModel::checkLayer(const World &world)
                 && std::bit_cast<std::uint64_t>(world.position[w].y) == std::bit_cast<std::uint64_t>(s.p.y)
                 && std::bit_cast<std::uint64_t>(world.radius[w]) == std::bit_cast<std::uint64_t>(s.radius)
                 && std::bit_cast<std::uint64_t>(world.mass[w]) == std::bit_cast<std::uint64_t>(m_sleeperMass[q])
-                && stillWithNothingPending(world, w) && !(m_oversize > 0 && m_split.isOversize(s.radius));
+                && stillWithNothingPending(world, w) && !leftOut(s.radius);
             if (s.promoted >= 0)
                 s.promoted = -1;
             if (!same) {
@@ -1416,6 +1415,21 @@ void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int coun
     }
 }
 
+[[gnu::always_inline]] inline void ExactModel::offerSleeper(int i, int q, const Vec2 &p, const Vec2 &v, double r,
+                                                             Event &best)
+{
+    // Sleeper q as a partner of marble i (at p moving at v, radius r): one that joined the arrays
+    // this frame is offered like any marble (unless it left its bucket: then it is in an overflow
+    // list), and one within reach joins them first.
+    if (m_sleepers[q].id < 0)
+        return;
+    int j = m_sleepers[q].promoted;
+    if (j < 0 && nearSleeper(p, v, r, q))
+        j = promote(q);
+    if (j >= 0 && j != i && !m_body[j].moved)
+        offerPair(i, j, p, v, best);
+}
+
 template<typename Run>
 bool ExactModel::bucketsInReach(int i, Run run) const
 {
@@ -1465,14 +1479,9 @@ void ExactModel::scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &bes
             for (int j = m_overflowHead[b]; j >= 0; j = m_rec[j].overflowNext)
                 offerPair(i, j, p, v, best);
         }
-        for (int q = m_layer ? m_sleepStart[b0] : 0; q < (m_layer ? m_sleepStart[b1] : 0); ++q) {
-            if (m_sleepers[q].id < 0)
-                continue;
-            int j = m_sleepers[q].promoted;
-            if (j < 0 && nearSleeper(p, v, r, q))
-                j = promote(q);
-            if (j >= 0 && !m_body[j].moved)
-                offerPair(i, j, p, v, best);
+        if (m_layer) {
+            for (int q = m_sleepStart[b0]; q < m_sleepStart[b1]; ++q)
+                offerSleeper(i, q, p, v, r, best);
         }
     });
     if (bounded)
@@ -1496,28 +1505,18 @@ void ExactModel::firstLookOversize(int i, const FirstLook &look, Event &best)
     }
     const bool bounded = bucketsInReach(i, [&](int b0, int b1) { firstLookRun(i, look, b0, b1, best); });
     if (!bounded)
-        firstLookRun(i, look, 0, m_singleCell ? 1 : m_geometry.bucketCount(), best);
+        firstLookRun(i, look, 0, m_geometry.bucketCount(), best);
 }
 
 void ExactModel::scanSleepers(int i, const Vec2 &p, const Vec2 &v, Event &best)
 {
-    // The sleepers around i's bucket: one that joined the arrays this frame is offered like any
-    // marble (unless it left its bucket: then it is in an overflow list), and one within reach
-    // joins them first.
+    // The sleepers around i's bucket (see offerSleeper()).
     int ranges[rangeSlots];
     const int rangeCount = sleeperRanges(i, ranges);
     const double r = m_body[i].radius;
     for (int k = 0; k < rangeCount; ++k) {
-        for (int q = ranges[2 * k]; q < ranges[2 * k + 1]; ++q) {
-            const Sleeper &s = m_sleepers[q];
-            if (s.id < 0)
-                continue;
-            int j = s.promoted;
-            if (j < 0 && nearSleeper(p, v, r, q))
-                j = promote(q);
-            if (j >= 0 && j != i && !m_body[j].moved)
-                offerPair(i, j, p, v, best);
-        }
+        for (int q = ranges[2 * k]; q < ranges[2 * k + 1]; ++q)
+            offerSleeper(i, q, p, v, r, best);
     }
 }
 

@@ -18,10 +18,10 @@ namespace marbles {
 /// memory, in 64-byte records that hold all a neighbour test reads. Each marble is "anchored" in
 /// a cell a margin wider than the contact distance and needs a grid event only when it strays
 /// further than the margin from its anchor within one frame. A few marbles far larger than the
-/// rest (RadiusSplit) are left out of the grid: every marble is their neighbour and they its. Per
-/// marble the calendar keeps its best contact and that next grid event; a calendar queue (time
-/// slots over the frame) holds only the marbles with an event inside the frame, and per-marble
-/// collision stamps reveal stale partner events lazily.
+/// rest (RadiusSplit) are left out of the grid: every marble looks at them, they at what they can
+/// reach. Per marble the calendar keeps its best contact and that next grid event; a calendar
+/// queue (time slots over the frame) holds only the marbles with an event inside the frame, and
+/// per-marble collision stamps reveal stale partner events lazily.
 /// All buffers are kept between frames (no allocation in steady state) and are rebuilt from the
 /// World at the start of every frame, so they are caches only; the one exception, the layer
 /// that keeps marbles at rest out of that rebuilding (Sleeping), is checked against the World
@@ -196,6 +196,8 @@ private:
     void checkLayer(const World &world);
     static bool sleeps(const World &world, int w);
     bool layerSleeper(const World &world, int w) const;
+    /// Whether a marble of radius r is left out of this frame's grid (RadiusSplit).
+    bool leftOut(double r) const { return m_oversize > 0 && m_split.isOversize(r); }
     int sleepersBelow(int bucket, int id) const;
     void startRecords(int k, Vec2 p, Vec2 b, double radius, double mass, int bucket, int id, int rank);
     int promote(int q);
@@ -208,6 +210,7 @@ private:
     };
     void offerFirstLook(int i, int j, const FirstLook &look, Event &best);
     void scanSleepers(int i, const Vec2 &p, const Vec2 &v, Event &best);
+    void offerSleeper(int i, int q, const Vec2 &p, const Vec2 &v, double r, Event &best);
     // An oversize marble's scans. Out of line, so that scanMarbles() and predictAll() keep their
     // one inlined copy of the pair test.
     template<typename Run>

@@ -306,12 +306,10 @@ void ImpulseModel::resolveOversizePairs(World &world, double e, std::int64_t hit
             for (int t = m_start[b0]; t < m_start[b1]; ++t)
                 test(t);
         };
-        const bool boxed =
-            m_geometry.forEachRunInBox(giant.x - reach, giant.x + reach, giant.y - reach, giant.y + reach, slots);
-        for (int t = boxed ? first : 0; t < n; ++t) {
-            if (t < first || t > so)
-                test(t);
-        }
+        if (!m_geometry.forEachRunInBox(giant.x - reach, giant.x + reach, giant.y - reach, giant.y + reach, slots))
+            slots(0, oversizeBucket()); // the box covers the lattice: every marble of the grid
+        for (int t = so + 1; t < n; ++t)
+            test(t);
     }
 }
 
