@@ -802,7 +802,10 @@ void ExactModel::checkLayer(const World &world)
 {
     // A sleeper still sleeps if the World holds it as the layer does, at rest with nothing
     // pending; one that the last frame hit, or that was edited or pushed since, wakes (its entry
-    // dies). Counts the live sleepers of the buckets before each bucket on the way.
+    // dies). Counts the live sleepers of the buckets before each bucket on the way. (A sleeper
+    // that an edit of other radii makes oversize wakes too; but the grid's radius, and with it
+    // the lattice, changes whenever the split does, so the layer is built afresh before that
+    // test can matter: it is a guard, which no test reaches.)
     const int buckets = m_layerGeometry.bucketCount();
     m_sleepBefore.resize(static_cast<std::size_t>(buckets) + 1);
     int live = 0;
