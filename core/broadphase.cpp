@@ -24,19 +24,29 @@ double largestOf(std::span<const double> values, double floor)
 
 RadiusSplit splitRadii(std::span<const double> radii)
 {
-    const double largest = largestOf(radii);
     const std::size_t n = radii.size();
-    if (n <= static_cast<std::size_t>(RadiusSplit::maxOversize))
+    if (n <= static_cast<std::size_t>(RadiusSplit::maxOversize)) {
+        const double largest = largestOf(radii);
         return {largest, largest, 0};
-    // The sum, in four lanes like largestOf (its rounding decides nothing but the grid's size).
+    }
+    // The largest and the sum in one pass, each in four lanes: the largest as largestOf() finds
+    // it (the same bits), the sum in an order of its own (its rounding decides nothing but the
+    // grid's size).
+    double top[4] = {0.0, 0.0, 0.0, 0.0};
     double lane[4] = {0.0, 0.0, 0.0, 0.0};
     std::size_t i = 0;
     for (; i + 4 <= n; i += 4) {
-        for (int k = 0; k < 4; ++k)
-            lane[k] += radii[i + static_cast<std::size_t>(k)];
+        for (int k = 0; k < 4; ++k) {
+            const double r = radii[i + static_cast<std::size_t>(k)];
+            top[k] = std::max(top[k], r);
+            lane[k] += r;
+        }
     }
-    for (; i < n; ++i)
+    for (; i < n; ++i) {
+        top[0] = std::max(top[0], radii[i]);
         lane[0] += radii[i];
+    }
+    const double largest = std::max(std::max(top[0], top[1]), std::max(top[2], top[3]));
     return splitRadii(radii, largest, (lane[0] + lane[1]) + (lane[2] + lane[3]));
 }
 
