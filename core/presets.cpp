@@ -162,8 +162,11 @@ const std::vector<PresetEntry> &entries()
          newtonsCradle},
         {{"pachinko", "Pachinko board", "Marbles fall under gravity through staggered rows of pins."},
          pachinko},
+        // The heavy marble selected, its long trail drawn: its random walk is the lesson, which
+        // 805 marbles' collision vectors would bury.
         {{"brownian", "Brownian motion",
-          "A heavy marble among hundreds of small fast ones wanders at random, kicked by their hits."},
+          "A heavy marble among hundreds of small fast ones wanders at random, kicked by their hits.",
+          {false, true, 0}},
          brownian},
     };
     return list;

@@ -3,17 +3,27 @@
 #include "core/world.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace marbles {
 
+/// How the window best shows a preset, where its lesson needs more than the teacher's own view:
+/// applied as the preset opens (the teacher can change it back at once).
+struct PresetView {
+    std::optional<bool> vectors; ///< collision vectors on or off (unset: as they are)
+    std::optional<bool> trails;  ///< trails on or off (unset: as they are)
+    int selectedMarble = -1;     ///< selected (inspected, plotted, its trail kept long), or -1
+};
+
 /// A built-in scene, shared by the app's Presets menu, the tests and the benchmarks.
 struct PresetInfo {
-    std::string id;          ///< "four-marbles", "pins", "masses", "newtons-cradle", "pachinko"
+    std::string id;          ///< "four-marbles", "pins", "masses", "newtons-cradle", "pachinko", "brownian"
     std::string title;       ///< menu text
     std::string description; ///< one sentence for a teacher
+    PresetView view = {};    ///< how the window shows it
 };
 
 /// The built-in presets, in menu order; the first is the default scene.

@@ -281,7 +281,7 @@ void MainWindow::createActions()
     m_trailsAction->setCheckable(true);
     m_trailsAction->setChecked(m_view->trailsVisible());
     m_trailsAction->setShortcut(QKeySequence(Qt::Key_T));
-    m_trailsAction->setStatusTip(tr("Fading trails behind the marbles"));
+    m_trailsAction->setStatusTip(tr("Fading trails behind the marbles; the selected marble's is kept long, in orange"));
     connect(m_trailsAction, &QAction::toggled, m_view, &StageView::setTrailsVisible);
 
     // Compare With: one checkable action per model, shared by the Simulation menu and the toolbar box.
@@ -686,11 +686,22 @@ bool MainWindow::openPreset(const QString &id)
         return false;
     m_run->pause();
     hideBarMessage();
+    PresetView view;
     for (const PresetInfo &preset : presets()) {
-        if (preset.id == key.toStdString())
+        if (preset.id == key.toStdString()) {
             m_presetTitle = QString::fromStdString(preset.title);
+            view = preset.view;
+        }
     }
     m_document->resetScene(scene);
+    m_view->clearSelection();
+    // What the preset's lesson needs to be seen (the teacher's other choices stay).
+    if (view.vectors)
+        m_vectorsAction->setChecked(*view.vectors);
+    if (view.trails)
+        m_trailsAction->setChecked(*view.trails);
+    if (view.selectedMarble >= 0)
+        m_view->selectMarble(view.selectedMarble);
     updateTitle();
     showStatus(tr("Preset \"%1\".").arg(m_presetTitle));
     return true;
@@ -725,6 +736,7 @@ bool MainWindow::openFile(const QString &path)
     m_run->pause();
     hideBarMessage();
     m_document->resetScene(scene, QFileInfo(path).absoluteFilePath());
+    m_view->clearSelection(); // marble 3 of the last scene is nothing to this one
     addRecentFile(path);
     showStatus(tr("Opened %1.").arg(QDir::toNativeSeparators(path)));
     return true;

@@ -328,6 +328,7 @@ void StageView::resetTrail()
 
 void StageView::updateHighlights()
 {
+    m_trail->setFollowed(selectedMarble()); // the selected marble's trail is kept long
     if (m_field)
         m_field->setSelectedMarbles(m_selectionKind == SelectionKind::Marble ? QList<int>{m_selectionIndex} : QList<int>{});
     for (int i = 0; i < static_cast<int>(m_marbles.size()); ++i)

@@ -15,6 +15,34 @@ bool moves(QPointF a, QPointF b)
     return a.x() != b.x() || a.y() != b.y();
 }
 
+// Drop a trail's oldest or newest position, keeping the count of its moving segments.
+void dropOldest(std::deque<QPointF> &trail, std::size_t &moving)
+{
+    if (trail.size() >= 2 && moves(trail[0], trail[1]))
+        --moving;
+    trail.pop_front();
+}
+
+void dropNewest(std::deque<QPointF> &trail, std::size_t &moving)
+{
+    const std::size_t k = trail.size();
+    if (k >= 2 && moves(trail[k - 2], trail[k - 1]))
+        --moving;
+    trail.pop_back();
+}
+
+// Appends p to a trail, counting the segment it adds if it moves.
+void append(std::deque<QPointF> &trail, QPointF p, std::size_t &moving)
+{
+    if (!trail.empty() && moves(trail.back(), p))
+        ++moving;
+    trail.push_back(p);
+}
+
+// The followed marble's trail: the selection's orange (the dashed ring around the marble).
+const QColor kFollowedColor(0xff, 0x8f, 0x00);
+const QColor kTrailColor(0x24, 0x63, 0xd1);
+
 } // namespace
 
 TrailItem::TrailItem(int length)
@@ -28,7 +56,7 @@ void TrailItem::setLength(int frames)
     while (static_cast<int>(m_frames.size()) > m_length) {
         m_frames.pop_front();
         for (auto &trail : m_trails)
-            popOldest(trail);
+            dropOldest(trail, m_movingSegments);
     }
     update();
 }
@@ -57,11 +85,12 @@ void TrailItem::sample(const World &world)
         m_trails.assign(n, {});
         m_frames.clear();
         m_movingSegments = 0;
+        clearFollowed();
     }
     // While every marble stands still, every segment is a point and nothing is drawn: the next
     // sample changes the picture only if some segment moves before or after it (a crowd at rest
     // is then not redrawn every frame for its trails).
-    const bool stillBefore = m_movingSegments == 0;
+    const bool stillBefore = m_movingSegments == 0 && m_longMoving == 0;
     const bool full = static_cast<int>(m_frames.size()) >= m_length;
     if (full)
         m_frames.pop_front();
@@ -69,21 +98,20 @@ void TrailItem::sample(const World &world)
     for (std::size_t i = 0; i < n; ++i) {
         auto &trail = m_trails[i];
         if (full)
-            popOldest(trail);
-        const QPointF p(world.position[i].x, world.position[i].y);
-        if (!trail.empty() && moves(trail.back(), p))
-            ++m_movingSegments;
-        trail.push_back(p);
+            dropOldest(trail, m_movingSegments);
+        append(trail, QPointF(world.position[i].x, world.position[i].y), m_movingSegments);
     }
-    if (!(stillBefore && m_movingSegments == 0))
+    if (m_followed >= 0 && static_cast<std::size_t>(m_followed) < n) {
+        if (m_long.size() >= static_cast<std::size_t>(kFollowedLength)) {
+            dropOldest(m_long, m_longMoving);
+            m_longFrames.pop_front();
+        }
+        const Vec2 p = world.position[static_cast<std::size_t>(m_followed)];
+        append(m_long, QPointF(p.x, p.y), m_longMoving);
+        m_longFrames.push_back(world.frame);
+    }
+    if (!(stillBefore && m_movingSegments == 0 && m_longMoving == 0))
         update();
-}
-
-void TrailItem::popOldest(std::deque<QPointF> &trail)
-{
-    if (trail.size() >= 2 && moves(trail[0], trail[1]))
-        --m_movingSegments;
-    trail.pop_front();
 }
 
 void TrailItem::cutAfter(std::int64_t frame)
@@ -91,16 +119,38 @@ void TrailItem::cutAfter(std::int64_t frame)
     bool cut = false;
     while (!m_frames.empty() && m_frames.back() > frame) {
         m_frames.pop_back();
-        for (auto &trail : m_trails) {
-            const std::size_t k = trail.size();
-            if (k >= 2 && moves(trail[k - 2], trail[k - 1]))
-                --m_movingSegments;
-            trail.pop_back();
-        }
+        for (auto &trail : m_trails)
+            dropNewest(trail, m_movingSegments);
+        cut = true;
+    }
+    while (!m_longFrames.empty() && m_longFrames.back() > frame) {
+        m_longFrames.pop_back();
+        dropNewest(m_long, m_longMoving);
         cut = true;
     }
     if (cut)
         update();
+}
+
+void TrailItem::setFollowed(int i)
+{
+    if (i == m_followed)
+        return;
+    clearFollowed();
+    m_followed = i < 0 ? -1 : i;
+    if (m_followed >= 0 && static_cast<std::size_t>(m_followed) < m_trails.size()) {
+        for (const QPointF &p : m_trails[static_cast<std::size_t>(m_followed)])
+            append(m_long, p, m_longMoving);
+        m_longFrames.assign(m_frames.begin(), m_frames.end());
+    }
+    update();
+}
+
+void TrailItem::clearFollowed()
+{
+    m_long.clear();
+    m_longFrames.clear();
+    m_longMoving = 0;
 }
 
 void TrailItem::clear()
@@ -108,6 +158,7 @@ void TrailItem::clear()
     m_trails.clear();
     m_frames.clear();
     m_movingSegments = 0;
+    clearFollowed();
     update();
 }
 
@@ -126,25 +177,48 @@ QRectF TrailItem::boundingRect() const
 
 void TrailItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *, QWidget *)
 {
-    // Opacity grows linearly from the oldest segment (transparent) to the newest, in
-    // kFadeSteps steps: the segments of all trails that share a step are drawn together, one
-    // pen change and one drawLines() per step instead of per segment (thousands per frame).
+    painter->setRenderHint(QPainter::Antialiasing, m_antialiased);
+    startBatches();
+    for (const auto &trail : m_trails)
+        addToBatches(trail);
+    drawBatches(painter, kTrailColor, 2.0, 0.0, 0.6);
+    if (m_long.size() >= 2) {
+        // One trail over the others, smooth whatever the crowd, wider, and its oldest part still
+        // plain to see: the whole path is the point.
+        painter->setRenderHint(QPainter::Antialiasing, true);
+        startBatches();
+        addToBatches(m_long);
+        drawBatches(painter, kFollowedColor, 3.0, 0.3, 0.9);
+    }
+}
+
+void TrailItem::startBatches()
+{
     for (auto &lines : m_batches)
         lines.clear();
     m_batches.resize(kFadeSteps);
-    for (const auto &trail : m_trails) {
-        const auto count = trail.size();
-        for (std::size_t k = 1; k < count; ++k) {
-            if (!moves(trail[k - 1], trail[k]))
-                continue; // a marble at rest: a point, nothing to draw
-            const auto step = std::min<std::size_t>(kFadeSteps - 1, k * kFadeSteps / count);
-            m_batches[step].emplace_back(trail[k - 1], trail[k]);
-        }
+}
+
+void TrailItem::addToBatches(const std::deque<QPointF> &trail)
+{
+    // Opacity grows linearly from the oldest segment (transparent) to the newest, in
+    // kFadeSteps steps: the segments of all trails that share a step are drawn together, one
+    // pen change and one drawLines() per step instead of per segment (thousands per frame).
+    const auto count = trail.size();
+    for (std::size_t k = 1; k < count; ++k) {
+        if (!moves(trail[k - 1], trail[k]))
+            continue; // a marble at rest: a point, nothing to draw
+        const auto step = std::min<std::size_t>(kFadeSteps - 1, k * kFadeSteps / count);
+        m_batches[step].emplace_back(trail[k - 1], trail[k]);
     }
-    painter->setRenderHint(QPainter::Antialiasing, m_antialiased);
-    QPen pen(QColor(0x24, 0x63, 0xd1));
+}
+
+void TrailItem::drawBatches(QPainter *painter, const QColor &color, double width, double oldestAlpha,
+                            double newestAlpha)
+{
+    QPen pen(color);
     pen.setCosmetic(true);
-    pen.setWidthF(2.0);
+    pen.setWidthF(width);
     // Flat caps: a round cap turns each 2-px segment into a curved outline for the stroker,
     // about ten times the cost, and consecutive segments of a trail meet end to end anyway.
     pen.setCapStyle(Qt::FlatCap);
@@ -152,8 +226,8 @@ void TrailItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *, QWidg
         const auto &lines = m_batches[static_cast<std::size_t>(step)];
         if (lines.empty())
             continue;
-        QColor c = pen.color();
-        c.setAlphaF(0.6f * static_cast<float>(step + 1) / static_cast<float>(kFadeSteps));
+        QColor c = color;
+        c.setAlphaF(static_cast<float>(oldestAlpha + (newestAlpha - oldestAlpha) * (step + 1) / kFadeSteps));
         pen.setColor(c);
         painter->setPen(pen);
         painter->drawLines(lines.data(), static_cast<int>(lines.size()));

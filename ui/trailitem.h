@@ -13,12 +13,16 @@ namespace marbles {
 
 /// Fading trails behind every marble: the last positions of each, one per simulated frame,
 /// drawn more transparent the older they are. One item for all marbles keeps the scene small.
+/// One marble (the selected one) can be followed: its trail is kept far longer, and drawn in the
+/// selection's colour, so that a slow wander (a heavy marble's Brownian motion) shows as a path.
 class TrailItem : public QGraphicsItem {
 public:
     enum { Type = UserType + 4 };
 
     /// Longest trail, frames.
     static constexpr int kMaxLength = 90;
+    /// Longest trail of the followed marble, frames (a minute at the default 20 ms a frame).
+    static constexpr int kFollowedLength = 3000;
 
     /// Trails of at most `length` frames (at least 2).
     explicit TrailItem(int length = kMaxLength);
@@ -43,6 +47,12 @@ public:
     void clear();
     /// The trail of marble i, oldest position first (empty when it has none).
     std::vector<QPointF> points(int i) const;
+    /// Follows marble i (-1: none) from now on: its long trail starts from its trail so far.
+    void setFollowed(int i);
+    /// The marble followed, or -1.
+    int followed() const { return m_followed; }
+    /// The followed marble's long trail, oldest position first.
+    std::vector<QPointF> followedPoints() const { return {m_long.begin(), m_long.end()}; }
 
     int type() const override { return Type; }
     QRectF boundingRect() const override;
@@ -52,8 +62,15 @@ private:
     /// Opacity levels of a trail's fade (segments are batched per level).
     static constexpr int kFadeSteps = 12;
 
-    /// Drops a trail's oldest position (keeping m_movingSegments).
-    void popOldest(std::deque<QPointF> &trail);
+    /// Forgets the followed marble's long trail (not which marble it is).
+    void clearFollowed();
+    /// Empties the fade levels' batches.
+    void startBatches();
+    /// Adds a trail's moving segments to the batch of each one's fade level.
+    void addToBatches(const std::deque<QPointF> &trail);
+    /// Draws the batches in `color`, `width` px wide, the levels' opacity rising in equal steps
+    /// from `oldestAlpha` (exclusive) to `newestAlpha`.
+    void drawBatches(QPainter *painter, const QColor &color, double width, double oldestAlpha, double newestAlpha);
 
     int m_length;
     bool m_antialiased = true;
@@ -62,6 +79,10 @@ private:
     std::deque<std::int64_t> m_frames; ///< frame of each position, shared by all trails
     std::size_t m_movingSegments = 0;  ///< segments whose ends differ, over all trails
     std::vector<std::vector<QLineF>> m_batches; ///< per fade level, kept between paints
+    int m_followed = -1;
+    std::deque<QPointF> m_long;            ///< the followed marble's positions
+    std::deque<std::int64_t> m_longFrames; ///< and their frames
+    std::size_t m_longMoving = 0;          ///< segments of m_long whose ends differ
 };
 
 } // namespace marbles

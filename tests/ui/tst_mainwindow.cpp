@@ -11,6 +11,7 @@
 #include "ui/runcontroller.h"
 #include "ui/scenedocument.h"
 #include "ui/stageview.h"
+#include "ui/trailitem.h"
 
 #include <QAction>
 #include <QToolButton>
@@ -20,6 +21,7 @@
 #include <QDir>
 #include <QDoubleSpinBox>
 #include <QFile>
+#include <QGraphicsScene>
 #include <QKeySequence>
 #include <QLabel>
 #include <QLineSeries>
@@ -93,6 +95,7 @@ private Q_SLOTS:
     void parameterEditReachesWorldAndUndoes();
     void deleteAndAddToolsAreUndoable();
     void saveThenOpenRoundTrips();
+    void presetOpensWithItsView();
     void invalidFileLeavesSceneAsItWas();
     void unsavedChangesAreAskedAbout_data();
     void unsavedChangesAreAskedAbout();
@@ -354,10 +357,48 @@ void TestMainWindow::saveThenOpenRoundTrips()
     QVERIFY(m_window->windowTitle().contains(QStringLiteral("saved.marbles.json")));
 
     QVERIFY(m_window->openPreset(QStringLiteral("pins")));
+    m_window->stageView()->selectMarble(1);
     QVERIFY(m_window->openFile(path));
+    QCOMPARE(m_window->stageView()->selectedMarble(), -1); // nothing of the last scene is selected
     QCOMPARE(sceneToJson(doc->world()), sceneToJson(saved));
     QCOMPARE(doc->world().mass, saved.mass);
     QCOMPARE(m_window->recentFiles().value(0), QFileInfo(path).absoluteFilePath());
+}
+
+void TestMainWindow::presetOpensWithItsView()
+{
+    // The Brownian preset's lesson is the heavy marble's wander: it opens with the collision
+    // vectors of its 805 marbles off, trails on and the heavy marble selected (inspected,
+    // plotted alone, its long trail drawn). Presets without such needs leave the view as it is.
+    auto *vectors = m_window->findChild<QAction *>(QStringLiteral("actionVectors"));
+    auto *trails = m_window->findChild<QAction *>(QStringLiteral("actionTrails"));
+    StageView *view = m_window->stageView();
+    vectors->setChecked(true);
+    trails->setChecked(false);
+    QVERIFY(m_window->openPreset(QStringLiteral("brownian")));
+    QVERIFY(!vectors->isChecked());
+    QVERIFY(!view->vectorsVisible());
+    QVERIFY(trails->isChecked());
+    QVERIFY(view->trailsVisible());
+    QCOMPARE(view->selectedMarble(), 0);
+    QCOMPARE(m_window->document()->world().info[0].name, std::string("heavy"));
+    QCOMPARE(m_window->plotDock()->plottedMarbles(), QList<int>{0});
+    const TrailItem *trail = nullptr;
+    for (QGraphicsItem *item : view->scene()->items()) {
+        if (auto *t = qgraphicsitem_cast<TrailItem *>(item))
+            trail = t;
+    }
+    QVERIFY(trail);
+    QCOMPARE(trail->followed(), 0);
+    QCOMPARE(m_window->document()->advance(5), 5);
+    QCOMPARE(trail->followedPoints().size(), std::size_t(5));
+    // The teacher's own choice afterwards stays through a preset that needs nothing; a new scene
+    // has nothing selected.
+    vectors->setChecked(true);
+    QVERIFY(m_window->openPreset(QStringLiteral("pins")));
+    QVERIFY(vectors->isChecked());
+    QVERIFY(trails->isChecked());
+    QCOMPARE(view->selectedMarble(), -1);
 }
 
 void TestMainWindow::invalidFileLeavesSceneAsItWas()

@@ -13,6 +13,8 @@
 
 #include <QApplication>
 #include <QGraphicsScene>
+#include <QImage>
+#include <QPainter>
 #include <QSignalSpy>
 #include <QTest>
 #include <QToolTip>
@@ -65,6 +67,8 @@ private Q_SLOTS:
     void batchedVectorsAndSelection();
     void trailsOffForLargeCrowds();
     void stepBackCutsTrails();
+    void selectedMarbleKeepsLongTrail();
+    void followedTrailIsDrawnWhole();
     void stillFramesAreNotRedrawn_data();
     void stillFramesAreNotRedrawn();
     void vectorsWaitForALegibleZoom();
@@ -494,6 +498,110 @@ void TestStageView::stepBackCutsTrails()
     QCOMPARE(static_cast<int>(trail->points(0).size()), 3);
     QVERIFY(m_document->setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
     QVERIFY(trail->points(0).empty());
+}
+
+void TestStageView::selectedMarbleKeepsLongTrail()
+{
+    // In a crowd every trail is short (the segment budget shared out); the selected marble's is
+    // kept up to kFollowedLength frames, so that a slow wander shows as a path. It starts from
+    // the short trail it had, steps back with the others, and follows the selection.
+    m_document->resetScene(makeCrowd(400, 3, 1.0));
+    m_view->setTrailsVisible(true);
+    const TrailItem *trail = itemsOf<TrailItem>(*m_view).front();
+    const int shortLength = m_view->trailLength();
+    QCOMPARE(shortLength, StageView::kTrailSegmentBudget / 400);
+    QCOMPARE(trail->followed(), -1);
+    std::vector<Vec2> seen;
+    for (int f = 1; f <= 10; ++f) {
+        m_document->advance(1);
+        seen.push_back(m_document->world().position[5]);
+    }
+    m_view->selectMarble(5);
+    QCOMPARE(trail->followed(), 5);
+    QCOMPARE(static_cast<int>(trail->followedPoints().size()), 10); // its trail so far
+    for (int f = 11; f <= 100; ++f) {
+        m_document->advance(1);
+        seen.push_back(m_document->world().position[5]);
+    }
+    QCOMPARE(static_cast<int>(trail->points(5).size()), shortLength);
+    std::vector<QPointF> path = trail->followedPoints();
+    QCOMPARE(static_cast<int>(path.size()), 100);
+    for (std::size_t k = 0; k < path.size(); ++k)
+        QVERIFY(path[k].x() == seen[k].x && path[k].y() == seen[k].y); // copies: the same bits
+    for (int k = 0; k < 4; ++k)
+        QVERIFY(m_document->stepBack());
+    QCOMPARE(static_cast<int>(trail->followedPoints().size()), 96);
+    QCOMPARE(static_cast<int>(trail->points(5).size()), shortLength - 4);
+    // Another marble: its own trail so far, as long as the others'.
+    m_view->selectMarble(7);
+    QCOMPARE(trail->followed(), 7);
+    path = trail->followedPoints();
+    const std::vector<QPointF> shortPath = trail->points(7);
+    QCOMPARE(path.size(), shortPath.size());
+    QVERIFY(path == shortPath);
+    m_view->clearSelection();
+    QCOMPARE(trail->followed(), -1);
+    QVERIFY(trail->followedPoints().empty());
+    // An edit starts every trail over, the followed one too.
+    m_view->selectMarble(7);
+    m_document->advance(3);
+    QCOMPARE(static_cast<int>(trail->followedPoints().size()), shortLength - 4 + 3);
+    QVERIFY(m_document->setParam(QStringLiteral("friction"), QStringLiteral("0.01")).isEmpty());
+    QVERIFY(trail->followedPoints().empty());
+    m_document->advance(2);
+    QCOMPARE(static_cast<int>(trail->followedPoints().size()), 2);
+    QCOMPARE(trail->followed(), 7);
+    // At most kFollowedLength frames.
+    m_document->advance(TrailItem::kFollowedLength + 5);
+    QCOMPARE(static_cast<int>(trail->followedPoints().size()), TrailItem::kFollowedLength);
+    const Vec2 newest = m_document->world().position[7];
+    QVERIFY(trail->followedPoints().back().x() == newest.x && trail->followedPoints().back().y() == newest.y);
+}
+
+void TestStageView::followedTrailIsDrawnWhole()
+{
+    // Two marbles move side by side along x, 1 px a frame, for 150 frames, with trails of 4
+    // frames: the followed one's whole path is drawn, in the selection's orange (over the
+    // white, opacity at least 0.3); the other keeps a short blue trail.
+    TrailItem item(4);
+    World w;
+    w.stage = {200, 100, true};
+    w.addMarble({10, 60}, 2);
+    w.addMarble({10, 20}, 2);
+    item.setArea(QRectF(0, 0, 200, 100));
+    item.setFollowed(0);
+    for (int f = 0; f <= 150; ++f) {
+        w.frame = f;
+        w.position[0].x = 10.0 + f;
+        w.position[1].x = 10.0 + f;
+        item.sample(w);
+    }
+    QImage image(200, 100, QImage::Format_ARGB32_Premultiplied);
+    image.fill(Qt::white);
+    {
+        QPainter painter(&image);
+        item.paint(&painter, nullptr, nullptr);
+    }
+    auto orange = [](QColor c) { return c.red() > 240 && c.blue() < 190 && c.green() > c.blue() + 20; };
+    auto blue = [](QColor c) { return c.blue() > c.red() + 20; };
+    int orangeAlong = 0;
+    int blueAlongOther = 0;
+    for (int x = 0; x < 200; ++x) {
+        orangeAlong += orange(image.pixelColor(x, 60)) ? 1 : 0;
+        blueAlongOther += blue(image.pixelColor(x, 20)) ? 1 : 0;
+        QVERIFY(!orange(image.pixelColor(x, 20)));
+    }
+    QCOMPARE_GE(orangeAlong, 145); // the whole path (x = 10 to 160), its oldest part too
+    QCOMPARE_GE(blueAlongOther, 2); // the last three frames' segments of the other
+    QCOMPARE_LE(blueAlongOther, 4);
+    item.setFollowed(-1);
+    image.fill(Qt::white);
+    {
+        QPainter painter(&image);
+        item.paint(&painter, nullptr, nullptr);
+    }
+    for (int x = 12; x < 158; ++x)
+        QVERIFY(!orange(image.pixelColor(x, 60)));
 }
 
 void TestStageView::stillFramesAreNotRedrawn_data()
