@@ -47,6 +47,7 @@ struct Options {
     bool overrideModel = false;
     ModelKind model = ModelKind::Exact;
     std::optional<ModelKind> compare; ///< a second model run beside the first (main window only)
+    int selected = -1;                ///< marble selected (its long trail drawn with trails on)
     bool csv = false;
 };
 
@@ -168,6 +169,7 @@ Result measure(int n, const Options &options)
         window->compareRun()->setModel(*options.compare);
     view->setVectorsVisible(options.vectors);
     view->setTrailsVisible(options.trails);
+    view->selectMarble(options.selected);
     top->resize(options.size);
     top->show();
     waitExposed(top);
@@ -289,9 +291,12 @@ bool parseOptions(const QCoreApplication &app, Options &options, QString &error)
         QStringLiteral("compare"),
         QStringLiteral("Compare with a second model, its marbles drawn as ghosts (Simulation > Compare With; needs --window main)."),
         QStringLiteral("book|impulse|exact"));
+    const QCommandLineOption selectOption(
+        QStringLiteral("select"), QStringLiteral("Select marble I (with trails on, its trail is kept long and drawn)."),
+        QStringLiteral("I"));
     const QCommandLineOption csvOption(QStringLiteral("csv"), QStringLiteral("Print CSV rows instead of text."));
     parser.addOptions({countOption, framesOption, warmupOption, vectorsOption, trailsOption, zoomOption, sizeOption, windowOption, movingOption,
-                       seedOption, modelOption, compareOption, csvOption});
+                       seedOption, modelOption, compareOption, selectOption, csvOption});
     parser.process(app);
 
     bool ok = true;
@@ -357,6 +362,13 @@ bool parseOptions(const QCoreApplication &app, Options &options, QString &error)
     if (!ok) {
         error = QStringLiteral("--seed: must be a whole number >= 0");
         return false;
+    }
+    if (parser.isSet(selectOption)) {
+        options.selected = parser.value(selectOption).toInt(&ok);
+        if (!ok || options.selected < 0) {
+            error = QStringLiteral("--select: must be a marble index >= 0");
+            return false;
+        }
     }
     if (parser.isSet(modelOption)) {
         options.overrideModel = true;
@@ -431,7 +443,8 @@ int main(int argc, char *argv[])
                 << r.hitMarbles << " scale=" << QString::number(r.scale, 'f', 3) << " viewport="
                 << r.viewport.width() << "x" << r.viewport.height() << " items=" << r.items
                 << " antialias=" << (r.antialias ? "on" : "off")
-                << " trails=" << (r.trails ? "on" : "off") << "\n"
+                << " trails=" << (r.trails ? "on" : "off")
+                << (options.selected >= 0 ? QStringLiteral(" selected=%1").arg(options.selected) : QString()) << "\n"
                 << "  physics+paint " << QString::number(fps(r.frameMs), 'f', 1) << " fps ("
                 << QString::number(r.frameMs, 'f', 2) << " ms: physics+sync " << QString::number(r.physicsMs, 'f', 2)
                 << " (model alone " << QString::number(r.modelMs, 'f', 2) << ")"
