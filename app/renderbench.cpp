@@ -56,7 +56,9 @@ struct Result {
     int items = 0;
     QSize viewport;
     bool antialias = false;
-    bool trails = false; ///< trails drawn (asked for and not switched off for the crowd's size)
+    /// Trails drawn: "on" (every marble's), "selected" (above the crowd size for all, the
+    /// selected marble's alone) or "off".
+    QString trails = QStringLiteral("off");
     bool vectorsDrawn = false; ///< vectors asked for and long enough on screen to be drawn
     double scale = 1.0;        ///< view px per stage px
     double modelMs = 0.0;     ///< median World::step() alone, on a copy of the scene (no document, no view)
@@ -233,7 +235,10 @@ Result measure(int n, const Options &options)
     result.items = static_cast<int>(view->scene()->items().size());
     result.viewport = view->viewport()->size();
     result.antialias = view->renderHints().testFlag(QPainter::Antialiasing);
-    result.trails = view->trailsVisible() && !view->trailsSuppressed();
+    result.trails = !view->trailsVisible()     ? QStringLiteral("off")
+                    : !view->trailsSuppressed() ? QStringLiteral("on")
+                    : view->selectedMarble() >= 0 ? QStringLiteral("selected")
+                                                  : QStringLiteral("off");
     result.vectorsDrawn = view->vectorsVisible() && !view->vectorsHiddenByZoom();
     result.scale = view->transform().m11();
     result.modelMs = median(model);
@@ -428,7 +433,7 @@ int main(int argc, char *argv[])
         if (options.csv) {
             out << r.n << "," << (options.vectors ? "on" : "off") << "," << (r.vectorsDrawn ? "yes" : "no") << ","
                 << r.hitMarbles << "," << QString::number(r.scale, 'f', 4) << ","
-                << (r.trails ? "on" : "off") << ","
+                << r.trails << ","
                 << (options.mainWindow ? "main" : "stage")
                 << "," << r.items << "," << (r.antialias ? "on" : "off") << "," << options.frames << ","
                 << QString::number(r.modelMs, 'f', 3) << "," << QString::number(r.physicsMs, 'f', 3) << "," << QString::number(r.paintMs, 'f', 3) << ","
@@ -443,7 +448,7 @@ int main(int argc, char *argv[])
                 << r.hitMarbles << " scale=" << QString::number(r.scale, 'f', 3) << " viewport="
                 << r.viewport.width() << "x" << r.viewport.height() << " items=" << r.items
                 << " antialias=" << (r.antialias ? "on" : "off")
-                << " trails=" << (r.trails ? "on" : "off")
+                << " trails=" << r.trails
                 << (options.selected >= 0 ? QStringLiteral(" selected=%1").arg(options.selected) : QString()) << "\n"
                 << "  physics+paint " << QString::number(fps(r.frameMs), 'f', 1) << " fps ("
                 << QString::number(r.frameMs, 'f', 2) << " ms: physics+sync " << QString::number(r.physicsMs, 'f', 2)

@@ -169,16 +169,18 @@ int StageView::trailLength() const
 
 void StageView::updateTrailSuppression()
 {
-    const bool suppressed = m_trailsVisible && m_document->world().marbleCount() > kMaxTrailMarbles;
+    // Above kMaxTrailMarbles only the selected marble's trail is kept and drawn.
+    const bool crowd = m_document->world().marbleCount() > kMaxTrailMarbles;
+    const bool suppressed = m_trailsVisible && crowd;
     const bool announce = suppressed && !m_trailsSuppressed;
     m_trailsSuppressed = suppressed;
-    if (suppressed)
-        m_trail->clear();
-    m_trail->setVisible(m_trailsVisible && !suppressed);
+    m_trail->setFollowedOnly(crowd);
+    m_trail->setVisible(m_trailsVisible);
     m_trail->setLength(trailLength());
     m_trail->setAntialiased(m_document->world().marbleCount() <= kBatchThreshold);
     if (announce)
-        noteLater(tr("Trails are off above %L1 marbles: drawing them would slow the stage down.").arg(kMaxTrailMarbles));
+        noteLater(tr("Above %L1 marbles only the selected marble has a trail: every marble's would slow the stage down.")
+                      .arg(kMaxTrailMarbles));
 }
 
 void StageView::fitToStage()
@@ -317,7 +319,7 @@ void StageView::syncPoses()
 
 void StageView::sampleTrail()
 {
-    if (m_trailsVisible && !m_trailsSuppressed)
+    if (m_trailsVisible)
         m_trail->sample(m_document->world());
 }
 

@@ -83,9 +83,10 @@ public:
     void setTrailsVisible(bool visible);
     /// True when the vectors overlay is shown.
     bool vectorsVisible() const { return m_vectorsVisible; }
-    /// True when trails are asked for (they are not drawn above kMaxTrailMarbles marbles).
+    /// True when trails are asked for (above kMaxTrailMarbles marbles only the selected one's).
     bool trailsVisible() const { return m_trailsVisible; }
-    /// True when trails are asked for but the scene has too many marbles to draw them.
+    /// True when trails are asked for but the scene has too many marbles to draw them all: only
+    /// the selected marble's is drawn.
     bool trailsSuppressed() const { return m_trailsSuppressed; }
     /// Frames a trail keeps for the current marble count (kTrailSegmentBudget shared out).
     int trailLength() const;

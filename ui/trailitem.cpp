@@ -79,10 +79,12 @@ void TrailItem::setArea(const QRectF &area)
 
 void TrailItem::sample(const World &world)
 {
-    // Every trail holds the positions of the same frames, m_frames.
+    // Every trail holds the positions of the same frames, m_frames (none but the followed one's
+    // when it is followed alone).
     const auto n = static_cast<std::size_t>(world.marbleCount());
-    if (m_trails.size() != n) {
-        m_trails.assign(n, {});
+    if (n != m_sampledCount || m_trails.size() != (m_followedOnly ? 0 : n)) {
+        m_sampledCount = n;
+        m_trails.assign(m_followedOnly ? 0 : n, {});
         m_frames.clear();
         m_movingSegments = 0;
         clearFollowed();
@@ -94,8 +96,9 @@ void TrailItem::sample(const World &world)
     const bool full = static_cast<int>(m_frames.size()) >= m_length;
     if (full)
         m_frames.pop_front();
-    m_frames.push_back(world.frame);
-    for (std::size_t i = 0; i < n; ++i) {
+    if (!m_followedOnly)
+        m_frames.push_back(world.frame);
+    for (std::size_t i = 0; i < m_trails.size(); ++i) {
         auto &trail = m_trails[i];
         if (full)
             dropOldest(trail, m_movingSegments);
@@ -143,6 +146,17 @@ void TrailItem::setFollowed(int i)
             append(m_long, p, m_longMoving);
         m_longFrames.assign(m_frames.begin(), m_frames.end());
     }
+    update();
+}
+
+void TrailItem::setFollowedOnly(bool only)
+{
+    if (only == m_followedOnly)
+        return;
+    m_followedOnly = only;
+    m_trails.clear();
+    m_frames.clear();
+    m_movingSegments = 0;
     update();
 }
 

@@ -49,6 +49,11 @@ public:
     std::vector<QPointF> points(int i) const;
     /// Follows marble i (-1: none) from now on: its long trail starts from its trail so far.
     void setFollowed(int i);
+    /// Keeps and draws the followed marble's trail alone (a crowd too large for every trail);
+    /// switching drops the other trails.
+    void setFollowedOnly(bool only);
+    /// True when only the followed marble's trail is kept.
+    bool followedOnly() const { return m_followedOnly; }
     /// The marble followed, or -1.
     int followed() const { return m_followed; }
     /// The followed marble's long trail, oldest position first.
@@ -79,6 +84,8 @@ private:
     std::deque<std::int64_t> m_frames; ///< frame of each position, shared by all trails
     std::size_t m_movingSegments = 0;  ///< segments whose ends differ, over all trails
     std::vector<std::vector<QLineF>> m_batches; ///< per fade level, kept between paints
+    std::size_t m_sampledCount = 0; ///< marbles of the world sampled last
+    bool m_followedOnly = false;
     int m_followed = -1;
     std::deque<QPointF> m_long;            ///< the followed marble's positions
     std::deque<std::int64_t> m_longFrames; ///< and their frames

@@ -669,12 +669,27 @@ void TestStageView::trailsOffForLargeCrowds()
     QVERIFY(m_view->trailsVisible());
     QVERIFY(m_view->trailsSuppressed());
     QTRY_COMPARE(messages.count(), 1); // queued, so that it follows the window's own messages
-    QVERIFY(messages.front().front().toString().contains(QStringLiteral("Trails are off")));
+    QVERIFY(messages.front().front().toString().contains(QStringLiteral("only the selected marble has a trail")));
     m_document->advance(3);
     QTest::qWait(0);
     QCOMPARE(messages.count(), 1); // said once, not every frame
+    // The selected marble's trail is still kept and drawn; no other is.
+    const TrailItem *trail = itemsOf<TrailItem>(*m_view).front();
+    QVERIFY(trail->isVisible());
+    QVERIFY(trail->followedOnly());
+    QVERIFY(trail->points(0).empty());
+    m_view->selectMarble(3);
+    m_document->advance(4);
+    QCOMPARE(trail->followedPoints().size(), std::size_t(4));
+    QVERIFY(trail->points(3).empty());
+    QVERIFY(m_document->stepBack());
+    QCOMPARE(trail->followedPoints().size(), std::size_t(3));
+    const Vec2 now = m_document->world().position[3];
+    QVERIFY(trail->followedPoints().back().x() == now.x && trail->followedPoints().back().y() == now.y);
+    m_view->clearSelection();
     loadCrowd(StageView::kMaxTrailMarbles);
     QVERIFY(!m_view->trailsSuppressed());
+    QVERIFY(!trail->followedOnly());
     QCOMPARE(m_view->trailLength(), StageView::kMinTrailLength);
     m_view->setTrailsVisible(false);
     loadCrowd(StageView::kMaxTrailMarbles + 1);
