@@ -207,6 +207,8 @@ std::vector<StressRow> stressRows(bool quick)
                         expectFor(m, true, 0, 500)});
         rows.push_back({"speeds up to 1e6 px/frame", m, [m] { return withModel(extremeSpeeds(), m); }, 500,
                         expectFor(m, true, 0, 20)});
+        rows.push_back({"sparse gas, up to 60 px/frame", m, [m] { return withModel(makeSparseGas(), m); }, 500,
+                        expectFor(m, true, 0, 3)});
         {
             const World spawned = spawnedOverlapping();
             // Overlaps present at the start may persist (separating pairs are left alone); none may grow.

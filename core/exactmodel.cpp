@@ -605,25 +605,30 @@ void ExactModel::beginFrame(World &world)
     // 2 rMax apart.
     const double contact = 2.0 * rMax;
     m_margin = anchorMargin * contact;
-    if (m_oversize > 0) {
-        // Cells sized for marbles far smaller than the giants can be small next to how far the
-        // marbles move in a frame, and every margin crossed is a grid event (with a scan of the
-        // neighbourhood): in a sparse scene the margin grows to twice the mean of |vx| + |vy|
-        // (pushes included) times phi1(1), the distance the marbles cover in a frame along the
-        // axes, but not beyond a cell per marble of the stage, past which each event's scan
-        // costs more than the events saved. stress's "radii 0.5 to 500" row (400 marbles of 0.5
-        // to 3 px at up to 20 px/frame among three giants): 1.5e3 frames per second with a
-        // quarter of the contact distance, 3.0e4 with twice the mean; the 20k crowd with four
-        // giants at 20 times its speeds took 4.6 times as long with twice the mean uncapped.
-        double speeds = 0.0;
+    // Small marbles far apart can be small next to how far they move in a frame (a gas, or the
+    // crowd around giants, whose cells are sized for it), and every margin crossed is a grid
+    // event (with a scan of the neighbourhood): in a sparse scene the margin grows to twice the
+    // mean of |vx| + |vy| (pushes included) times phi1(1), the distance the marbles cover in a
+    // frame along the axes, but not beyond half the room a marble has on the stage beside its
+    // contact distance, past which each event's scan costs more than the events saved (a dense
+    // crowd, such as issue 5's, keeps a quarter of the contact distance and does not read the
+    // speeds). stress's "radii 0.5 to 500" row (400 marbles of 0.5 to 3 px at up to 20 px/frame
+    // among three giants): 1.5e3 frames per second with a quarter of the contact distance, 3.0e4
+    // with twice the mean; 2,000 marbles of 1 to 3 px at up to 60 px/frame on a 3000 x 2250
+    // stage, 6.4 -> 0.46 ms per frame; the 20k crowd with four giants at 20 times its speeds took
+    // 4.6 times as long with twice the mean uncapped.
+    const double perMarble = std::sqrt(std::max(m_width, 1.0) * std::max(m_height, 1.0) / n);
+    const double room = 0.5 * (perMarble - contact);
+    if (!m_singleCell && room > m_margin) {
+        // In four lanes, so that the sum is not one chain of dependent additions.
+        double lane[4] = {0.0, 0.0, 0.0, 0.0};
         for (int w = 0; w < n; ++w) {
             const Vec2 v = world.velocity[w];
             const Vec2 a = world.acceleration[w];
-            speeds += std::abs(v.x + a.x) + std::abs(v.y + a.y);
+            lane[w & 3] += std::abs(v.x + a.x) + std::abs(v.y + a.y);
         }
-        const double travel = 2.0 * speeds / n * m_phi1End;
-        const double perMarble = std::sqrt(std::max(m_width, 1.0) * std::max(m_height, 1.0) / n);
-        const double wider = std::min(travel, 0.5 * (perMarble - contact));
+        const double speeds = (lane[0] + lane[1]) + (lane[2] + lane[3]);
+        const double wider = std::min(2.0 * speeds / n * m_phi1End, room);
         if (wider > m_margin && std::isfinite(wider))
             m_margin = wider;
     }

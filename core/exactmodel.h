@@ -62,8 +62,8 @@ public:
     static constexpr int singleCellItems = 64;
     /// A marble may stray this fraction of the largest contact distance from its anchor (its
     /// position at the start of the frame) before it needs a grid event; grid cells are wider by
-    /// twice that margin. (With oversize marbles, in a sparse scene, up to twice the marbles'
-    /// mean travel in a frame: see beginFrame().)
+    /// twice that margin. (In a sparse scene, up to twice the marbles' mean travel in a frame:
+    /// see beginFrame().)
     static constexpr double anchorMargin = 0.25;
     /// From this many marbles on, each event also requests the records of the marbles that the
     /// next events will scan, ahead of time. Measured on the crowd at frames 201-220 (one core,

@@ -268,4 +268,23 @@ World makeCrowdWithGiants(int n, std::uint64_t seed, int giants, double giantRad
     return w;
 }
 
+World makeSparseGas()
+{
+    World w;
+    w.stage = {3000, 2250, true};
+    w.params.friction = 0.0;
+    w.params.zeroThreshold = 0.0;
+    w.params.restitution = 1.0;
+    SplitMix64 rng(7);
+    for (int k = 0; k < 2000; ++k) {
+        const Vec2 p{(k % 50 + 0.5) * 60.0, (k / 50 + 0.5) * 56.0};
+        // One draw per statement (see pachinko()).
+        const double r = rng.uniform(1, 3);
+        const double angle = rng.uniform(0, 6.283185307179586);
+        const double speed = rng.uniform(0, 60);
+        w.addMarble(p, r, {speed * std::cos(angle), speed * std::sin(angle)});
+    }
+    return w;
+}
+
 } // namespace marbles

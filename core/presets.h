@@ -48,6 +48,11 @@ World makeCrowd(int n, std::uint64_t seed, double movingFraction = 1.0);
 /// marbles (RadiusSplit), for benchmarks and tests.
 World makeCrowdWithGiants(int n, std::uint64_t seed, int giants, double giantRadius, double movingFraction = 1.0);
 
+/// A gas: 2,000 marbles of radius uniform in [1, 3] px at speeds uniform in [0, 60] px/frame in
+/// random directions, one per 60 x 56 px cell of a 3000 x 2250 stage, walls on, e = 1, friction
+/// and zero threshold 0: each moves many diameters a frame, far from the others.
+World makeSparseGas();
+
 /// A small deterministic random source (SplitMix64), identical on every platform.
 class SplitMix64 {
 public:
