@@ -612,9 +612,45 @@ void MainWindow::writeSettings()
     QSettings settings;
     settings.setValue(QStringLiteral("window/geometry"), saveGeometry());
     settings.setValue(QStringLiteral("window/state"), saveState());
-    settings.setValue(QStringLiteral("view/vectors"), m_vectorsAction->isChecked());
-    settings.setValue(QStringLiteral("view/trails"), m_trailsAction->isChecked());
+    settings.setValue(QStringLiteral("view/vectors"), checkedBeforePreset(m_vectorsAction));
+    settings.setValue(QStringLiteral("view/trails"), checkedBeforePreset(m_trailsAction));
     settings.setValue(QStringLiteral("run/speedIndex"), m_speedBox->currentIndex());
+}
+
+void MainWindow::applyPresetView(const PresetView &view)
+{
+    // What the preset's lesson needs to be seen; the teacher's other choices stay.
+    auto set = [this](QAction *action, std::optional<bool> value) {
+        if (!value || action->isChecked() == *value)
+            return;
+        m_presetToggles.push_back({action, action->isChecked(), *value});
+        action->setChecked(*value);
+    };
+    set(m_vectorsAction, view.vectors);
+    set(m_trailsAction, view.trails);
+    if (view.selectedMarble >= 0)
+        m_view->selectMarble(view.selectedMarble);
+}
+
+void MainWindow::restoreViewBeforePreset()
+{
+    // Another scene opens: what the last preset switched is switched back, unless the teacher
+    // switched it since (then it is the teacher's own choice).
+    for (const PresetToggle &toggle : m_presetToggles) {
+        if (toggle.action->isChecked() == toggle.set)
+            toggle.action->setChecked(toggle.before);
+    }
+    m_presetToggles.clear();
+}
+
+bool MainWindow::checkedBeforePreset(const QAction *action) const
+{
+    // The teacher's setting, for the settings file: not one a preset made for its own lesson.
+    for (const PresetToggle &toggle : m_presetToggles) {
+        if (toggle.action == action && action->isChecked() == toggle.set)
+            return toggle.before;
+    }
+    return action->isChecked();
 }
 
 QStringList MainWindow::recentFiles() const
@@ -695,13 +731,8 @@ bool MainWindow::openPreset(const QString &id)
     }
     m_document->resetScene(scene);
     m_view->clearSelection();
-    // What the preset's lesson needs to be seen (the teacher's other choices stay).
-    if (view.vectors)
-        m_vectorsAction->setChecked(*view.vectors);
-    if (view.trails)
-        m_trailsAction->setChecked(*view.trails);
-    if (view.selectedMarble >= 0)
-        m_view->selectMarble(view.selectedMarble);
+    restoreViewBeforePreset();
+    applyPresetView(view);
     updateTitle();
     showStatus(tr("Preset \"%1\".").arg(m_presetTitle));
     return true;
@@ -737,6 +768,7 @@ bool MainWindow::openFile(const QString &path)
     hideBarMessage();
     m_document->resetScene(scene, QFileInfo(path).absoluteFilePath());
     m_view->clearSelection(); // marble 3 of the last scene is nothing to this one
+    restoreViewBeforePreset();
     addRecentFile(path);
     showStatus(tr("Opened %1.").arg(QDir::toNativeSeparators(path)));
     return true;

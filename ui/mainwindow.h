@@ -1,10 +1,13 @@
 #pragma once
 
+#include "core/presets.h"
+
 #include <QElapsedTimer>
 #include <QMainWindow>
 #include <QStringList>
 
 #include <memory>
+#include <vector>
 
 class QAction;
 class QActionGroup;
@@ -127,6 +130,9 @@ private:
     void fitFirstWindow();
     void showKeysAndMouse();
     void updateEditActions();
+    void applyPresetView(const PresetView &view);
+    void restoreViewBeforePreset();
+    bool checkedBeforePreset(const QAction *action) const;
 
     SceneDocument *m_document = nullptr;
     StageView *m_view = nullptr;
@@ -136,6 +142,14 @@ private:
     std::unique_ptr<Prompts> m_prompts;
     QString m_presetTitle;
     bool m_firstLayout = false;
+    /// A toggle a preset set for its lesson (PresetView): the teacher's own setting before it,
+    /// given back when another scene opens (and saved in its place) unless changed meanwhile.
+    struct PresetToggle {
+        QAction *action = nullptr;
+        bool before = false;
+        bool set = false;
+    };
+    std::vector<PresetToggle> m_presetToggles;
 
     ParametersDock *m_parametersDock = nullptr;
     PlotDock *m_plotDock = nullptr;

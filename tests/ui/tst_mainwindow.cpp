@@ -356,10 +356,16 @@ void TestMainWindow::saveThenOpenRoundTrips()
     QCOMPARE(doc->fileName(), QFileInfo(path).absoluteFilePath());
     QVERIFY(m_window->windowTitle().contains(QStringLiteral("saved.marbles.json")));
 
-    QVERIFY(m_window->openPreset(QStringLiteral("pins")));
+    // From a preset with a view of its own (Brownian motion: trails on, vectors off, marble 0
+    // selected): the file opens with the teacher's view and nothing selected.
+    const bool vectorsBefore = m_window->stageView()->vectorsVisible();
+    const bool trailsBefore = m_window->stageView()->trailsVisible();
+    QVERIFY(m_window->openPreset(QStringLiteral("brownian")));
     m_window->stageView()->selectMarble(1);
     QVERIFY(m_window->openFile(path));
-    QCOMPARE(m_window->stageView()->selectedMarble(), -1); // nothing of the last scene is selected
+    QCOMPARE(m_window->stageView()->selectedMarble(), -1);
+    QCOMPARE(m_window->stageView()->vectorsVisible(), vectorsBefore);
+    QCOMPARE(m_window->stageView()->trailsVisible(), trailsBefore);
     QCOMPARE(sceneToJson(doc->world()), sceneToJson(saved));
     QCOMPARE(doc->world().mass, saved.mass);
     QCOMPARE(m_window->recentFiles().value(0), QFileInfo(path).absoluteFilePath());
@@ -392,13 +398,26 @@ void TestMainWindow::presetOpensWithItsView()
     QCOMPARE(trail->followed(), 0);
     QCOMPARE(m_window->document()->advance(5), 5);
     QCOMPARE(trail->followedPoints().size(), std::size_t(5));
-    // The teacher's own choice afterwards stays through a preset that needs nothing; a new scene
-    // has nothing selected.
+    // Another scene gives the teacher's view back (a new scene has nothing selected)...
+    QVERIFY(m_window->openPreset(QStringLiteral("pins")));
+    QVERIFY(vectors->isChecked());
+    QVERIFY(!trails->isChecked());
+    QCOMPARE(view->selectedMarble(), -1);
+    // ...but not what the teacher switched meanwhile: that is the teacher's choice.
+    QVERIFY(m_window->openPreset(QStringLiteral("brownian")));
+    QVERIFY(!vectors->isChecked());
     vectors->setChecked(true);
     QVERIFY(m_window->openPreset(QStringLiteral("pins")));
     QVERIFY(vectors->isChecked());
+    QVERIFY(!trails->isChecked());
+    // Closed while the preset's view is on, the window keeps the teacher's settings.
+    QVERIFY(m_window->openPreset(QStringLiteral("brownian")));
     QVERIFY(trails->isChecked());
-    QCOMPARE(view->selectedMarble(), -1);
+    QVERIFY(m_window->close());
+    m_window.reset();
+    makeWindow();
+    QVERIFY(m_window->stageView()->vectorsVisible());
+    QVERIFY(!m_window->stageView()->trailsVisible());
 }
 
 void TestMainWindow::invalidFileLeavesSceneAsItWas()
