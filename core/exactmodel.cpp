@@ -568,6 +568,37 @@ int nextOutsideLayer(const std::uint8_t *inLayer, int w, int n)
 
 } // namespace
 
+double ExactModel::localSpacing(const World &world, double side)
+{
+    // The spacing of the marbles as a marble meets them: with the stage cut into squares of
+    // about `side` px (about four marbles each if spread evenly), a marble shares its square with
+    // sum(count^2) / n marbles on average (itself included), so each of them has a square's area
+    // over that of room: sqrt of it is the spacing. Even spread gives about 0.9 of the stage's area per
+    // marble; a clump, its own. Positions off the stage (or not finite) count in the edge squares.
+    const int n = world.marbleCount();
+    const double width = std::max(m_width, 1.0);
+    const double height = std::max(m_height, 1.0);
+    // At most 4096 squares a side (a stage of absurd size gets larger ones).
+    const int nx = static_cast<int>(std::clamp(std::ceil(width / side), 1.0, 4096.0));
+    const int ny = static_cast<int>(std::clamp(std::ceil(height / side), 1.0, 4096.0));
+    m_spacingCount.assign(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), 0);
+    const double inverseX = nx / width;
+    const double inverseY = ny / height;
+    auto cell = [](double t, int cells) {
+        // t >= 0 fails for NaN too: the first square.
+        return !(t >= 0.0) ? 0 : t < cells ? static_cast<int>(t) : cells - 1;
+    };
+    std::int64_t shared = 0;
+    for (int w = 0; w < n; ++w) {
+        const Vec2 p = world.position[w];
+        const std::size_t k = static_cast<std::size_t>(cell(p.x * inverseX, nx))
+            + static_cast<std::size_t>(nx) * static_cast<std::size_t>(cell(p.y * inverseY, ny));
+        // Sum of count^2 as it grows: (c + 1)^2 - c^2 = 2 c + 1.
+        shared += 2 * static_cast<std::int64_t>(m_spacingCount[k]++) + 1;
+    }
+    return std::sqrt(width / nx * (height / ny) / (static_cast<double>(shared) / n));
+}
+
 void ExactModel::beginFrame(World &world)
 {
     const int n = world.marbleCount();
@@ -609,17 +640,19 @@ void ExactModel::beginFrame(World &world)
     // crowd around giants, whose cells are sized for it), and every margin crossed is a grid
     // event (with a scan of the neighbourhood): in a sparse scene the margin grows to twice the
     // mean of |vx| + |vy| (pushes included) times phi1(1), the distance the marbles cover in a
-    // frame along the axes, but not beyond half the room a marble has on the stage beside its
-    // contact distance, past which each event's scan costs more than the events saved (a dense
-    // crowd, such as issue 5's, keeps a quarter of the contact distance and does not read the
-    // speeds). stress's "radii 0.5 to 500" row (400 marbles of 0.5 to 3 px at up to 20 px/frame
-    // among three giants): 1.5e3 frames per second with a quarter of the contact distance, 3.0e4
-    // with twice the mean; 2,000 marbles of 1 to 3 px at up to 60 px/frame on a 3000 x 2250
-    // stage, 6.4 -> 0.46 ms per frame; the 20k crowd with four giants at 20 times its speeds took
-    // 4.6 times as long with twice the mean uncapped.
+    // frame along the axes, but not beyond half the room a marble has beside its contact
+    // distance, past which each event's scan costs more than the events saved. The room is first
+    // the stage's area per marble (a dense crowd, such as issue 5's, keeps a quarter of the
+    // contact distance and reads nothing more), then the crowding a marble actually meets
+    // (localSpacing(): a clump in a corner of a large stage is dense). stress's "radii 0.5 to
+    // 500" row (400 marbles of 0.5 to 3 px at up to 20 px/frame among three giants): 1.5e3
+    // frames per second with a quarter of the contact distance, 3.0e4 with twice the mean;
+    // 2,000 marbles of 1 to 3 px at up to 60 px/frame on a 3000 x 2250 stage, 6.4 -> 0.46 ms per
+    // frame; the 20k crowd with four giants at 20 times its speeds took 4.6 times as long with
+    // twice the mean uncapped, and 5,000 marbles at up to 20 px/frame packed in a 1000 px square
+    // of a 6000 px stage 1.3 times as long with the stage's room alone.
     const double perMarble = std::sqrt(std::max(m_width, 1.0) * std::max(m_height, 1.0) / n);
-    const double room = 0.5 * (perMarble - contact);
-    if (!m_singleCell && room > m_margin) {
+    if (!m_singleCell && 0.5 * (perMarble - contact) > m_margin) {
         // In four lanes, so that the sum is not one chain of dependent additions.
         double lane[4] = {0.0, 0.0, 0.0, 0.0};
         for (int w = 0; w < n; ++w) {
@@ -627,10 +660,13 @@ void ExactModel::beginFrame(World &world)
             const Vec2 a = world.acceleration[w];
             lane[w & 3] += std::abs(v.x + a.x) + std::abs(v.y + a.y);
         }
-        const double speeds = (lane[0] + lane[1]) + (lane[2] + lane[3]);
-        const double wider = std::min(2.0 * speeds / n * m_phi1End, room);
-        if (wider > m_margin && std::isfinite(wider))
-            m_margin = wider;
+        const double travel = 2.0 * ((lane[0] + lane[1]) + (lane[2] + lane[3])) / n * m_phi1End;
+        if (travel > m_margin && std::isfinite(travel)) {
+            const double room = 0.5 * (localSpacing(world, 2.0 * perMarble) - contact);
+            const double wider = std::min(travel, room);
+            if (wider > m_margin)
+                m_margin = wider;
+        }
     }
     const double width = m_walls ? m_width : std::max(m_width, 1.0);
     const double height = m_walls ? m_height : std::max(m_height, 1.0);

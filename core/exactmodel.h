@@ -109,6 +109,9 @@ public:
     void setSplitRadii(bool on) { m_splitRadii = on; }
     /// Marbles the last frame left out of the grid as oversize (RadiusSplit).
     int lastOversizeCount() const { return m_oversize; }
+    /// How far, px, a marble could stray from its anchor in the last frame before a grid event
+    /// (anchorMargin of the contact distance, or more in a sparse scene: see beginFrame()).
+    double lastAnchorMargin() const { return m_margin; }
 
     /// Events handled in the last frame: collisions, grid events and re-predictions.
     std::int64_t lastEventCount() const { return m_eventCount; }
@@ -166,6 +169,9 @@ private:
     };
 
     void beginFrame(World &world);
+    /// The spacing of the marbles, px, as a marble meets them (the stage cut into squares of
+    /// `side` px); used to cap the anchor margin.
+    double localSpacing(const World &world, double side);
     void makeReady(int end);
     void endFrame(World &world);
     void setNow(double t);
@@ -313,6 +319,7 @@ private:
     std::vector<int> m_start;
     std::vector<int> m_cursor;
     std::vector<int> m_sortBucket;
+    std::vector<int> m_spacingCount; // localSpacing()'s squares
     std::vector<int> m_overflowHead;
     int m_overflowCount = 0;
     UniformGrid m_pinGrid;

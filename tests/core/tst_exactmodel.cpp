@@ -1286,6 +1286,25 @@ void TestExactModel::sparseFastGasWidensTheMargin()
     QCOMPARE_GE(collisions, 500); // a gas, not marbles flying past each other
     QCOMPARE_GE(smallestGap(w), -1e-9);
     QCOMPARE_LE(relativeError(w.kineticEnergy(), e0), 1e-12);
+    // The margin: far beyond a quarter of the contact distance (6 px) in the gas...
+    QCOMPARE_GE(model.lastAnchorMargin(), 10.0);
+    // ...but not for the same marbles packed 12 px apart in a corner of the stage, whose cells
+    // would otherwise hold dozens of them (the stage's area per marble, 58 px, is no guide there):
+    // about half the room a marble has there, (12 - 6) / 2 (3.16 as estimated; 26 from the stage).
+    World clump = makeSparseGas();
+    clump.params.model = ModelKind::Exact;
+    for (int i = 0; i < clump.marbleCount(); ++i)
+        clump.position[i] = {12.0 * (i % 50) + 6.0, 12.0 * (i / 50) + 6.0};
+    ExactModel clumped;
+    run(clump, clumped, 1);
+    QCOMPARE_LE(clumped.lastAnchorMargin(), 4.0);
+    QCOMPARE_GE(smallestGap(clump), -1e-9);
+    // A dense crowd (issue 5's) keeps a quarter of the contact distance, twice its largest radius
+    // (the same arithmetic: the same bits).
+    World crowd = makeCrowd(2000, 3);
+    ExactModel dense;
+    run(crowd, dense, 1);
+    QVERIFY(dense.lastAnchorMargin() == ExactModel::anchorMargin * (2.0 * largestOf(crowd.radius)));
 }
 
 void TestExactModel::oversizeMarbleReachesFarInOneFrame()
