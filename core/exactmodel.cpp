@@ -1539,14 +1539,20 @@ void ExactModel::scanEveryMarble(int i, const Vec2 &p, const Vec2 &v, Event &bes
         offerPair(i, j, p, v, best);
 }
 
-void ExactModel::firstLookOversize(int i, const FirstLook &look, Event &best)
+void ExactModel::firstLookAtOversize(int i, const FirstLook &look, Event &best)
 {
-    // The first look of an oversize marble (they come first: every partner has a higher index,
-    // unless it rests): as scanEveryMarble(), before any marble has left its bucket.
+    // The first look of i at the oversize marbles (internal 0 .. m_oversize - 1).
     for (int j = 0; j < m_oversize; ++j) {
         if (testedFrom(i, j))
             offerFirstLook(i, j, look, best);
     }
+}
+
+void ExactModel::firstLookOversize(int i, const FirstLook &look, Event &best)
+{
+    // The first look of an oversize marble (they come first: every partner has a higher index,
+    // unless it rests): as scanEveryMarble(), before any marble has left its bucket.
+    firstLookAtOversize(i, look, best);
     const bool bounded = bucketsInReach(i, [&](int b0, int b1) { firstLookRun(i, look, b0, b1, best); });
     if (!bounded)
         firstLookRun(i, look, 0, m_geometry.bucketCount(), best);
@@ -1640,10 +1646,7 @@ void ExactModel::firstLookWithSleepers(int i, const FirstLook &look, Event &best
     const int runCount = runsAround(m_body[i].bucket, runs, [](int b) { return b; });
     for (int r = 0; r < runCount; ++r)
         firstLookRun(i, look, runs[2 * r], runs[2 * r + 1], best);
-    for (int j = 0; j < m_oversize; ++j) {
-        if (testedFrom(i, j))
-            offerFirstLook(i, j, look, best);
-    }
+    firstLookAtOversize(i, look, best);
 }
 
 void ExactModel::firstLookRun(int i, const FirstLook &look, int firstBucket, int lastBucket, Event &best)

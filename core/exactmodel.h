@@ -225,6 +225,7 @@ private:
     [[gnu::noinline]] void firstLookOversize(int i, const FirstLook &look, Event &best);
     [[gnu::noinline]] void firstLookWithSleepers(int i, const FirstLook &look, Event &best);
     void firstLookRun(int i, const FirstLook &look, int firstBucket, int lastBucket, Event &best);
+    void firstLookAtOversize(int i, const FirstLook &look, Event &best);
     void predictAll();
     void predictOwn(int i, Vec2 p, Vec2 v, Event &best);
     void predict(int i);
