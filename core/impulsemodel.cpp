@@ -30,6 +30,34 @@ void appendRun(SlotRange out[], int &count, int lo, int hi)
         out[count++] = {lo, hi};
 }
 
+// The walls along one axis for a marble of radius r at x moving at v, on a stage `side` wide:
+// clamped inside, and the velocity across the wall reflected with e when moving outward.
+// Returns the outward normal's sign along the axis where it bounced (-1 the low wall, +1 the
+// high one), else 0. A marble too wide for the stage along the axis cannot be clamped inside:
+// put against one wall it is past the other, and it jumped from wall to wall by 2 r - side
+// every sub-step. It is held centred between the two walls instead, stopped along that axis
+// (the exact model holds it likewise).
+[[gnu::always_inline]] inline int clampToWalls(double &x, double &v, double r, double side, double e)
+{
+    if (2.0 * r > side) {
+        x = 0.5 * side;
+        v = 0.0;
+    } else if (x - r < 0.0) {
+        x = r;
+        if (v < 0.0) {
+            v = -e * v;
+            return -1;
+        }
+    } else if (x + r > side) {
+        x = side - r;
+        if (v > 0.0) {
+            v = -e * v;
+            return 1;
+        }
+    }
+    return 0;
+}
+
 } // namespace
 
 bool ImpulseModel::sortIntoBuckets(const World &world, int awake)
@@ -522,45 +550,12 @@ void ImpulseModel::step(World &world)
             // Walls: clamp inside, and reflect the normal component with e when moving outward.
             if (stage.walls) {
                 const Vec2 in = vel;
-                Vec2 nrm{};
                 if (trackSleep && (b.x - r < 0.0 || b.x + r > stage.width || b.y - r < 0.0 || b.y + r > stage.height))
                     clear = false;
-                // A marble too wide for the stage along an axis cannot be clamped inside: put
-                // against one wall it is past the other, and it jumped from wall to wall by
-                // 2 r - side every sub-step. It is held centred between the two walls instead,
-                // stopped along that axis (the exact model holds it likewise).
-                if (2.0 * r > stage.width) {
-                    b.x = 0.5 * stage.width;
-                    vel.x = 0.0;
-                } else if (b.x - r < 0.0) {
-                    b.x = r;
-                    if (vel.x < 0.0) {
-                        vel.x = -e * vel.x;
-                        nrm = {-1.0, 0.0};
-                    }
-                } else if (b.x + r > stage.width) {
-                    b.x = stage.width - r;
-                    if (vel.x > 0.0) {
-                        vel.x = -e * vel.x;
-                        nrm = {1.0, 0.0};
-                    }
-                }
-                if (2.0 * r > stage.height) {
-                    b.y = 0.5 * stage.height;
-                    vel.y = 0.0;
-                } else if (b.y - r < 0.0) {
-                    b.y = r;
-                    if (vel.y < 0.0) {
-                        vel.y = -e * vel.y;
-                        nrm = {0.0, -1.0};
-                    }
-                } else if (b.y + r > stage.height) {
-                    b.y = stage.height - r;
-                    if (vel.y > 0.0) {
-                        vel.y = -e * vel.y;
-                        nrm = {0.0, 1.0};
-                    }
-                }
+                const int bounceX = clampToWalls(b.x, vel.x, r, stage.width, e);
+                const int bounceY = clampToWalls(b.y, vel.y, r, stage.height, e);
+                // The record's normal is the last wall's (y after x, in a corner).
+                const Vec2 nrm = bounceY != 0 ? Vec2{0.0, static_cast<double>(bounceY)} : Vec2{static_cast<double>(bounceX), 0.0};
                 if (nrm.x != 0.0 || nrm.y != 0.0)
                     world.lastHit[b.id] = HitRecord::of(hitFrame, in, nrm, vel);
             }
