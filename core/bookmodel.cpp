@@ -235,14 +235,14 @@ void BookModel::step(World &world)
 
         // 3. The book's ZERO: a geometric decay never reaches 0, so small components are
         //    declared to be exactly 0 (the marbles stop "sliding like on ice").
-        //    (Both comparisons without a short circuit: the first alone holds for every other
-        //    marble, one branch that could not be predicted; together they rarely hold. 1k crowd
-        //    7 % less time per frame.)
-        const bool zeroX = (v.x >= -zero) & (v.x <= zero);
-        const bool zeroY = (v.y >= -zero) & (v.y <= zero);
-        if (zeroX)
+        //    The book tests -ZERO <= v.x <= ZERO, written here as |v.x| <= ZERO: the same
+        //    answer for every pair of doubles (+-0, infinities and NaN included, and a negative
+        //    ZERO, which holds for none), in one comparison. Compiled as the book writes it, the
+        //    first half alone became a branch that held for every other moving marble and could
+        //    not be predicted.
+        if (std::abs(v.x) <= zero)
             v.x = 0;
-        if (zeroY)
+        if (std::abs(v.y) <= zero)
             v.y = 0;
 
         // 4. Move: p(f+1) = p(f) + v(f+1), keeping the old position to fall back to.
