@@ -124,6 +124,15 @@ void TestBookModel::zeroThreshold_data()
     QTest::addRow("inside") << z << 0.004 << 0.0;
     QTest::addRow("Z = 0 keeps tiny") << 0.0 << 1e-300 << 1e-300;
     QTest::addRow("Z = 100 stops fast marble") << 100.0 << 99.5 << 0.0;
+    // The book's -Z <= v <= Z at the edges of the doubles (the model writes it |v| <= Z).
+    QTest::addRow("-0 becomes +0") << z << -0.0 << 0.0;
+    QTest::addRow("Z = 0: -0 becomes +0") << 0.0 << -0.0 << 0.0;
+    QTest::addRow("Z = -0: -0 becomes +0") << -0.0 << -0.0 << 0.0;
+    QTest::addRow("negative Z stops nothing") << -0.5 << 0.25 << 0.25;
+    QTest::addRow("negative Z keeps -0.25") << -0.5 << -0.25 << -0.25;
+    const double inf = std::numeric_limits<double>::infinity();
+    QTest::addRow("infinite Z stops any finite speed") << inf << -1e300 << 0.0;
+    QTest::addRow("infinite Z stops an infinite speed") << inf << inf << 0.0;
 }
 
 void TestBookModel::zeroThreshold()
