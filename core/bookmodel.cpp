@@ -359,12 +359,11 @@ void BookModel::step(World &world)
                         test(j);
                     sortSmall(m_hits.begin(), m_hits.end());
                 };
-                // Marble i's own record is put at infinity while it looks for others (and back
-                // after): the grid lists i itself near its old place, and every time it passed
-                // the test below to be turned down later, a branch mispredicted.
-                Body &self = m_bodies[static_cast<std::size_t>(i)];
-                const Vec2 selfAt = self.p;
-                self.p = m_bodies.back().p;
+                // Marble i's own record is put at infinity while it looks for others (the end of
+                // its turn, step 8, writes its place there again): the grid lists i itself near
+                // its old place, and every time it passed the test below to be turned down later,
+                // a branch mispredicted.
+                m_bodies[static_cast<std::size_t>(i)].p = m_bodies.back().p;
                 touchersOf(p, -1);
                 if (!m_hits.empty() && !(p == old)) {
                     const int first = m_hits.front();
@@ -379,7 +378,6 @@ void BookModel::step(World &world)
                     if (shortCircuit)
                         break;
                 }
-                self.p = selfAt;
             }
         }
 
@@ -387,6 +385,7 @@ void BookModel::step(World &world)
         a.x = 0;
         a.y = 0;
 
+        // The grid's record of i (at infinity if i looked for marbles in it) follows i.
         if (m_useMarbleGrid && !sameBits(p, m_bodies[static_cast<std::size_t>(i)].p)) {
             m_bodies[static_cast<std::size_t>(i)].p = p;
             if (!m_split.isOversize(r))
