@@ -332,9 +332,9 @@ void BookModel::step(World &world)
                     m_hits.clear();
                     auto test = [&](int j) __attribute__((always_inline)) {
                         // One well-predicted branch per candidate: the clear-miss test of
-                        // touches() evaluated without short-circuits. Only marble i itself, the
-                        // empty slots' record (at infinity, when `at` is too) and near
-                        // neighbours get past it.
+                        // touches() evaluated without short-circuits. Only near neighbours get
+                        // past it (and, where `at` is at infinity too, the records there: the
+                        // empty slots' and marble i's own, see below).
                         const Body &b = m_bodies[static_cast<std::size_t>(j)];
                         const double reach = r + b.r;
                         const double dx = at.x - b.p.x;
