@@ -14,6 +14,8 @@
 
 using namespace marbles;
 
+Q_DECLARE_METATYPE(marbles::Vec2)
+
 namespace {
 
 World bareWorld(double friction, int substeps, bool walls = false)
@@ -48,6 +50,8 @@ private slots:
     void dragFactorPerFrame_data();
     void dragFactorPerFrame();
     void wallsClampAndReflect();
+    void eachWallAndCorner_data();
+    void eachWallAndCorner();
     void tooWideMarbleHeldCentred();
     void pinPushesOutAndReflects();
     void convergesToExactAtFirstOrder_data();
@@ -138,6 +142,49 @@ void TestImpulseModel::wallsClampAndReflect()
     QCOMPARE(w.velocity[0].x, -2.0);
     QCOMPARE(w.lastHit[0].frame, std::int64_t(1));
     QCOMPARE(w.lastHit[0].normal, (Vec2{1.0, 0.0}));
+}
+
+void TestImpulseModel::eachWallAndCorner_data()
+{
+    QTest::addColumn<Vec2>("start");
+    QTest::addColumn<Vec2>("velocity");
+    QTest::addColumn<Vec2>("clamped");
+    QTest::addColumn<Vec2>("reflected");
+    QTest::addColumn<Vec2>("normal");
+    // Radius 10 on 800 x 600, e = 0.5: each wall clamps the centre 10 px inside and turns the
+    // speed across it round at half; in a corner both, and the record keeps the last wall's
+    // normal (y after x).
+    QTest::addRow("left") << Vec2{12, 300} << Vec2{-4, 1} << Vec2{10, 301} << Vec2{2, 1} << Vec2{-1, 0};
+    QTest::addRow("right") << Vec2{788, 300} << Vec2{4, 1} << Vec2{790, 301} << Vec2{-2, 1} << Vec2{1, 0};
+    QTest::addRow("top") << Vec2{400, 12} << Vec2{1, -4} << Vec2{401, 10} << Vec2{1, 2} << Vec2{0, -1};
+    QTest::addRow("bottom") << Vec2{400, 588} << Vec2{1, 4} << Vec2{401, 590} << Vec2{1, -2} << Vec2{0, 1};
+    QTest::addRow("top-left corner") << Vec2{12, 12} << Vec2{-4, -4} << Vec2{10, 10} << Vec2{2, 2} << Vec2{0, -1};
+    QTest::addRow("bottom-right corner") << Vec2{788, 588} << Vec2{4, 4} << Vec2{790, 590} << Vec2{-2, -2}
+                                         << Vec2{0, 1};
+    QTest::addRow("past the wall, moving in") << Vec2{5, 300} << Vec2{3, 0} << Vec2{10, 300} << Vec2{3, 0} << Vec2{};
+}
+
+void TestImpulseModel::eachWallAndCorner()
+{
+    QFETCH(Vec2, start);
+    QFETCH(Vec2, velocity);
+    QFETCH(Vec2, clamped);
+    QFETCH(Vec2, reflected);
+    QFETCH(Vec2, normal);
+    World w = bareWorld(0.0, 1, true);
+    w.params.restitution = 0.5;
+    w.addMarble(start, 10, velocity);
+    ImpulseModel model;
+    run(w, model, 1);
+    QCOMPARE(w.position[0], clamped);
+    QCOMPARE(w.velocity[0], reflected);
+    if (normal == Vec2{}) {
+        QCOMPARE(w.lastHit[0].frame, std::int64_t(-1)); // clamped, but no bounce to record
+    } else {
+        QCOMPARE(w.lastHit[0].frame, std::int64_t(1));
+        QCOMPARE(w.lastHit[0].normal, normal);
+        QCOMPARE(w.lastHit[0].velocityOut, unitOrZero(reflected));
+    }
 }
 
 void TestImpulseModel::tooWideMarbleHeldCentred()
