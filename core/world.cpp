@@ -165,7 +165,7 @@ void World::push(int i, Vec2 at)
 void World::applyScriptedPushes()
 {
     for (const Push &p : pushes) {
-        if (p.frame == frame && p.marble >= 0 && p.marble < marbleCount())
+        if (appliesNow(p))
             push(p.marble, p.at);
     }
 }

@@ -161,6 +161,9 @@ public:
     /// Applies the scripted pushes of the current frame (those in `pushes` for `frame`), in file
     /// order, as step() does before the model runs.
     void applyScriptedPushes();
+    /// Whether the next step() applies scripted push `p` (it is for this frame, on a marble
+    /// that exists).
+    bool appliesNow(const Push &p) const { return p.frame == frame && p.marble >= 0 && p.marble < marbleCount(); }
 
     /// Advances one frame with params.model: scripted pushes for this frame, then the model.
     /// Returns whether every marble is still finite.

@@ -442,7 +442,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t *data, std::size_t size
         // update), nor with a marble as wide as the stage (held centred between the walls, which
         // may lift it).
         const bool scripted = std::any_of(kept.pushes.begin(), kept.pushes.end(),
-                                          [&](const Push &push) { return push.frame == kept.frame; });
+                                          [&](const Push &push) { return kept.appliesNow(push); });
         const double side = std::min(kept.stage.width, kept.stage.height);
         const bool tooWide = kept.stage.walls
             && std::any_of(kept.radius.begin(), kept.radius.end(), [&](double r) { return !(2.0 * r < side); });
