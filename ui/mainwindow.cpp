@@ -633,6 +633,16 @@ void MainWindow::applyPresetView(const PresetView &view)
         m_view->selectMarble(view.selectedMarble);
 }
 
+void MainWindow::showScene(const World &scene, const QString &fileName)
+{
+    // Another scene replaces the open one (a preset or a file): nothing of the last scene stays
+    // selected (its marble 3 is nothing to this one), and what a preset switched for its lesson
+    // is switched back.
+    m_document->resetScene(scene, fileName);
+    m_view->clearSelection();
+    restoreViewBeforePreset();
+}
+
 void MainWindow::restoreViewBeforePreset()
 {
     // Another scene opens: what the last preset switched is switched back, unless the teacher
@@ -730,9 +740,7 @@ bool MainWindow::openPreset(const QString &id)
             view = preset.view;
         }
     }
-    m_document->resetScene(scene);
-    m_view->clearSelection();
-    restoreViewBeforePreset();
+    showScene(scene, QString());
     applyPresetView(view);
     updateTitle();
     showStatus(tr("Preset \"%1\".").arg(m_presetTitle));
@@ -767,9 +775,7 @@ bool MainWindow::openFile(const QString &path)
         return false;
     m_run->pause();
     hideBarMessage();
-    m_document->resetScene(scene, QFileInfo(path).absoluteFilePath());
-    m_view->clearSelection(); // marble 3 of the last scene is nothing to this one
-    restoreViewBeforePreset();
+    showScene(scene, QFileInfo(path).absoluteFilePath());
     addRecentFile(path);
     showStatus(tr("Opened %1.").arg(QDir::toNativeSeparators(path)));
     return true;

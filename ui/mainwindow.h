@@ -130,6 +130,7 @@ private:
     void fitFirstWindow();
     void showKeysAndMouse();
     void updateEditActions();
+    void showScene(const World &scene, const QString &fileName);
     void applyPresetView(const PresetView &view);
     void restoreViewBeforePreset();
     bool checkedBeforePreset(const QAction *action) const;
