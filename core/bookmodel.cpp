@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -251,6 +252,8 @@ void BookModel::step(World &world)
         p.y += v.y;
 
         bool hit = false;
+        // The grid's bucket of p where it looked for marbles (-1: did not look).
+        int newBucket = -1;
 
         // 5. Walls: a marble past an edge and still moving outwards goes back to where it was
         //    and its velocity component across that edge is reversed (a mirror bounce).
@@ -328,7 +331,8 @@ void BookModel::step(World &world)
                 // against them, and they against the marbles of the cells within their radius
                 // and the grid's largest (every marble, where that is the whole lattice).
                 const bool oversize = m_split.isOversize(r);
-                auto touchersOf = [&](Vec2 at, int after) {
+                // Returns the bucket of `at` (-1 for an oversize marble, which is in none).
+                auto touchersOf = [&](Vec2 at, int after) -> int {
                     m_hits.clear();
                     auto test = [&](int j) __attribute__((always_inline)) {
                         // One well-predicted branch per candidate: the clear-miss test of
@@ -346,25 +350,27 @@ void BookModel::step(World &world)
                                 m_hits.push_back(j);
                         }
                     };
+                    int bucket = -1;
                     if (!oversize) [[likely]] {
-                        m_marbleGrid.forEachNear(at, test);
+                        bucket = m_marbleGrid.forEachNear(at, test);
                     } else if (const double reach = r + m_split.cut;
                                !m_marbleGrid.forEachInBox(at.x - reach, at.x + reach, at.y - reach, at.y + reach,
                                                           test)) {
                         for (int j = after + 1; j < n; ++j)
                             test(j); // in ascending order: no sort
-                        return;
+                        return bucket;
                     }
                     for (const int j : m_oversize)
                         test(j);
                     sortSmall(m_hits.begin(), m_hits.end());
+                    return bucket;
                 };
                 // Marble i's own record is put at infinity while it looks for others (the end of
                 // its turn, step 8, writes its place there again): the grid lists i itself near
                 // its old place, and every time it passed the test below to be turned down later,
                 // a branch mispredicted.
                 m_bodies[static_cast<std::size_t>(i)].p = m_bodies.back().p;
-                touchersOf(p, -1);
+                newBucket = touchersOf(p, -1);
                 if (!m_hits.empty() && !(p == old)) {
                     const int first = m_hits.front();
                     collide(first, m_bodies[static_cast<std::size_t>(first)].p, m_bodies[static_cast<std::size_t>(first)].m);
@@ -385,11 +391,16 @@ void BookModel::step(World &world)
         a.x = 0;
         a.y = 0;
 
-        // The grid's record of i (at infinity if i looked for marbles in it) follows i.
+        // The grid's record of i (at infinity if i looked for marbles in it) follows i. After a
+        // hit p is old again, in the bucket i was in (prepare() checked that the records are the
+        // marbles' places, and i's own turn alone moves i); otherwise p is where i looked from,
+        // whose bucket that look found.
         if (m_useMarbleGrid && !sameBits(p, m_bodies[static_cast<std::size_t>(i)].p)) {
             m_bodies[static_cast<std::size_t>(i)].p = p;
-            if (!m_split.isOversize(r))
-                m_marbleGrid.update(i, p);
+            if (!m_split.isOversize(r) && !sameBits(p, old)) {
+                assert(newBucket >= 0);
+                m_marbleGrid.moveTo(i, newBucket);
+            }
         }
     }
 }
@@ -565,9 +576,8 @@ void MovingGrid::leaveOut(int i)
     m_bucketOf[static_cast<std::size_t>(i)] = -1;
 }
 
-void MovingGrid::update(int i, Vec2 to)
+void MovingGrid::moveTo(int i, int b)
 {
-    const int b = bucketOf(to);
     int &current = m_bucketOf[static_cast<std::size_t>(i)];
     if (b == current)
         return;

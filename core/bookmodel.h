@@ -21,14 +21,18 @@ public:
     int size() const { return static_cast<int>(m_bucketOf.size()); }
     /// Moves body i to the bucket of `to` (no-op when the bucket is unchanged). Not for a body
     /// left out.
-    void update(int i, Vec2 to);
+    void update(int i, Vec2 to) { moveTo(i, bucketOf(to)); }
+    /// Moves body i to bucket b (no-op when it is there): b must be the bucket of its position,
+    /// as forEachNear() returns it.
+    void moveTo(int i, int b);
     /// Takes body i out of the grid (until the next build): forEachNear() no longer visits it.
     void leaveOut(int i);
     /// Calls `visit(j)` for every body j (self included) in the 3 x 3 cells around `at`, each
     /// once, in no particular order; also calls `visit(size())` for some empty slots, which the
-    /// caller must treat as a sure miss. `visit` must not move bodies.
+    /// caller must treat as a sure miss. `visit` must not move bodies. Returns the bucket of
+    /// `at` (the neighbourhood's centre).
     template<typename Visit>
-    void forEachNear(Vec2 at, Visit &&visit) const;
+    int forEachNear(Vec2 at, Visit &&visit) const;
     /// Calls `visit(j)` for every body j in the cells meeting the box [x0, x1] x [y0, y1], each
     /// once (and for some empty slots, as forEachNear()); returns false, visiting nothing, when
     /// that would be every bucket.
@@ -82,7 +86,7 @@ template<typename Visit>
 }
 
 template<typename Visit>
-void MovingGrid::forEachNear(Vec2 at, Visit &&visit) const
+int MovingGrid::forEachNear(Vec2 at, Visit &&visit) const
 {
     // The 9 buckets of a neighbourhood are distinct (the lattice has >= 3 buckets a side), so
     // every body is visited once. Inside the lattice (the common case) the neighbourhood is
@@ -98,12 +102,13 @@ void MovingGrid::forEachNear(Vec2 at, Visit &&visit) const
             forEachIn(row, visit);
             forEachIn(row + 1, visit);
         }
-        return;
+        return centre;
     }
     int buckets[9];
     m_geometry.neighbourhood(m_geometry.coord(at.x), m_geometry.coord(at.y), buckets);
     for (int b : buckets)
         forEachIn(b, visit);
+    return buckets[4]; // bucket(coord(at.x), coord(at.y)), as bucketAt() computes it
 }
 
 template<typename Visit>
