@@ -633,14 +633,20 @@ void MainWindow::applyPresetView(const PresetView &view)
         m_view->selectMarble(view.selectedMarble);
 }
 
-void MainWindow::showScene(const World &scene, const QString &fileName)
+bool MainWindow::replaceScene(const World &scene, const QString &fileName, const QString &presetTitle)
 {
-    // Another scene replaces the open one (a preset or a file): nothing of the last scene stays
-    // selected (its marble 3 is nothing to this one), and what a preset switched for its lesson
-    // is switched back.
+    // Another scene replaces the open one (a preset or a file), once the teacher has had the
+    // chance to save changes: the run stops, nothing of the last scene stays selected (its
+    // marble 3 is nothing to this one), and what a preset switched for its lesson is switched back.
+    if (!maybeSave())
+        return false;
+    m_run->pause();
+    hideBarMessage();
+    m_presetTitle = presetTitle;
     m_document->resetScene(scene, fileName);
     m_view->clearSelection();
     restoreViewBeforePreset();
+    return true;
 }
 
 void MainWindow::restoreViewBeforePreset()
@@ -705,7 +711,7 @@ bool MainWindow::maybeSave()
 {
     if (!m_document->isModified())
         return true;
-    switch (m_prompts->askSaveChanges(this, m_document->displayName())) {
+    switch (m_prompts->askSaveChanges(this, sceneName())) {
     case Prompts::SaveChoice::Save:
         return save();
     case Prompts::SaveChoice::Discard:
@@ -729,18 +735,16 @@ bool MainWindow::openPreset(const QString &id)
         showStatus(tr("No preset named \"%1\".").arg(id));
         return false;
     }
-    if (!maybeSave())
-        return false;
-    m_run->pause();
-    hideBarMessage();
+    QString title;
     PresetView view;
     for (const PresetInfo &preset : presets()) {
         if (preset.id == key.toStdString()) {
-            m_presetTitle = QString::fromStdString(preset.title);
+            title = QString::fromStdString(preset.title);
             view = preset.view;
         }
     }
-    showScene(scene, QString());
+    if (!replaceScene(scene, QString(), title))
+        return false;
     applyPresetView(view);
     updateTitle();
     showStatus(tr("Preset \"%1\".").arg(m_presetTitle));
@@ -771,11 +775,8 @@ bool MainWindow::openFile(const QString &path)
         m_prompts->showError(this, tr("Cannot open the scene"), error);
         return false;
     }
-    if (!maybeSave())
+    if (!replaceScene(scene, QFileInfo(path).absoluteFilePath(), QString()))
         return false;
-    m_run->pause();
-    hideBarMessage();
-    showScene(scene, QFileInfo(path).absoluteFilePath());
     addRecentFile(path);
     showStatus(tr("Opened %1.").arg(QDir::toNativeSeparators(path)));
     return true;
@@ -1044,12 +1045,15 @@ void MainWindow::showStatus(const QString &text)
         statusBar()->showMessage(text, 8000);
 }
 
+QString MainWindow::sceneName() const
+{
+    return m_document->fileName().isEmpty() && !m_presetTitle.isEmpty() ? tr("%1 (preset)").arg(m_presetTitle)
+                                                                         : m_document->displayName();
+}
+
 void MainWindow::updateTitle()
 {
-    const QString name = m_document->fileName().isEmpty() && !m_presetTitle.isEmpty()
-        ? tr("%1 (preset)").arg(m_presetTitle)
-        : m_document->displayName();
-    setWindowTitle(tr("%1[*] — Marbles").arg(name));
+    setWindowTitle(tr("%1[*] — Marbles").arg(sceneName()));
     setWindowModified(m_document->isModified());
     if (!m_document->fileName().isEmpty())
         m_presetTitle.clear();

@@ -122,6 +122,8 @@ private:
     void showBarMessage(const QString &text);
     void hideBarMessage();
     void showStatus(const QString &text);
+    /// The open scene's name, as the title bar and the save prompt show it.
+    QString sceneName() const;
     void updateTitle();
     void updateFrameDisplay();
     void updateStatistics();
@@ -130,7 +132,8 @@ private:
     void fitFirstWindow();
     void showKeysAndMouse();
     void updateEditActions();
-    void showScene(const World &scene, const QString &fileName);
+    /// Asks to save changes, then opens `scene` in place of the open one; false if cancelled.
+    bool replaceScene(const World &scene, const QString &fileName, const QString &presetTitle);
     void applyPresetView(const PresetView &view);
     void restoreViewBeforePreset();
     bool checkedBeforePreset(const QAction *action) const;

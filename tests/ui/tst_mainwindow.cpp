@@ -50,12 +50,14 @@ public:
     QString openName;
     QString saveName;
     int saveQuestions = 0;
+    QString savedSceneName; // the scene the last save question named
     int recoverQuestions = 0;
     QStringList errors;
 
-    SaveChoice askSaveChanges(QWidget *, const QString &) override
+    SaveChoice askSaveChanges(QWidget *, const QString &name) override
     {
         ++saveQuestions;
+        savedSceneName = name;
         return saveChoice;
     }
     bool askRecover(QWidget *, const QString &) override
@@ -471,12 +473,22 @@ void TestMainWindow::unsavedChangesAreAskedAbout()
     m_prompts->saveName = dir.filePath(QStringLiteral("edited.marbles.json"));
     QCOMPARE(m_window->openFile(other), opened);
     QCOMPARE(m_prompts->saveQuestions, 1);
+    // The question names the scene as the title bar did: the preset the window opened on.
+    QCOMPARE(m_prompts->savedSceneName, QStringLiteral("Four marbles (Figure 11.8) (preset)"));
     QCOMPARE(sceneToJson(doc->world()), sceneToJson(opened ? pins : edited));
     if (static_cast<Prompts::SaveChoice>(choice) == Prompts::SaveChoice::Save) {
         QString error;
         World reread;
         QVERIFY(SceneDocument::readSceneFile(m_prompts->saveName, reread, &error));
         QCOMPARE(reread.radius[0], 33.0);
+    }
+    // A scene read from a file is named by its file.
+    if (opened) {
+        QVERIFY(doc->setMarbleRadius(0, 34.0).isEmpty());
+        m_prompts->saveChoice = Prompts::SaveChoice::Cancel;
+        QVERIFY(!m_window->openPreset(QStringLiteral("pins")));
+        QCOMPARE(m_prompts->savedSceneName, QStringLiteral("other.marbles.json"));
+        QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("other.marbles.json[*]")));
     }
 }
 
