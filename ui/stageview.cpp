@@ -415,10 +415,14 @@ void StageView::mousePressEvent(QMouseEvent *event)
     m_pressPos = event->position();
     m_gesture = Gesture::None;
     switch (m_tool) {
-    case Tool::AddMarble:
+    case Tool::AddMarble: {
+        // The new marble is selected; where there was no room for one, the selection stays.
+        const int before = m_document->world().marbleCount();
         report(m_document->addMarble(p, kNewMarbleRadius));
-        selectMarble(m_document->world().marbleCount() - 1);
+        if (m_document->world().marbleCount() > before)
+            selectMarble(before);
         return;
+    }
     case Tool::AddPin:
         report(m_document->addPin(p));
         return;

@@ -56,6 +56,7 @@ private Q_SLOTS:
     void pinDragIsOneUndoStep();
     void addToolsPlaceOnFreeSpots_data();
     void addToolsPlaceOnFreeSpots();
+    void addMarbleWithoutRoomKeepsTheSelection();
     void vectorsFollowLastHit();
     void shortMoveIsStillAClick_data();
     void shortMoveIsStillAClick();
@@ -260,6 +261,29 @@ void TestStageView::addToolsPlaceOnFreeSpots()
         QVERIFY(isFreeSpot(w, w.pins.back(), 0.0, BodyKind::Pin, -1, static_cast<int>(pins)));
     }
     QCOMPARE(m_document->undoStack()->count(), 1);
+}
+
+void TestStageView::addMarbleWithoutRoomKeepsTheSelection()
+{
+    // A stage filled with marbles as wide as a new one: nowhere to put it. The click says so and
+    // leaves the scene and the selection as they were.
+    World w;
+    w.stage = {200.0, 200.0, true};
+    for (int row = 0; row < 5; ++row) {
+        for (int col = 0; col < 5; ++col)
+            w.addMarble({20.0 + 40.0 * col, 20.0 + 40.0 * row}, StageView::kNewMarbleRadius);
+    }
+    m_document->resetScene(w);
+    m_view->selectMarble(12);
+    QSignalSpy messages(m_view.get(), &StageView::message);
+    m_view->setTool(StageView::Tool::AddMarble);
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, m_view->viewportPoint({100, 100}));
+    QCOMPARE(m_document->world().marbleCount(), 25);
+    QCOMPARE(m_document->undoStack()->count(), 0);
+    QCOMPARE(m_view->selectedMarble(), 12);
+    QCOMPARE(messages.size(), 1);
+    QVERIFY2(messages.first().first().toString().startsWith(QStringLiteral("No free spot")),
+             qPrintable(messages.first().first().toString()));
 }
 
 void TestStageView::vectorsFollowLastHit()
