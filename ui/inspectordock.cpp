@@ -8,7 +8,11 @@
 #include <QFormLayout>
 #include <QLabel>
 #include <QSignalBlocker>
+#include <QStringList>
 #include <QVBoxLayout>
+
+#include <cmath>
+#include <utility>
 
 namespace marbles {
 
@@ -73,6 +77,14 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     form->addRow(tr("vy"), m_vy);
     layout->addWidget(m_form);
 
+    // A field shows numbers within its range only; a marble past it (the book's blow-up at a
+    // friction above 2 reaches 1e27 px/frame and more) gets its true numbers said here.
+    m_beyond = new QLabel(body);
+    m_beyond->setObjectName(QStringLiteral("beyondNote"));
+    m_beyond->setWordWrap(true);
+    m_beyond->setVisible(false);
+    layout->addWidget(m_beyond);
+
     m_error = new QLabel(body);
     m_error->setWordWrap(true);
     m_error->setStyleSheet(QStringLiteral("color: #b00020;"));
@@ -120,23 +132,38 @@ void InspectorDock::refresh()
         // No stale numbers of a marble that is not selected: the fields go away until one is.
         m_form->setEnabled(false);
         m_form->setVisible(false);
+        m_beyond->setVisible(false);
         return;
     }
     const QString name = QString::fromStdString(world.info[m_marble].name);
     m_title->setText(name.isEmpty() ? tr("Marble %1").arg(m_marble) : tr("Marble %1 — %2").arg(m_marble).arg(name));
     m_form->setEnabled(true);
     m_form->setVisible(true);
-    showValue(m_radius, world.radius[m_marble]);
-    showValue(m_mass, world.mass[m_marble]);
+    // Each field shows its number; one past the field's range is said in words below them.
+    QStringList beyond;
+    const std::pair<QDoubleSpinBox *, double> shown[] = {
+        {m_radius, world.radius[m_marble]}, {m_mass, world.mass[m_marble]},
+        {m_x, world.position[m_marble].x},  {m_y, world.position[m_marble].y},
+        {m_vx, world.velocity[m_marble].x}, {m_vy, world.velocity[m_marble].y},
+    };
+    for (const auto &[box, value] : shown) {
+        showValue(box, value);
+        if (value >= box->minimum() && value <= box->maximum())
+            continue;
+        if (std::isnan(value))
+            beyond << tr("%1 is not a number.").arg(box->objectName());
+        else
+            beyond << tr("%1 is %2%3 (the field stops at %4).")
+                          .arg(box->objectName(), QString::number(value, 'g', 4), box->suffix(),
+                               box->textFromValue(value < box->minimum() ? box->minimum() : box->maximum()));
+    }
     {
         const QSignalBlocker blocker(m_autoMass);
         m_autoMass->setChecked(!world.info[m_marble].hasMass);
     }
     m_mass->setEnabled(world.info[m_marble].hasMass);
-    showValue(m_x, world.position[m_marble].x);
-    showValue(m_y, world.position[m_marble].y);
-    showValue(m_vx, world.velocity[m_marble].x);
-    showValue(m_vy, world.velocity[m_marble].y);
+    m_beyond->setText(beyond.join(QLatin1Char('\n')));
+    m_beyond->setVisible(!beyond.isEmpty());
 }
 
 void InspectorDock::report(const QString &error)

@@ -54,6 +54,7 @@ private:
     QDoubleSpinBox *m_vx = nullptr;
     QDoubleSpinBox *m_vy = nullptr;
     QLabel *m_error = nullptr;
+    QLabel *m_beyond = nullptr; // the true numbers of fields that show their limit instead
     QWidget *m_form = nullptr;
 };
 

@@ -11,6 +11,7 @@
 #include <QSignalSpy>
 #include <QTest>
 
+#include <limits>
 #include <memory>
 
 using namespace marbles;
@@ -48,6 +49,7 @@ private Q_SLOTS:
     void typedValuesAreUndoableEdits();
     void outOfRangeNumbersAreRefusedWhole_data();
     void outOfRangeNumbersAreRefusedWhole();
+    void numbersBeyondTheFieldsAreSaid();
 
 private:
     std::unique_ptr<SceneDocument> m_document;
@@ -138,6 +140,30 @@ void TestInspectorDock::outOfRangeNumbersAreRefusedWhole()
     typeInto(m_dock->field(QStringLiteral("radius")), QStringLiteral("30"));
     QCOMPARE(m_document->world().radius[0], 30.0);
     QCOMPARE(errorText(*m_dock), QString());
+}
+
+void TestInspectorDock::numbersBeyondTheFieldsAreSaid()
+{
+    // The book's blow-up (friction above 2) takes speeds far past what the fields hold: the field
+    // shows its limit, and the line below them the true number. Back in range, the line goes.
+    World scene = defaultScene();
+    scene.velocity[1] = {1.25e27, -3.0};
+    scene.position[1].y = std::numeric_limits<double>::quiet_NaN();
+    m_document->resetScene(scene);
+    m_dock->setMarble(1);
+    auto *note = m_dock->findChild<QLabel *>(QStringLiteral("beyondNote"));
+    QVERIFY(note);
+    QVERIFY(note->isVisible());
+    QCOMPARE(note->text(), QStringLiteral("y is not a number.\nvx is 1.25e+27 px/frame (the field stops at %1).")
+                               .arg(m_dock->field(QStringLiteral("vx"))->textFromValue(1.0e5)));
+    QCOMPARE(m_dock->field(QStringLiteral("vx"))->value(), 1.0e5);
+    QCOMPARE(m_dock->field(QStringLiteral("vy"))->value(), -3.0);
+    m_dock->setMarble(2);
+    QVERIFY(!note->isVisible());
+    m_dock->setMarble(1);
+    QVERIFY(note->isVisible());
+    m_dock->setMarble(-1);
+    QVERIFY(!note->isVisible());
 }
 
 QTEST_MAIN(TestInspectorDock)
