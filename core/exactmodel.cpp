@@ -612,6 +612,7 @@ void ExactModel::beginFrame(World &world)
     m_restitution = std::clamp(world.params.restitution, 0.0, 1.0);
     m_inelastic = m_restitution < 1.0;
     m_gravity = world.params.gravity;
+    m_noGravity = std::bit_cast<std::uint64_t>(m_gravity.x) == 0 && std::bit_cast<std::uint64_t>(m_gravity.y) == 0;
     m_width = world.stage.width;
     m_height = world.stage.height;
     m_walls = world.stage.walls;
@@ -1240,8 +1241,17 @@ void ExactModel::nextEscape(int i, Vec2 p, Vec2 v)
     if (m_singleCell || body.frozen || body.bucket < 0)
         return; // (an oversize marble's partners do not depend on where it is)
     // The centre reaching a side of the square of half-width margin around the anchor.
-    const Vec2 g = gravityOf(body);
     const Vec2 anchor = m_rec[i].anchor;
+    const Vec2 g = m_noGravity ? Vec2{} : gravityOf(body);
+    if (m_noGravity || (g.x == 0.0 && g.y == 0.0)) {
+        // Straight in s: out of reach if every side is further than |v| phi1(time left). (Most
+        // marbles return here, so this comes first: either test returns with no grid event.)
+        const double reachX = std::abs(v.x) * m_sLeft;
+        const double reachY = std::abs(v.y) * m_sLeft;
+        if (p.x - (anchor.x - m_margin) > reachX && (anchor.x + m_margin) - p.x > reachX
+            && p.y - (anchor.y - m_margin) > reachY && (anchor.y + m_margin) - p.y > reachY)
+            return;
+    }
     // Where the margin is below the resolution of the coordinates (a marble 1e17 px from the
     // origin, or one far smaller than its distance from it), anchor +- margin rounds to the
     // anchor: the marble would be past a side at once, re-anchored where it is, and past it again,
@@ -1251,14 +1261,6 @@ void ExactModel::nextEscape(int i, Vec2 p, Vec2 v)
     if (anchor.x - m_margin == anchor.x || anchor.x + m_margin == anchor.x || anchor.y - m_margin == anchor.y
         || anchor.y + m_margin == anchor.y)
         return;
-    if (g.x == 0.0 && g.y == 0.0) {
-        // Straight in s: out of reach if every side is further than |v| phi1(time left).
-        const double reachX = std::abs(v.x) * m_sLeft;
-        const double reachY = std::abs(v.y) * m_sLeft;
-        if (p.x - (anchor.x - m_margin) > reachX && (anchor.x + m_margin) - p.x > reachX
-            && p.y - (anchor.y - m_margin) > reachY && (anchor.y + m_margin) - p.y > reachY)
-            return;
-    }
     const double tauEnd = 1.0 - m_now;
     const double tc[sides] = {
         firstDownCrossing(p.x - (anchor.x - m_margin), v.x, g.x, m_lambda, tauEnd),
@@ -1328,9 +1330,9 @@ void ExactModel::predictOwn(int i, Vec2 p, Vec2 v, Event &best)
     if (!m_walls || body.frozen)
         return;
     // Walls 0..3: left, right, top, bottom; contact when the centre is r from the edge.
-    const Vec2 g = gravityOf(body);
+    const Vec2 g = m_noGravity ? Vec2{} : gravityOf(body);
     const double r = body.radius;
-    if (g.x == 0.0 && g.y == 0.0) {
+    if (m_noGravity || (g.x == 0.0 && g.y == 0.0)) {
         // Straight in s: no wall is within reach if every gap exceeds |v| phi1(time left).
         const double reachX = std::abs(v.x) * m_sLeft;
         const double reachY = std::abs(v.y) * m_sLeft;

@@ -270,6 +270,7 @@ private:
     bool m_inelastic = false;    // e < 1: the collapse guard's collision counts apply
     double m_restSpeed = 0.0;    // sqrt(2 |g| restHeightPx), px/frame
     Vec2 m_gravity;
+    bool m_noGravity = true;     // m_gravity is (+0, +0): gravityOf() is (+0, +0) for every marble
     double m_width = 0.0;
     double m_height = 0.0;
     bool m_walls = true;
