@@ -982,8 +982,13 @@ std::string sceneToJson(const World &world)
     std::vector<OrderedJson> pushes;
     pushes.reserve(world.pushes.size());
     for (const Push &push : world.pushes) {
+        // The file holds the world as it is now, from its frame 0 (it has no frame number): a
+        // push still to come is written as many frames ahead as it is now; one that has acted
+        // is left out (read back, it would act again).
+        if (push.frame < world.frame)
+            continue;
         OrderedJson e = OrderedJson::object();
-        e["frame"] = push.frame;
+        e["frame"] = push.frame - world.frame;
         e["marble"] = push.marble;
         e["x"] = number(push.at.x);
         e["y"] = number(push.at.y);

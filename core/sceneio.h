@@ -33,6 +33,8 @@ SceneLoad parseScene(std::string_view text, std::string_view source);
 /// Reads a file and parses it; the message names the file as given. ("-" is not special here.)
 SceneLoad loadSceneFile(const std::string &path);
 /// Serialises a world as a scene file: pretty JSON, unknown keys kept, numbers round-trip exactly.
+/// The file starts at the world's current frame: its pushes are counted from it, and those of
+/// earlier frames, which have acted, are left out; read back, the scene runs on as the world would.
 std::string sceneToJson(const World &world);
 /// Writes atomically (temporary file in the same folder, flushed, then renamed over the target);
 /// returns "" on success or a message naming the file and the OS error. Never leaves a half-written file.

@@ -1,6 +1,7 @@
 // Scene files (INTERFACES.md, "Scene file"): every refusal rule, malformed and hostile input,
 // defaults, exact round trips of numbers and unknown keys, atomic saving, and --set.
 
+#include "core/presets.h"
 #include "core/sceneio.h"
 #include "core/world.h"
 
@@ -226,6 +227,7 @@ private slots:
     void saveRefusesWhatWouldNotLoad_data();
     void saveRefusesWhatWouldNotLoad();
     void saveOverFolderFails();
+    void savedMidRunRunsOnAsTheWorld();
     void loadFileErrors_data();
     void loadFileErrors();
     void loadRefusesHugeFileBeforeReading();
@@ -905,6 +907,39 @@ void TestSceneIo::saveRefusesWhatWouldNotLoad()
     const std::string error = saveSceneFile(w, path.toStdString());
     QCOMPARE(q(error), path + ": not saved, the scene would not load back: " + rule);
     QCOMPARE(folderEntries(dir.path()), QStringList());
+}
+
+void TestSceneIo::savedMidRunRunsOnAsTheWorld()
+{
+    // The chapter's four marbles push marble 0 at frame 0 and marble 3 at frame 150. Saved at
+    // frame 100, the file has the second push 50 frames ahead and not the first (which has acted:
+    // read back, it pushed marble 0 again). Run on, the file's world is the world's, bit for bit.
+    for (const ModelKind model : {ModelKind::Book, ModelKind::Impulse, ModelKind::Exact}) {
+        World w = defaultScene();
+        w.params.model = model;
+        QCOMPARE(w.pushes.size(), std::size_t(2));
+        QCOMPARE(w.pushes[0].frame, std::int64_t(0));
+        QCOMPARE(w.pushes[1].frame, std::int64_t(150));
+        for (int f = 0; f < 100; ++f)
+            QVERIFY(w.step().finite);
+        const SceneLoad load = parseScene(sceneToJson(w), kSource);
+        QVERIFY2(load.ok, load.error.c_str());
+        World read = load.world;
+        QCOMPARE(read.frame, std::int64_t(0));
+        QCOMPARE(read.pushes.size(), std::size_t(1));
+        QCOMPARE(read.pushes[0].frame, std::int64_t(50));
+        QCOMPARE(read.pushes[0].marble, w.pushes[1].marble);
+        for (int f = 0; f < 150; ++f) {
+            QVERIFY(w.step().finite);
+            QVERIFY(read.step().finite);
+        }
+        QVERIFY(read.position == w.position);
+        QVERIFY(read.velocity == w.velocity);
+        // Saved at frame 0, the pushes are as they were.
+        const SceneLoad start = parseScene(sceneToJson(defaultScene()), kSource);
+        QVERIFY(start.ok);
+        QVERIFY(start.world.pushes == defaultScene().pushes);
+    }
 }
 
 void TestSceneIo::saveOverFolderFails()
