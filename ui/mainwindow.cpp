@@ -149,6 +149,17 @@ MainWindow::~MainWindow()
     }
 }
 
+QList<QKeySequence> MainWindow::redoShortcuts(const QList<QKeySequence> &platformRedo)
+{
+    // (On X11 the platform's Redo is Ctrl+Shift+Z itself: listed twice, the keys did nothing.)
+    QList<QKeySequence> keys{QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z)};
+    for (const QKeySequence &key : platformRedo) {
+        if (!keys.contains(key))
+            keys << key;
+    }
+    return keys;
+}
+
 void MainWindow::setPrompts(std::unique_ptr<Prompts> prompts)
 {
     if (prompts)
@@ -190,7 +201,7 @@ void MainWindow::createActions()
     m_redoAction = m_document->undoStack()->createRedoAction(this, tr("&Redo"));
     m_redoAction->setObjectName(QStringLiteral("actionRedo"));
     m_redoAction->setIcon(themeIcon(QStringLiteral("edit-redo"), QStyle::SP_ArrowForward));
-    m_redoAction->setShortcuts({QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z), QKeySequence(QKeySequence::Redo)});
+    m_redoAction->setShortcuts(redoShortcuts(QKeySequence::keyBindings(QKeySequence::Redo)));
 
     m_deleteAction = new QAction(themeIcon(QStringLiteral("edit-delete"), QStyle::SP_TrashIcon), tr("&Delete"), this);
     m_deleteAction->setObjectName(QStringLiteral("actionDelete"));

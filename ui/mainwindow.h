@@ -3,6 +3,8 @@
 #include "core/presets.h"
 
 #include <QElapsedTimer>
+#include <QKeySequence>
+#include <QList>
 #include <QMainWindow>
 #include <QStringList>
 
@@ -39,6 +41,10 @@ class MainWindow : public QMainWindow {
 public:
     /// Most recent files remembered.
     static constexpr int kMaxRecentFiles = 8;
+    /// Redo's keys: Ctrl+Shift+Z, then the platform's own Redo keys (`platformRedo`, Ctrl+Y on
+    /// Windows) that are not already there. A key listed twice would be an ambiguous shortcut,
+    /// which Qt ignores.
+    static QList<QKeySequence> redoShortcuts(const QList<QKeySequence> &platformRedo);
 
     /// The window, showing the default preset. Questions go to default Qt dialogs until setPrompts().
     explicit MainWindow(QWidget *parent = nullptr);

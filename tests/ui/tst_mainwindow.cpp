@@ -114,6 +114,7 @@ private Q_SLOTS:
     void statusBarRepeatsTheFrameOnlyWithoutTheRunToolbar();
     void firstStartFitsASmallScreen();
     void helpListsTheRealShortcuts();
+    void shortcutsWork();
     void randomUseKeepsTheWindowWhole_data();
     void randomUseKeepsTheWindowWhole();
 
@@ -800,6 +801,37 @@ void TestMainWindow::helpListsTheRealShortcuts()
     QVERIFY(text.contains(QStringLiteral("Click a marble")));
     dialog->close();
     QVERIFY(!dialog->isVisible());
+}
+
+void TestMainWindow::shortcutsWork()
+{
+    // No key is listed twice among the window's actions (Qt ignores an ambiguous shortcut: the
+    // redo action once had Ctrl+Shift+Z twice, and the keys did nothing), and undo and redo
+    // answer their keys.
+    QHash<QKeySequence, QString> owner;
+    for (const QAction *action : m_window->findChildren<QAction *>()) {
+        for (const QKeySequence &key : action->shortcuts()) {
+            QVERIFY2(!owner.contains(key), qPrintable(QStringLiteral("%1: %2 and %3")
+                                                          .arg(key.toString(), owner.value(key), action->objectName())));
+            owner.insert(key, action->objectName());
+        }
+    }
+    SceneDocument *doc = m_window->document();
+    QVERIFY(doc->setMarbleRadius(0, 33.0).isEmpty());
+    QWidget *stage = m_window->stageView();
+    stage->setFocus();
+    QTest::keyClick(stage, Qt::Key_Z, Qt::ControlModifier);
+    QCOMPARE_NE(doc->world().radius[0], 33.0);
+    QTest::keyClick(stage, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+    QCOMPARE(doc->world().radius[0], 33.0);
+    // Each key once, whichever keys the platform has for Redo (these tests run offscreen, whose
+    // Redo is Ctrl+Y; on X11 it is Ctrl+Shift+Z).
+    const QKeySequence ctrlShiftZ(Qt::CTRL | Qt::SHIFT | Qt::Key_Z);
+    const QKeySequence ctrlY(Qt::CTRL | Qt::Key_Y);
+    QCOMPARE(MainWindow::redoShortcuts({ctrlShiftZ}), QList<QKeySequence>{ctrlShiftZ});
+    QCOMPARE(MainWindow::redoShortcuts({ctrlY}), (QList<QKeySequence>{ctrlShiftZ, ctrlY}));
+    QCOMPARE(MainWindow::redoShortcuts({ctrlY, ctrlShiftZ}), (QList<QKeySequence>{ctrlShiftZ, ctrlY}));
+    QCOMPARE(MainWindow::redoShortcuts({}), QList<QKeySequence>{ctrlShiftZ});
 }
 
 QString TestMainWindow::toolbarActionsHidden() const
