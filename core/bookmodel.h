@@ -19,11 +19,8 @@ public:
     void build(const GridGeometry &geometry, const Vec2 *points, int count);
     /// Bodies held.
     int size() const { return static_cast<int>(m_bucketOf.size()); }
-    /// Moves body i to the bucket of `to` (no-op when the bucket is unchanged). Not for a body
-    /// left out.
-    void update(int i, Vec2 to) { moveTo(i, bucketOf(to)); }
     /// Moves body i to bucket b (no-op when it is there): b must be the bucket of its position,
-    /// as forEachNear() returns it.
+    /// as forEachNear() returns it. Not for a body left out.
     void moveTo(int i, int b);
     /// Takes body i out of the grid (until the next build): forEachNear() no longer visits it.
     void leaveOut(int i);
