@@ -30,9 +30,9 @@ QDoubleSpinBox *makeBox(double min, double max, int decimals, const QString &suf
     return box;
 }
 
-void showValue(QDoubleSpinBox *box, double value)
+void showValue(QDoubleSpinBox *box, double value, bool overTyping)
 {
-    if (box->hasFocus())
+    if (box->hasFocus() && !overTyping)
         return;
     const QSignalBlocker blocker(box);
     box->setValue(value);
@@ -123,7 +123,7 @@ void InspectorDock::setMarble(int i)
     refresh();
 }
 
-void InspectorDock::refresh()
+void InspectorDock::showMarble(bool overTyping)
 {
     const World &world = m_document->world();
     if (m_marble < 0 || m_marble >= world.marbleCount()) {
@@ -147,7 +147,7 @@ void InspectorDock::refresh()
         {m_vx, world.velocity[m_marble].x}, {m_vy, world.velocity[m_marble].y},
     };
     for (const auto &[box, value] : shown) {
-        showValue(box, value);
+        showValue(box, value, overTyping);
         if (value >= box->minimum() && value <= box->maximum())
             continue;
         if (std::isnan(value))
@@ -171,7 +171,7 @@ void InspectorDock::report(const QString &error)
     m_error->setText(error);
     if (!error.isEmpty()) {
         Q_EMIT message(error);
-        refresh();
+        showMarble(true);
     }
 }
 

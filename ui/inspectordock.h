@@ -33,7 +33,10 @@ Q_SIGNALS:
     void message(const QString &text);
 
 private:
-    void refresh();
+    void refresh() { showMarble(false); }
+    /// Shows the selected marble's numbers; a field being typed in keeps its text unless
+    /// `overTyping` (after an edit was refused: the field goes back to the marble's number).
+    void showMarble(bool overTyping);
     void onRadius(double value);
     void onMass(double value);
     void onX(double value);

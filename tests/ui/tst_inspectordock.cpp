@@ -11,6 +11,7 @@
 #include <QSignalSpy>
 #include <QTest>
 
+#include <cmath>
 #include <limits>
 #include <memory>
 
@@ -50,6 +51,7 @@ private Q_SLOTS:
     void outOfRangeNumbersAreRefusedWhole_data();
     void outOfRangeNumbersAreRefusedWhole();
     void numbersBeyondTheFieldsAreSaid();
+    void refusedEditShowsTheMarblesNumber();
 
 private:
     std::unique_ptr<SceneDocument> m_document;
@@ -164,6 +166,26 @@ void TestInspectorDock::numbersBeyondTheFieldsAreSaid()
     QVERIFY(note->isVisible());
     m_dock->setMarble(-1);
     QVERIFY(!note->isVisible());
+}
+
+void TestInspectorDock::refusedEditShowsTheMarblesNumber()
+{
+    // x = 5000 puts marble 0 past the stage's edge: the edit is refused, and the field, still
+    // being typed in, goes back to the marble's x (it kept showing 5000.00 while the marble
+    // stayed where it was).
+    m_dock->setMarble(0);
+    const World before = m_document->world();
+    QDoubleSpinBox *x = m_dock->field(QStringLiteral("x"));
+    typeInto(x, QStringLiteral("5000"));
+    QVERIFY(x->hasFocus());
+    QCOMPARE(m_document->world().position[0].x, before.position[0].x);
+    QCOMPARE_LE(std::abs(x->value() - before.position[0].x), 0.005);
+    QVERIFY2(errorText(*m_dock).contains(QStringLiteral("overlap")), qPrintable(errorText(*m_dock)));
+    QCOMPARE(m_document->undoStack()->count(), 0);
+    // An accepted edit while typing keeps the typed number, which is the marble's.
+    typeInto(x, QStringLiteral("150"));
+    QCOMPARE(m_document->world().position[0].x, 150.0);
+    QCOMPARE_LE(std::abs(x->value() - 150.0), 0.005);
 }
 
 QTEST_MAIN(TestInspectorDock)
