@@ -531,7 +531,10 @@ void MainWindow::createDocks()
     addDockWidget(Qt::BottomDockWidgetArea, m_plotDock);
     connect(m_document, &SceneDocument::frameAdvanced, this,
             [this] { m_plotDock->appendFrame(m_document->world(), m_compare->world()); });
-    connect(m_document, &SceneDocument::timelineReset, this, [this] { m_plotDock->reset(m_document->world()); });
+    // The comparison restarted on this signal before (its connection is older): both worlds are at
+    // the timeline's first frame, which the lines start from.
+    connect(m_document, &SceneDocument::timelineReset, this,
+            [this] { m_plotDock->startAt(m_document->world(), m_compare->world()); });
     connect(m_document, &SceneDocument::timelineRewound, m_plotDock, &PlotDock::cutAfter);
     // A marble selected after a run is plotted from as far back as Step Back can go.
     m_plotDock->setVelocityLookup(

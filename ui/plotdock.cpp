@@ -306,6 +306,12 @@ void PlotDock::reset(const World &world)
     m_dirty = true;
 }
 
+void PlotDock::startAt(const World &world, const World *compare)
+{
+    reset(world);
+    appendFrame(world, compare);
+}
+
 void PlotDock::cutAfter(std::int64_t frame)
 {
     // Frames grow along the buffer: the samples to forget are the newest ones.

@@ -51,6 +51,10 @@ public:
     /// Forgets every sample and takes marble colours, names and frameMs from `world`
     /// (a new or loaded scene, or an edit; a jump back in time is cutAfter()). Adds no sample.
     void reset(const World &world);
+    /// reset(), then the first sample: `world` as it is now (and `compare`, as appendFrame()).
+    /// The lines start where the timeline does, so a push at that frame shows as a jump from
+    /// the speed before it.
+    void startAt(const World &world, const World *compare = nullptr);
     /// Forgets the samples of frames after `frame` (the timeline went back to it: Step Back,
     /// Rewind); the earlier samples, and the lines they draw, stay.
     void cutAfter(std::int64_t frame);

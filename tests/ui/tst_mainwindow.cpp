@@ -102,6 +102,7 @@ private Q_SLOTS:
     void unsavedChangesAreAskedAbout_data();
     void unsavedChangesAreAskedAbout();
     void plotGetsOneSamplePerFrame();
+    void plotShowsAPushAsAJump();
     void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
     void tickRunsWhatFitsItsBudget_data();
@@ -495,35 +496,68 @@ void TestMainWindow::unsavedChangesAreAskedAbout()
 
 void TestMainWindow::plotGetsOneSamplePerFrame()
 {
+    // The lines start where the timeline does: frame 0 is the first sample, then one per frame.
     PlotDock *plot = m_window->plotDock();
     SceneDocument *doc = m_window->document();
-    QCOMPARE(plot->sampleCount(), 0);
+    QCOMPARE(plot->sampleCount(), 1);
+    QCOMPARE(plot->sampleFrame(0), std::int64_t(0));
     for (int k = 1; k <= 7; ++k) {
         QTest::keyClick(m_window->stageView(), Qt::Key_Right);
-        QCOMPARE(plot->sampleCount(), k);
+        QCOMPARE(plot->sampleCount(), k + 1);
+        QCOMPARE(plot->sampleFrame(k), std::int64_t(k));
     }
     // Running: still one sample per simulated frame, however the frames were grouped into ticks.
     m_window->runController()->setSpeed(4.0);
     m_window->runController()->play();
     QTRY_VERIFY_WITH_TIMEOUT(doc->world().frame >= 60, 5000);
     m_window->runController()->pause();
-    QCOMPARE(plot->sampleCount(), static_cast<qsizetype>(doc->world().frame));
+    QCOMPARE(plot->sampleCount(), static_cast<qsizetype>(doc->world().frame + 1));
     // A step back forgets the newest frame's sample and keeps the rest of the run plotted.
     const std::int64_t last = doc->world().frame;
     QTest::keyClick(m_window->stageView(), Qt::Key_Left);
     QCOMPARE(doc->world().frame, last - 1);
-    QCOMPARE(plot->sampleCount(), static_cast<qsizetype>(last - 1));
+    QCOMPARE(plot->sampleCount(), static_cast<qsizetype>(last));
     QCOMPARE(plot->sampleFrame(plot->sampleCount() - 1), last - 1);
     plot->refreshChart();
-    QCOMPARE(plot->speedSeries(0)->count(), static_cast<int>(last - 1));
+    QCOMPARE(plot->speedSeries(0)->count(), static_cast<int>(last));
     // Stepping on plots the frame again, once.
     QTest::keyClick(m_window->stageView(), Qt::Key_Right);
-    QCOMPARE(plot->sampleCount(), static_cast<qsizetype>(last));
+    QCOMPARE(plot->sampleCount(), static_cast<qsizetype>(last + 1));
     QCOMPARE(plot->sampleFrame(plot->sampleCount() - 1), last);
-    // Back to the start: no frame after 0 is left.
+    // Back to the start: frame 0 alone is left.
     QTest::keyClick(m_window->stageView(), Qt::Key_Home);
     QCOMPARE(doc->world().frame, std::int64_t(0));
-    QCOMPARE(plot->sampleCount(), 0);
+    QCOMPARE(plot->sampleCount(), 1);
+    QCOMPARE(plot->sampleFrame(0), std::int64_t(0));
+    // An edit starts the lines over from the frame it was made at, that frame included.
+    for (int k = 0; k < 5; ++k)
+        QTest::keyClick(m_window->stageView(), Qt::Key_Right);
+    QVERIFY(doc->setMarbleRadius(1, 21.0).isEmpty());
+    QCOMPARE(plot->sampleCount(), 1);
+    QCOMPARE(plot->sampleFrame(0), std::int64_t(5));
+}
+
+void TestMainWindow::plotShowsAPushAsAJump()
+{
+    // Newton's second law in class: a marble at rest, clicked while paused, is plotted at speed 0
+    // at frame 0 and at the speed the push gave it at frame 1.
+    PlotDock *plot = m_window->plotDock();
+    SceneDocument *doc = m_window->document();
+    StageView *view = m_window->stageView();
+    QCOMPARE(length(doc->world().velocity[0]), 0.0);
+    view->selectMarble(0);
+    const Vec2 centre = doc->world().position[0];
+    doc->pushMarble(0, {centre.x - 20.0, centre.y});
+    QCOMPARE(plot->sampleCount(), 1);
+    QCOMPARE(plot->sampleSpeed(0, 0), 0.0);
+    World reference = doc->world();
+    reference.step();
+    QTest::keyClick(view, Qt::Key_Right);
+    QCOMPARE(plot->sampleCount(), 2);
+    QVERIFY(length(reference.velocity[0]) > 1.0);
+    QVERIFY(plot->sampleSpeed(1, 0) == length(reference.velocity[0])); // deterministic: same bits
+    plot->refreshChart();
+    QCOMPARE(plot->speedSeries(0)->count(), 2);
 }
 
 void TestMainWindow::selectingAMarblePlotsItsWholeRun()
@@ -534,6 +568,7 @@ void TestMainWindow::selectingAMarblePlotsItsWholeRun()
     SceneDocument *doc = m_window->document();
     StageView *view = m_window->stageView();
     World reference = doc->world();
+    const double atStart = length(reference.velocity[2]);
     std::vector<double> speeds; // marble 2's speed at frames 1..30, stepped apart
     for (int f = 0; f < 30; ++f) {
         reference.step();
@@ -548,17 +583,19 @@ void TestMainWindow::selectingAMarblePlotsItsWholeRun()
 
     view->selectMarble(2);
     QCOMPARE(plot->plottedMarbles(), QList<int>{2});
-    QCOMPARE(plot->sampleCount(), 30);
-    for (qsizetype k = 0; k < 30; ++k) {
-        QCOMPARE(plot->sampleFrame(k), std::int64_t(k + 1));
-        QVERIFY(plot->sampleSpeed(k, 2) == speeds[static_cast<std::size_t>(k)]); // deterministic: same bits
+    QCOMPARE(plot->sampleCount(), 31);
+    QCOMPARE(plot->sampleFrame(0), std::int64_t(0));
+    QVERIFY(plot->sampleSpeed(0, 2) == atStart);
+    for (qsizetype k = 1; k <= 30; ++k) {
+        QCOMPARE(plot->sampleFrame(k), std::int64_t(k));
+        QVERIFY(plot->sampleSpeed(k, 2) == speeds[static_cast<std::size_t>(k - 1)]); // deterministic: same bits
     }
     plot->refreshChart();
-    QCOMPARE(plot->speedSeries(2)->count(), 30);
+    QCOMPARE(plot->speedSeries(2)->count(), 31);
     // And it goes on from there.
     QTest::keyClick(view, Qt::Key_Right);
     reference.step();
-    QVERIFY(plot->sampleSpeed(30, 2) == length(reference.velocity[2]));
+    QVERIFY(plot->sampleSpeed(31, 2) == length(reference.velocity[2]));
 }
 
 void TestMainWindow::runKeepsRealTimeAndStopsOnNonFinite()

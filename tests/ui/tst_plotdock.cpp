@@ -417,6 +417,23 @@ void TestPlotDock::resetClears()
     runFrames(dock, smaller, 5);
     QCOMPARE(dock.sampleCount(), 5);
     QCOMPARE(dock.sampleFrame(0), std::int64_t(1));
+
+    // startAt(): the same, with the world as it is now for first sample, which a cut back to
+    // that frame keeps.
+    smaller.frame = 40;
+    smaller.velocity[1] = {3.0, 4.0};
+    dock.startAt(smaller);
+    QCOMPARE(dock.sampleCount(), 1);
+    QCOMPARE(dock.sampleFrame(0), std::int64_t(40));
+    QCOMPARE(dock.sampleSpeed(0, 1), 5.0);
+    for (int f = 41; f <= 43; ++f) {
+        smaller.frame = f;
+        dock.appendFrame(smaller);
+    }
+    QCOMPARE(dock.sampleCount(), 4);
+    dock.cutAfter(40);
+    QCOMPARE(dock.sampleCount(), 1);
+    QCOMPARE(dock.sampleFrame(0), std::int64_t(40));
 }
 
 void TestPlotDock::cutAfterKeepsEarlierFrames_data()
