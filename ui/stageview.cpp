@@ -70,6 +70,10 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
     connect(m_document, &SceneDocument::stepped, this, &StageView::syncPoses);
     connect(m_document, &SceneDocument::frameAdvanced, this, &StageView::sampleTrail);
     connect(m_document, &SceneDocument::timelineReset, this, &StageView::resetTrail);
+    // An edit can renumber the marbles (a removal), and a step back brings back the pushes made
+    // at the frame it returns to: the pushes still to come are found again.
+    connect(m_document, &SceneDocument::sceneChanged, this, &StageView::findPendingPushes);
+    connect(m_document, &SceneDocument::timelineRewound, this, &StageView::findPendingPushes);
     connect(m_document, &SceneDocument::timelineRewound, this, [this](std::int64_t frame) { m_trail->cutAfter(frame); });
     connect(m_document, &SceneDocument::sceneChanged, this, &StageView::rebuild);
     rebuild();
@@ -480,10 +484,22 @@ void StageView::mouseReleaseEvent(QMouseEvent *event)
     const Gesture gesture = m_gesture;
     m_gesture = Gesture::None;
     switch (gesture) {
-    case Gesture::PressMarble:
-        // The chapter's hitMarble runs on release, with the mouse position at release.
-        m_document->pushMarble(m_gestureIndex, p);
+    case Gesture::PressMarble: {
+        // The chapter's hitMarble runs on release, with the mouse position at release. The push
+        // acts on the next frame; until then an arrow shows it (a click while paused would
+        // otherwise change nothing on screen, and a second click add to it unseen).
+        const int i = m_gestureIndex;
+        m_document->pushMarble(i, p);
+        const Vec2 a = m_document->world().acceleration[static_cast<std::size_t>(i)];
+        if (!m_pushed.contains(i))
+            m_pushed.append(i);
+        report(tr("Marble %1 pushed: on the next frame its velocity gains (%2, %3) px/frame")
+                   .arg(i)
+                   .arg(a.x, 0, 'f', 2)
+                   .arg(a.y, 0, 'f', 2));
+        viewport()->update();
         break;
+    }
     case Gesture::DragMarble:
         report(m_document->endHold(target));
         break;
@@ -564,6 +580,86 @@ void StageView::contextMenuEvent(QContextMenuEvent *event)
             menu.addSeparator();
     }
     menu.exec(event->globalPos());
+}
+
+void StageView::findPendingPushes()
+{
+    m_pushed.clear();
+    const World &world = m_document->world();
+    for (int i = 0; i < world.marbleCount(); ++i) {
+        const Vec2 a = world.acceleration[static_cast<std::size_t>(i)];
+        if (a.x != 0.0 || a.y != 0.0)
+            m_pushed.append(i);
+    }
+}
+
+QList<int> StageView::pendingPushes() const
+{
+    const World &world = m_document->world();
+    QList<int> pending;
+    for (int i : m_pushed) {
+        if (i < world.marbleCount()) {
+            const Vec2 a = world.acceleration[static_cast<std::size_t>(i)];
+            if (a.x != 0.0 || a.y != 0.0)
+                pending.append(i);
+        }
+    }
+    return pending;
+}
+
+void StageView::drawForeground(QPainter *painter, const QRectF &rect)
+{
+    Q_UNUSED(rect);
+    if (m_pushed.isEmpty())
+        return;
+    const QList<int> pending = pendingPushes();
+    if (pending.isEmpty()) {
+        m_pushed.clear(); // every push has acted (a frame ran) or its marble is gone
+        return;
+    }
+    // Drawn in viewport pixels, so that the arrow reads the same at any zoom: from the marble's
+    // rim along the push, longer for a harder push (10 frames of the velocity it adds, within
+    // 24 to 160 px); the latest push has the velocity it adds written at its head (one label:
+    // several would overlap where marbles are close, and the status bar gave each).
+    const World &world = m_document->world();
+    const double scale = transform().m11();
+    const QColor ink(190, 40, 120);
+    painter->save();
+    painter->resetTransform();
+    painter->setRenderHint(QPainter::Antialiasing, true);
+    QFont font = painter->font();
+    font.setBold(true);
+    painter->setFont(font);
+    for (int i : pending) {
+        const auto k = static_cast<std::size_t>(i);
+        const Vec2 a = world.acceleration[k];
+        const double size = std::hypot(a.x, a.y);
+        const QPointF u(a.x / size, a.y / size);
+        if (!std::isfinite(u.x()) || !std::isfinite(u.y()))
+            continue;
+        const QPointF centre = mapFromScene(QPointF(world.position[k].x, world.position[k].y));
+        const double rim = world.radius[k] * scale;
+        const double length = std::clamp(10.0 * size * scale, 24.0, 160.0);
+        const QPointF tail = centre + u * rim;
+        const QPointF head = tail + u * length;
+        const QPointF across(-u.y(), u.x());
+        painter->setPen(QPen(ink, 3.0, Qt::SolidLine, Qt::RoundCap));
+        painter->drawLine(tail, head - u * 6.0);
+        painter->setPen(Qt::NoPen);
+        painter->setBrush(ink);
+        painter->drawPolygon(QPolygonF{head, head - u * 12.0 + across * 6.0, head - u * 12.0 - across * 6.0});
+        if (i != pending.back())
+            continue;
+        painter->setPen(ink);
+        const QString label = tr("+%1 px/frame").arg(size, 0, 'f', 2);
+        const QPointF at = head + u * 8.0;
+        const QRectF box = painter->fontMetrics().boundingRect(label);
+        // Left of the head when the arrow points left, right of it otherwise; centred vertically.
+        const double x = u.x() < -0.3 ? at.x() - box.width() : (std::abs(u.x()) <= 0.3 ? at.x() - box.width() / 2 : at.x());
+        const double y = at.y() + (u.y() > 0.3 ? box.height() * 0.8 : (u.y() < -0.3 ? -box.height() * 0.2 : box.height() * 0.3));
+        painter->drawText(QPointF(x, y), label);
+    }
+    painter->restore();
 }
 
 void StageView::paintEvent(QPaintEvent *event)

@@ -116,6 +116,9 @@ public:
 
     /// Number of times the viewport was painted (for the display fps).
     qint64 paintCount() const { return m_paintCount; }
+    /// Marbles clicked since the last frame whose push is still to act (their acceleration is
+    /// not zero), in click order: each is drawn with an arrow along its push until a frame runs.
+    QList<int> pendingPushes() const;
 
 Q_SIGNALS:
     /// The selection changed.
@@ -125,6 +128,7 @@ Q_SIGNALS:
 
 protected:
     void drawBackground(QPainter *painter, const QRectF &rect) override;
+    void drawForeground(QPainter *painter, const QRectF &rect) override;
     void mousePressEvent(QMouseEvent *event) override;
     void mouseMoveEvent(QMouseEvent *event) override;
     void mouseReleaseEvent(QMouseEvent *event) override;
@@ -145,6 +149,7 @@ private:
     void resetTrail();
     void updateHighlights();
     void pickAt(Vec2 p);
+    void findPendingPushes();
     void report(const QString &text);
     void noteLater(const QString &text);
 
@@ -173,6 +178,7 @@ private:
     Vec2 m_grabOffset;
 
     Vec2 m_contextPoint;
+    QList<int> m_pushed; // marbles clicked since the last frame (pendingPushes() filters them)
     QList<QAction *> m_contextActions;
     qint64 m_paintCount = 0;
 };

@@ -60,6 +60,7 @@ private Q_SLOTS:
     void vectorsFollowLastHit();
     void shortMoveIsStillAClick_data();
     void shortMoveIsStillAClick();
+    void pushIsShownUntilItActs();
     void batchedAboveTheThreshold_data();
     void batchedAboveTheThreshold();
     void batchedClickSelectsAndPushes_data();
@@ -339,6 +340,55 @@ void TestStageView::shortMoveIsStillAClick()
         QCOMPARE(w.acceleration[marble], Vec2{});
         QCOMPARE(m_document->undoStack()->count(), 1);
     }
+}
+
+void TestStageView::pushIsShownUntilItActs()
+{
+    // A click while paused changes nothing on the stage by itself: an arrow along the push shows
+    // it until the frame that applies it, and the status bar says what it adds to the velocity.
+    const World &w = m_document->world();
+    const int marble = 0;
+    QCOMPARE(w.acceleration[marble], Vec2{});
+    const QPoint centre = m_view->viewportPoint(w.position[marble]);
+    const int rim = static_cast<int>(w.radius[marble] * m_view->transform().m11());
+    // Pixels of the arrow's ink on the ray from the rim to the right (where a click left of the
+    // centre pushes), and on the ray to the left (where nothing is drawn).
+    const auto inkOnRay = [&](int direction) {
+        const QImage image = m_view->viewport()->grab().toImage();
+        int ink = 0;
+        for (int d = rim + 3; d < rim + 20; ++d) {
+            bool hit = false; // in a band 7 px high: the click's pixel rounding tilts the push a little
+            for (int dy = -3; dy <= 3; ++dy) {
+                const QColor c = image.pixelColor(centre + QPoint(direction * d, dy));
+                hit = hit || (c.red() > 140 && c.green() < 100 && c.blue() > 70 && c.blue() < c.red());
+            }
+            ink += hit ? 1 : 0;
+        }
+        return ink;
+    };
+    QCOMPARE(inkOnRay(+1), 0);
+    QSignalSpy messages(m_view.get(), &StageView::message);
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, centre + QPoint(-8, 0));
+    const Vec2 push = w.acceleration[marble];
+    QVERIFY(push.x > 0.0);
+    QCOMPARE(m_view->pendingPushes(), QList<int>{marble});
+    QCOMPARE(messages.count(), 1);
+    QCOMPARE(messages.last().at(0).toString(),
+             QStringLiteral("Marble 0 pushed: on the next frame its velocity gains (%1, %2) px/frame")
+                 .arg(push.x, 0, 'f', 2)
+                 .arg(push.y, 0, 'f', 2));
+    QCOMPARE_GE(inkOnRay(+1), 10);
+    QCOMPARE(inkOnRay(-1), 0);
+
+    // The frame applies it: the arrow goes.
+    m_document->advance(1);
+    QVERIFY(m_view->pendingPushes().isEmpty());
+    QCOMPARE(inkOnRay(+1), 0);
+    // Stepping back returns to the frame before it, push pending: the arrow is back.
+    QVERIFY(m_document->stepBack());
+    QCOMPARE(w.acceleration[marble], push);
+    QCOMPARE(m_view->pendingPushes(), QList<int>{marble});
+    QCOMPARE_GE(inkOnRay(+1), 10);
 }
 
 void TestStageView::loadCrowd(int n)
