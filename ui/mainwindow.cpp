@@ -149,15 +149,30 @@ MainWindow::~MainWindow()
     }
 }
 
+namespace {
+
+// Each key once, in order: a key listed twice is an ambiguous shortcut, which Qt ignores.
+QList<QKeySequence> eachOnce(const QList<QKeySequence> &keys)
+{
+    QList<QKeySequence> once;
+    for (const QKeySequence &key : keys) {
+        if (!key.isEmpty() && !once.contains(key))
+            once << key;
+    }
+    return once;
+}
+
+} // namespace
+
 QList<QKeySequence> MainWindow::redoShortcuts(const QList<QKeySequence> &platformRedo)
 {
     // (On X11 the platform's Redo is Ctrl+Shift+Z itself: listed twice, the keys did nothing.)
-    QList<QKeySequence> keys{QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z)};
-    for (const QKeySequence &key : platformRedo) {
-        if (!keys.contains(key))
-            keys << key;
-    }
-    return keys;
+    return eachOnce(QList<QKeySequence>{QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z)} + platformRedo);
+}
+
+QList<QKeySequence> MainWindow::zoomInShortcuts(const QList<QKeySequence> &platformZoomIn)
+{
+    return eachOnce(platformZoomIn + QList<QKeySequence>{QKeySequence(Qt::CTRL | Qt::Key_Equal)});
 }
 
 void MainWindow::setPrompts(std::unique_ptr<Prompts> prompts)
@@ -270,7 +285,7 @@ void MainWindow::createActions()
     connect(m_fitAction, &QAction::triggered, m_view, &StageView::fitToStage);
     m_zoomInAction = new QAction(QIcon::fromTheme(QStringLiteral("zoom-in")), tr("Zoom &In"), this);
     m_zoomInAction->setObjectName(QStringLiteral("actionZoomIn"));
-    m_zoomInAction->setShortcut(QKeySequence::ZoomIn);
+    m_zoomInAction->setShortcuts(zoomInShortcuts(QKeySequence::keyBindings(QKeySequence::ZoomIn)));
     connect(m_zoomInAction, &QAction::triggered, this, [this] { m_view->zoomBy(1.25); });
     m_zoomOutAction = new QAction(QIcon::fromTheme(QStringLiteral("zoom-out")), tr("Zoom &Out"), this);
     m_zoomOutAction->setObjectName(QStringLiteral("actionZoomOut"));

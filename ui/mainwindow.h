@@ -45,6 +45,10 @@ public:
     /// Windows) that are not already there. A key listed twice would be an ambiguous shortcut,
     /// which Qt ignores.
     static QList<QKeySequence> redoShortcuts(const QList<QKeySequence> &platformRedo);
+    /// Zoom In's keys: the platform's (`platformZoomIn`, Ctrl++), then Ctrl+= unless listed: on
+    /// most keyboards + is a shifted =, and Ctrl+= (the same key without Shift) zooms in
+    /// elsewhere too.
+    static QList<QKeySequence> zoomInShortcuts(const QList<QKeySequence> &platformZoomIn);
 
     /// The window, showing the default preset. Questions go to default Qt dialogs until setPrompts().
     explicit MainWindow(QWidget *parent = nullptr);

@@ -869,6 +869,15 @@ void TestMainWindow::shortcutsWork()
     QCOMPARE(MainWindow::redoShortcuts({ctrlY}), (QList<QKeySequence>{ctrlShiftZ, ctrlY}));
     QCOMPARE(MainWindow::redoShortcuts({ctrlY, ctrlShiftZ}), (QList<QKeySequence>{ctrlShiftZ, ctrlY}));
     QCOMPARE(MainWindow::redoShortcuts({}), QList<QKeySequence>{ctrlShiftZ});
+    // Zoom In takes Ctrl+= (the + key without Shift) beside the platform's Ctrl++.
+    const QKeySequence ctrlPlus(Qt::CTRL | Qt::Key_Plus);
+    const QKeySequence ctrlEqual(Qt::CTRL | Qt::Key_Equal);
+    QCOMPARE(MainWindow::zoomInShortcuts({ctrlPlus}), (QList<QKeySequence>{ctrlPlus, ctrlEqual}));
+    QCOMPARE(MainWindow::zoomInShortcuts({ctrlPlus, ctrlEqual}), (QList<QKeySequence>{ctrlPlus, ctrlEqual}));
+    QCOMPARE(MainWindow::zoomInShortcuts({}), QList<QKeySequence>{ctrlEqual});
+    const double before = m_window->stageView()->transform().m11();
+    QTest::keyClick(stage, Qt::Key_Equal, Qt::ControlModifier);
+    QCOMPARE_GT(m_window->stageView()->transform().m11(), before * 1.2);
 }
 
 QString TestMainWindow::toolbarActionsHidden() const
