@@ -41,7 +41,7 @@ void SceneDocument::resetScene(const World &world, const QString &fileName)
     m_dirtyWithoutUndo = false;
     setFileName(fileName);
     emitModification();
-    Q_EMIT sceneChanged(Change::Structure);
+    Q_EMIT sceneChanged(Change::Scene);
     Q_EMIT timelineReset();
     Q_EMIT stepped();
 }

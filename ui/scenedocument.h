@@ -23,6 +23,7 @@ public:
         Marbles,   ///< marble properties (position, velocity, radius, mass); same marbles
         Structure, ///< marbles or pins added or removed
         Params,    ///< params or stage
+        Scene,     ///< a whole new scene (New, Open, a preset, a recovered autosave)
     };
 
     explicit SceneDocument(QObject *parent = nullptr);

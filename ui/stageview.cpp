@@ -75,7 +75,12 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
     connect(m_document, &SceneDocument::sceneChanged, this, &StageView::findPendingPushes);
     connect(m_document, &SceneDocument::timelineRewound, this, &StageView::findPendingPushes);
     connect(m_document, &SceneDocument::timelineRewound, this, [this](std::int64_t frame) { m_trail->cutAfter(frame); });
-    connect(m_document, &SceneDocument::sceneChanged, this, &StageView::rebuild);
+    connect(m_document, &SceneDocument::sceneChanged, this, [this](SceneDocument::Change change) {
+        // A new scene is shown whole, whatever the zoom was on the last one.
+        if (change == SceneDocument::Change::Scene)
+            m_autoFit = true;
+        rebuild();
+    });
     rebuild();
 }
 

@@ -137,6 +137,18 @@ void TestStageView::fitShowsTheWholeStage()
     QVERIFY(!inside.contains(m_view->viewportPoint({0, 0})));
     m_view->fitToStage();
     QVERIFY(inside.contains(m_view->viewportPoint({0, 0})));
+
+    // Zoomed in, an edit keeps the zoom; a new scene (here a smaller stage) is shown whole.
+    m_view->zoomBy(3.0);
+    QVERIFY(m_document->addPin({stage.width / 2 + 7, stage.height / 2 + 7}).isEmpty());
+    QVERIFY(!inside.contains(m_view->viewportPoint({0, 0})));
+    World small;
+    small.stage = {300, 200, true};
+    small.addMarble({150, 100}, 10);
+    m_document->resetScene(small);
+    for (Vec2 corner : {Vec2{0, 0}, Vec2{300, 0}, Vec2{0, 200}, Vec2{300, 200}})
+        QVERIFY(inside.contains(m_view->viewportPoint(corner)));
+    QCOMPARE_GT(m_view->viewportPoint({300, 0}).x() - m_view->viewportPoint({0, 0}).x(), inside.width() / 2);
 }
 
 void TestStageView::wheelZoomsAboutTheMouse_data()
