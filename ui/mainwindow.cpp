@@ -550,6 +550,10 @@ void MainWindow::createDocks()
     // the timeline's first frame, which the lines start from.
     connect(m_document, &SceneDocument::timelineReset, this,
             [this] { m_plotDock->startAt(m_document->world(), m_compare->world()); });
+    // An edit that keeps the marbles (friction changed mid-run, say) bends the lines where it was
+    // made rather than wiping the run before it.
+    connect(m_document, &SceneDocument::timelineEdited, this,
+            [this] { m_plotDock->resample(m_document->world(), m_compare->world()); });
     connect(m_document, &SceneDocument::timelineRewound, m_plotDock, &PlotDock::cutAfter);
     // A marble selected after a run is plotted from as far back as Step Back can go.
     m_plotDock->setVelocityLookup(

@@ -163,6 +163,13 @@ void applyRange(QValueAxis *axis, const AxisRange &range)
         axis->setTickCount(range.ticks);
 }
 
+// The model's name as the legend gives it ("book (solid)").
+QString modelLabel(const World &world)
+{
+    const std::string_view model = modelName(world.params.model);
+    return QString::fromUtf8(model.data(), static_cast<qsizetype>(model.size()));
+}
+
 } // namespace
 
 PlotDock::PlotDock(QWidget *parent)
@@ -299,8 +306,7 @@ void PlotDock::reset(const World &world)
         m_names[i] = QString::fromStdString(world.info[i].name);
     }
     m_frameMs = world.params.frameMs;
-    const std::string_view model = modelName(world.params.model);
-    m_model = QString::fromUtf8(model.data(), static_cast<qsizetype>(model.size()));
+    m_model = modelLabel(world);
     rebuildTracks();
     m_hoverLabel->clear();
     m_dirty = true;
@@ -310,6 +316,21 @@ void PlotDock::startAt(const World &world, const World *compare)
 {
     reset(world);
     appendFrame(world, compare);
+}
+
+void PlotDock::resample(const World &world, const World *compare)
+{
+    if (!m_frames.isEmpty() && m_frames.last() == world.frame) {
+        m_frames.dropNewest(1);
+        forEachValueBuffer([](RingBuffer<double> &values) { values.dropNewest(1); });
+    }
+    appendFrame(world, compare);
+    const QString model = modelLabel(world);
+    if (model != m_model) {
+        m_model = model;
+        styleSeries();
+    }
+    m_hoverLabel->clear();
 }
 
 void PlotDock::cutAfter(std::int64_t frame)

@@ -55,6 +55,10 @@ public:
     /// The lines start where the timeline does, so a push at that frame shows as a jump from
     /// the speed before it.
     void startAt(const World &world, const World *compare = nullptr);
+    /// After an edit that kept the marbles: the sample of the current frame (if held) is taken
+    /// again from `world` as edited (and `compare`), the earlier ones stay; the model's name in
+    /// the legend follows the world's.
+    void resample(const World &world, const World *compare = nullptr);
     /// Forgets the samples of frames after `frame` (the timeline went back to it: Step Back,
     /// Rewind); the earlier samples, and the lines they draw, stay.
     void cutAfter(std::int64_t frame);

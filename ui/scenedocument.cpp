@@ -412,13 +412,17 @@ QString SceneDocument::setParam(const QString &key, const QString &value)
 void SceneDocument::applyChange(Change change)
 {
     // An added or removed marble starts a new timeline: the kept frames describe other marbles.
-    if (!m_history.fits(m_world))
+    const bool restart = !m_history.fits(m_world);
+    if (restart)
         m_history.reset(m_world);
     if (!validMarble(m_world, m_held))
         m_held = -1;
     emitModification();
     Q_EMIT sceneChanged(change);
-    Q_EMIT timelineReset();
+    if (restart)
+        Q_EMIT timelineReset();
+    else
+        Q_EMIT timelineEdited();
     Q_EMIT stepped();
 }
 

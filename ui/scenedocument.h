@@ -126,8 +126,13 @@ Q_SIGNALS:
     void stepped();
     /// The scene changed beyond the dynamic state (new scene, edit, undo): rebuild.
     void sceneChanged(marbles::SceneDocument::Change change);
-    /// The sequence of frames restarted (new scene, edit, undo): plots and trails start over.
+    /// The sequence of frames restarted (a new scene, or an edit or undo that added or removed
+    /// marbles): plots and trails start over.
     void timelineReset();
+    /// An edit or undo that kept the marbles (a parameter, a marble's place, speed or size, a
+    /// pin): the frames recorded so far still hold (Step Back goes back through them), the
+    /// current frame's state changed.
+    void timelineEdited();
     /// The timeline went back to `frame` (Step Back, Rewind): what was recorded of later frames
     /// is void, what was recorded of `frame` and earlier still holds.
     void timelineRewound(std::int64_t frame);

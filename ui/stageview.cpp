@@ -70,6 +70,7 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
     connect(m_document, &SceneDocument::stepped, this, &StageView::syncPoses);
     connect(m_document, &SceneDocument::frameAdvanced, this, &StageView::sampleTrail);
     connect(m_document, &SceneDocument::timelineReset, this, &StageView::resetTrail);
+    connect(m_document, &SceneDocument::timelineEdited, this, &StageView::resetTrail);
     // An edit can renumber the marbles (a removal), and a step back brings back the pushes made
     // at the frame it returns to: the pushes still to come are found again.
     connect(m_document, &SceneDocument::sceneChanged, this, &StageView::findPendingPushes);

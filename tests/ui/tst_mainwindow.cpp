@@ -103,6 +103,7 @@ private Q_SLOTS:
     void unsavedChangesAreAskedAbout();
     void plotGetsOneSamplePerFrame();
     void plotShowsAPushAsAJump();
+    void frictionChangedMidRunBendsThePlot();
     void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
     void tickRunsWhatFitsItsBudget_data();
@@ -529,12 +530,48 @@ void TestMainWindow::plotGetsOneSamplePerFrame()
     QCOMPARE(doc->world().frame, std::int64_t(0));
     QCOMPARE(plot->sampleCount(), 1);
     QCOMPARE(plot->sampleFrame(0), std::int64_t(0));
-    // An edit starts the lines over from the frame it was made at, that frame included.
+    // An edit that keeps the marbles keeps the lines: the current frame is sampled again, as
+    // edited. A marble added starts them over from the frame it was added at.
     for (int k = 0; k < 5; ++k)
         QTest::keyClick(m_window->stageView(), Qt::Key_Right);
-    QVERIFY(doc->setMarbleRadius(1, 21.0).isEmpty());
+    const double before = plot->sampleSpeed(4, 0);
+    QVERIFY(doc->setMarbleVelocity(0, {3.0, 4.0}).isEmpty());
+    QCOMPARE(plot->sampleCount(), 6);
+    QCOMPARE(plot->sampleFrame(5), std::int64_t(5));
+    QCOMPARE(plot->sampleSpeed(4, 0), before);
+    QCOMPARE(plot->sampleSpeed(5, 0), 5.0);
+    QVERIFY(doc->addMarble({700.0, 80.0}, 10.0).isEmpty());
     QCOMPARE(plot->sampleCount(), 1);
     QCOMPARE(plot->sampleFrame(0), std::int64_t(5));
+}
+
+void TestMainWindow::frictionChangedMidRunBendsThePlot()
+{
+    // A teacher runs a pushed marble, raises the friction while it slides and watches its speed
+    // fall faster from there: the run before the change stays plotted.
+    PlotDock *plot = m_window->plotDock();
+    SceneDocument *doc = m_window->document();
+    StageView *view = m_window->stageView();
+    view->selectMarble(0);
+    QVERIFY(doc->setMarbleVelocity(0, {-6.0, 0.0}).isEmpty()); // towards the wall 100 px away: no hit
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
+    for (int k = 0; k < 10; ++k)
+        QTest::keyClick(view, Qt::Key_Right);
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
+    for (int k = 0; k < 10; ++k)
+        QTest::keyClick(view, Qt::Key_Right);
+    QCOMPARE(plot->sampleCount(), 21);
+    QCOMPARE(plot->sampleFrame(0), std::int64_t(0));
+    // The book model: v(f+1) = (1 - k) v(f), so a speed ratio per frame of 0.95, then 0.7.
+    const double slow = plot->sampleSpeed(5, 0) / plot->sampleSpeed(4, 0);
+    const double fast = plot->sampleSpeed(15, 0) / plot->sampleSpeed(14, 0);
+    QVERIFY2(std::abs(slow - 0.95) < 1e-9, qPrintable(QString::number(slow, 'g', 17)));
+    QVERIFY2(std::abs(fast - 0.7) < 1e-9, qPrintable(QString::number(fast, 'g', 17)));
+    // And stepping back goes back through the frames before the change.
+    for (int k = 0; k < 15; ++k)
+        QTest::keyClick(view, Qt::Key_Left);
+    QCOMPARE(doc->world().frame, std::int64_t(5));
+    QCOMPARE(plot->sampleCount(), 6);
 }
 
 void TestMainWindow::plotShowsAPushAsAJump()

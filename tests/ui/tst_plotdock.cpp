@@ -209,11 +209,34 @@ void TestPlotDock::randomTimelineKeepsTheRightSamples()
             break;
         case 8:
             if (rng.below(4) == 0) {
-                // An edit or a new scene: the samples start over from the current frame on.
-                dock.reset(world);
+                // A new scene, or marbles added or removed: the samples start over from the
+                // current frame on (the window calls startAt(); reset() alone holds none).
+                world.frame = frame;
                 kept.clear();
                 compareKept.clear();
                 held.clear();
+                if (rng.below(2) == 0) {
+                    dock.reset(world);
+                } else {
+                    dock.startAt(world);
+                    held.push_back(frame);
+                    kept[frame] = world.velocity;
+                }
+            } else if (rng.below(2) == 0) {
+                // An edit that keeps the marbles: the current frame's sample is taken again (or
+                // added, where the buffer no longer holds it), the earlier ones stay.
+                world.frame = frame;
+                for (int i = 0; i < kMarbles; ++i)
+                    world.velocity[static_cast<std::size_t>(i)] = {rng.uniform(-5.0, 5.0), rng.uniform(-5.0, 5.0)};
+                kept[frame] = world.velocity;
+                if (comparing)
+                    compareKept[frame] = world.velocity; // the comparison restarts from the edited world
+                dock.resample(world, comparing ? &world : nullptr);
+                if (held.empty() || held.back() != frame) {
+                    held.push_back(frame);
+                    if (static_cast<int>(held.size()) > capacity)
+                        held.pop_front();
+                }
             }
             break;
         default:

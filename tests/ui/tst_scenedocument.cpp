@@ -115,13 +115,15 @@ void TestSceneDocument::rewindReturnsToFrameZero()
 
 void TestSceneDocument::jumpBackRewindsTimelineEditResetsIt()
 {
-    // Plots keep what they hold of the frames up to the one a jump back restores; an edit (or a
-    // new scene) starts them over.
+    // Plots keep what they hold of the frames up to the one a jump back restores; an edit that
+    // keeps the marbles keeps the frames before it; a new scene, or a marble added or removed,
+    // starts them over.
     SceneDocument doc;
     doc.resetScene(preset("four-marbles"));
     doc.advance(12);
     QSignalSpy rewound(&doc, &SceneDocument::timelineRewound);
     QSignalSpy reset(&doc, &SceneDocument::timelineReset);
+    QSignalSpy edited(&doc, &SceneDocument::timelineEdited);
     QVERIFY(doc.stepBack());
     QCOMPARE(rewound.count(), 1);
     QCOMPARE(rewound.takeFirst().at(0).value<std::int64_t>(), std::int64_t(11));
@@ -131,8 +133,26 @@ void TestSceneDocument::jumpBackRewindsTimelineEditResetsIt()
     QCOMPARE(reset.count(), 0);
 
     QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.25")).isEmpty());
-    QCOMPARE(reset.count(), 1);
+    QCOMPARE(reset.count(), 0);
+    QCOMPARE(edited.count(), 1);
     QCOMPARE(rewound.count(), 0);
+    doc.advance(5);
+    QVERIFY(doc.setMarbleRadius(1, 22.0).isEmpty());
+    QVERIFY(doc.addPin({30.0, 30.0}).isEmpty());
+    doc.undoStack()->undo();
+    QCOMPARE(reset.count(), 0);
+    QCOMPARE(edited.count(), 4);
+    QVERIFY(doc.canStepBack()); // the frames before the edits are still there to go back to
+
+    QVERIFY(doc.addMarble({700.0, 80.0}, 10.0).isEmpty());
+    QCOMPARE(reset.count(), 1);
+    QCOMPARE(edited.count(), 4);
+    QVERIFY(!doc.canStepBack());
+    doc.undoStack()->undo(); // the marble goes: another new timeline
+    QCOMPARE(reset.count(), 2);
+    doc.resetScene(preset("four-marbles"));
+    QCOMPARE(reset.count(), 3);
+    QCOMPARE(edited.count(), 4);
 }
 
 void TestSceneDocument::historyIsBounded()
