@@ -706,25 +706,32 @@ QString PlotDock::exportPng(const QString &path)
 
 void PlotDock::rebuildTracks()
 {
+    // The chart lists its lines in the order they were added, and the legend follows it. A line
+    // kept from before (marble 3, selected a moment ago) would lead the lines added now (marbles
+    // 0 to 2): every plotted marble gets a new line, in marble order, and a marble plotted before
+    // keeps its samples (refreshChart() hands the samples to the lines). Taking a line out and
+    // adding it again instead made Qt Charts paint a deleted item (a crash).
     const QList<int> wanted = wantedMarbles();
     std::vector<Track> tracks;
     tracks.reserve(static_cast<std::size_t>(wanted.size()));
     for (int marble : wanted) {
-        auto old = std::find_if(m_tracks.begin(), m_tracks.end(), [marble](const Track &t) { return t.marble == marble; });
-        if (old != m_tracks.end()) {
-            tracks.push_back(std::move(*old));
-            old->series = nullptr;
-            old->compareSeries = nullptr;
-            old->marble = -1;
-            continue;
-        }
-        // A marble plotted from now on: its speeds for the samples already held, as far as the
-        // run still knows them.
         Track t;
         t.marble = marble;
-        startFrom(t.speed, marble, m_documentVelocities);
+        auto old = std::find_if(m_tracks.begin(), m_tracks.end(), [marble](const Track &k) { return k.marble == marble; });
+        const bool kept = old != m_tracks.end();
+        if (kept) {
+            t.speed = std::move(old->speed);
+            t.compareSpeed = std::move(old->compareSpeed);
+            old->marble = -1;
+        } else {
+            // A marble plotted from now on: its speeds for the samples already held, as far as
+            // the run still knows them.
+            startFrom(t.speed, marble, m_documentVelocities);
+        }
         t.series = addSpeedSeries();
-        if (!m_compareModel.isEmpty())
+        if (kept && old->compareSeries)
+            t.compareSeries = addSpeedSeries();
+        else if (!m_compareModel.isEmpty())
             addCompareTrack(t);
         tracks.push_back(std::move(t));
     }
@@ -736,8 +743,8 @@ void PlotDock::rebuildTracks()
         removeCompareTrack(t);
     }
     m_tracks = std::move(tracks);
-    // Lines of newly plotted marbles were added after the two models' legend entries: put those
-    // back at the end, so that the legend lists the marbles first, then "book (solid)", "exact (dashed)".
+    // The new lines were added after the two models' legend entries: put those back at the end,
+    // so that the legend lists the marbles first, then "book (solid)", "exact (dashed)".
     for (QLineSeries *key : {m_modelKey, m_compareKey}) {
         if (!key)
             continue;

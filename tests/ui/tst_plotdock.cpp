@@ -8,6 +8,8 @@
 #include <QCheckBox>
 #include <QFile>
 #include <QImage>
+#include <QLegend>
+#include <QLegendMarker>
 #include <QLineSeries>
 #include <QRadioButton>
 #include <QSignalSpy>
@@ -51,6 +53,7 @@ private slots:
     void frameAxisTicksAreWholeFrames_data();
     void frameAxisTicksAreWholeFrames();
     void legendLabelsFitTheRow();
+    void legendListsMarblesInOrder();
     void totalsOnRequest();
     void hoverShowsExactValues_data();
     void hoverShowsExactValues();
@@ -889,6 +892,38 @@ void TestPlotDock::legendLabelsFitTheRow()
     dock.resize(3000, 350);
     QTRY_VERIFY(!dock.legendIsCompact());
     QCOMPARE(dock.speedSeries(3)->name(), QStringLiteral("marble 3"));
+}
+
+void TestPlotDock::legendListsMarblesInOrder()
+{
+    // Marble 3 selected, then nothing: its line was kept (with its points) and the others added
+    // again, yet the legend still reads marble 0, 1, 2, 3, then the two models' keys.
+    PlotDock dock;
+    World world = worldWith(4);
+    dock.reset(world);
+    dock.setCompareModel(QStringLiteral("exact"));
+    runFrames(dock, world, 6);
+    dock.resize(1400, 350);
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    const auto visibleLabels = [&dock] {
+        QStringList labels;
+        for (QLegendMarker *marker : dock.chartView()->chart()->legend()->markers()) {
+            if (marker->isVisible())
+                labels << marker->label();
+        }
+        return labels;
+    };
+    const QStringList inOrder{QStringLiteral("marble 0"), QStringLiteral("marble 1"), QStringLiteral("marble 2"),
+                              QStringLiteral("marble 3"), QStringLiteral("book (solid)"), QStringLiteral("exact (dashed)")};
+    dock.refreshChart();
+    QCOMPARE(visibleLabels(), inOrder);
+    dock.setSelectedMarbles({3});
+    dock.setSelectedMarbles({});
+    dock.refreshChart();
+    QTRY_COMPARE(visibleLabels(), inOrder); // new markers show once the legend is laid out
+    QCOMPARE(dock.speedSeries(3)->count(), 6);
+    QCOMPARE(dock.sampleSpeed(5, 3), std::hypot(0.06, 1.5));
 }
 
 void TestPlotDock::totalsOnRequest()
