@@ -663,6 +663,12 @@ void StageView::drawForeground(QPainter *painter, const QRectF &rect)
         // Left of the head when the arrow points left, right of it otherwise; centred vertically.
         const double x = u.x() < -0.3 ? at.x() - box.width() : (std::abs(u.x()) <= 0.3 ? at.x() - box.width() / 2 : at.x());
         const double y = at.y() + (u.y() > 0.3 ? box.height() * 0.8 : (u.y() < -0.3 ? -box.height() * 0.2 : box.height() * 0.3));
+        // On a light backing: over a crowd the label would cross marbles.
+        const QRectF backing = box.translated(x, y).adjusted(-3, -1, 3, 1);
+        painter->setPen(Qt::NoPen);
+        painter->setBrush(QColor(255, 255, 255, 210));
+        painter->drawRoundedRect(backing, 3, 3);
+        painter->setPen(ink);
         painter->drawText(QPointF(x, y), label);
     }
     painter->restore();
