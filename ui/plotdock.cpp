@@ -555,11 +555,17 @@ void PlotDock::refreshChart()
 
     double speedMin = std::numeric_limits<double>::infinity();
     double speedMax = -std::numeric_limits<double>::infinity();
+    // A line of one sample (the frame a run starts from) is no line at all: its point is drawn.
+    const auto showPoints = [n](QLineSeries *series) {
+        if (series->pointsVisible() != (n == 1))
+            series->setPointsVisible(n == 1);
+    };
     for (Track &t : m_tracks) {
         QList<QPointF> points;
         appendThinned(
             points, n, maxPoints, x, [&t](qsizetype i) { return t.speed.at(static_cast<std::size_t>(i)); }, speedMin, speedMax);
         t.series->replace(points);
+        showPoints(t.series);
         if (t.compareSeries) {
             QList<QPointF> comparePoints;
             appendThinned(

@@ -452,11 +452,15 @@ void TestPlotDock::resetClears()
     QCOMPARE(dock.sampleCount(), 1);
     QCOMPARE(dock.sampleFrame(0), std::int64_t(40));
     QCOMPARE(dock.sampleSpeed(0, 1), 5.0);
+    dock.refreshChart();
+    QVERIFY(dock.speedSeries(1)->pointsVisible()); // one sample: no line, so its point is drawn
     for (int f = 41; f <= 43; ++f) {
         smaller.frame = f;
         dock.appendFrame(smaller);
     }
     QCOMPARE(dock.sampleCount(), 4);
+    dock.refreshChart();
+    QVERIFY(!dock.speedSeries(1)->pointsVisible());
     dock.cutAfter(40);
     QCOMPARE(dock.sampleCount(), 1);
     QCOMPARE(dock.sampleFrame(0), std::int64_t(40));
