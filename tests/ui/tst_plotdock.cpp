@@ -98,6 +98,21 @@ void runFrames(PlotDock &dock, World &world, int n)
     }
 }
 
+/// Gives `dock` the scene `world` compared with the exact model, `frames` frames of it, and shows
+/// it `width` px wide, its chart refreshed; false if the window never showed.
+bool showComparing(PlotDock &dock, World &world, int frames, int width)
+{
+    dock.reset(world);
+    dock.setCompareModel(QStringLiteral("exact"));
+    runFrames(dock, world, frames);
+    dock.resize(width, 350);
+    dock.show();
+    if (!QTest::qWaitForWindowExposed(&dock))
+        return false;
+    dock.refreshChart();
+    return true;
+}
+
 /// The horizontal (time) axis of `line`.
 QValueAxis *timeAxisOf(QLineSeries *line)
 {
@@ -880,13 +895,7 @@ void TestPlotDock::legendLabelsFitTheRow()
     // marbles are labelled "#3"; at a wide plot, and on hovering a line, "marble 3".
     PlotDock dock;
     World world = worldWith(20);
-    dock.reset(world);
-    dock.setCompareModel(QStringLiteral("exact"));
-    runFrames(dock, world, 5);
-    dock.resize(700, 350);
-    dock.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&dock));
-    dock.refreshChart();
+    QVERIFY(showComparing(dock, world, 5, 700));
     QTRY_VERIFY(dock.legendIsCompact());
     QCOMPARE(dock.speedSeries(3)->name(), QStringLiteral("#3"));
     dock.describePoint(dock.speedSeries(3), QPointF(2.0, 0.0));
@@ -900,16 +909,11 @@ void TestPlotDock::legendLabelsFitTheRow()
 
 void TestPlotDock::legendListsMarblesInOrder()
 {
-    // Marble 3 selected, then nothing: its line was kept (with its points) and the others added
+    // Marble 3 selected, then nothing: marble 3 kept its samples and the others were plotted
     // again, yet the legend still reads marble 0, 1, 2, 3, then the two models' keys.
     PlotDock dock;
     World world = worldWith(4);
-    dock.reset(world);
-    dock.setCompareModel(QStringLiteral("exact"));
-    runFrames(dock, world, 6);
-    dock.resize(1400, 350);
-    dock.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    QVERIFY(showComparing(dock, world, 6, 1400));
     const auto visibleLabels = [&dock] {
         QStringList labels;
         for (QLegendMarker *marker : dock.chartView()->chart()->legend()->markers()) {
@@ -920,8 +924,7 @@ void TestPlotDock::legendListsMarblesInOrder()
     };
     const QStringList inOrder{QStringLiteral("marble 0"), QStringLiteral("marble 1"), QStringLiteral("marble 2"),
                               QStringLiteral("marble 3"), QStringLiteral("book (solid)"), QStringLiteral("exact (dashed)")};
-    dock.refreshChart();
-    QCOMPARE(visibleLabels(), inOrder);
+    QTRY_COMPARE(visibleLabels(), inOrder);
     dock.setSelectedMarbles({3});
     dock.setSelectedMarbles({});
     dock.refreshChart();
