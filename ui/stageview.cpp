@@ -70,7 +70,6 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
     connect(m_document, &SceneDocument::stepped, this, &StageView::syncPoses);
     connect(m_document, &SceneDocument::frameAdvanced, this, &StageView::sampleTrail);
     connect(m_document, &SceneDocument::timelineReset, this, &StageView::resetTrail);
-    connect(m_document, &SceneDocument::timelineEdited, this, &StageView::resetTrail);
     // An edit can renumber the marbles (a removal), and a step back brings back the pushes made
     // at the frame it returns to: the pushes still to come are found again.
     connect(m_document, &SceneDocument::sceneChanged, this, &StageView::findPendingPushes);
@@ -80,6 +79,10 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
         // A new scene is shown whole, whatever the zoom was on the last one.
         if (change == SceneDocument::Change::Scene)
             m_autoFit = true;
+        // A marble moved or changed by hand may have jumped: the trails start over. A parameter
+        // changed mid-run (friction, gravity) keeps them, so that the paths bend from there.
+        if (change == SceneDocument::Change::Marbles)
+            resetTrail();
         rebuild();
     });
     rebuild();
