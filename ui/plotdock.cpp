@@ -702,11 +702,25 @@ QString PlotDock::exportPng(const QString &path)
 {
     if (m_dirty)
         refreshChart();
+    // Drawn at least kMinPngSize: the view is made that large for the picture and given its
+    // size back at once (no event is handled in between, so nothing else sees it).
+    const QSize onScreen = m_chartView->size();
+    const QSize size = onScreen.expandedTo(kMinPngSize);
+    if (size != onScreen)
+        m_chartView->resize(size);
     const QPixmap image = m_chartView->grab();
+    if (size != onScreen)
+        m_chartView->resize(onScreen);
     if (image.isNull())
         return tr("%1: the chart could not be drawn").arg(path);
-    if (!image.save(path, "PNG"))
+    // Written whole or not at all, as the scene files are.
+    QSaveFile file(path);
+    if (!file.open(QIODevice::WriteOnly))
+        return tr("%1: %2").arg(path, file.errorString());
+    if (!image.save(&file, "PNG"))
         return tr("%1: could not be written as PNG").arg(path);
+    if (!file.commit())
+        return tr("%1: %2").arg(path, file.errorString());
     return QString();
 }
 

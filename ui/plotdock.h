@@ -7,6 +7,7 @@
 #include <QDockWidget>
 #include <QList>
 #include <QPointF>
+#include <QSize>
 #include <QString>
 
 #include <cstdint>
@@ -42,6 +43,9 @@ public:
     static constexpr int kMaxPlottedMarbles = 12;
     /// Samples (frames) kept by default; older frames are dropped.
     static constexpr qsizetype kDefaultCapacity = 5000;
+    /// Smallest picture exportPng() makes, px: the dock is often a wide, low strip, whose shape
+    /// would make a squat picture for a worksheet or a slide.
+    static constexpr QSize kMinPngSize{1200, 675};
     /// How often buffered samples are handed to the chart, ms (about 5 times a second).
     static constexpr int kRefreshIntervalMs = 200;
 

@@ -1076,6 +1076,9 @@ void TestPlotDock::exportCsvError()
     const QString error = dock.exportCsv(path);
     QVERIFY(error.startsWith(path));
     QVERIFY(!QFile::exists(path));
+    const QString png = dir.filePath(QStringLiteral("no/such/folder/plot.png"));
+    QVERIFY(dock.exportPng(png).startsWith(png));
+    QVERIFY(!QFile::exists(png));
 }
 
 void TestPlotDock::exportPng()
@@ -1093,8 +1096,10 @@ void TestPlotDock::exportPng()
     QCOMPARE(dock.exportPng(path), QString());
     QImage image(path);
     QVERIFY(!image.isNull());
+    // At least kMinPngSize (the dock is smaller), and the dock keeps its own size.
     const qreal dpr = dock.chartView()->devicePixelRatioF();
-    QCOMPARE(image.size(), dock.chartView()->size() * dpr);
+    QCOMPARE(image.size(), dock.chartView()->size().expandedTo(PlotDock::kMinPngSize) * dpr);
+    QCOMPARE_LT(dock.chartView()->width(), PlotDock::kMinPngSize.width());
     // Not blank: the marbles' lines are drawn.
     const QColor line = dock.speedSeries(0)->pen().color();
     int linePixels = 0;
