@@ -737,8 +737,19 @@ void MainWindow::rebuildRecentMenu()
 
 void MainWindow::openRecent()
 {
-    if (const auto *action = qobject_cast<const QAction *>(sender()))
-        openFile(action->data().toString());
+    const auto *action = qobject_cast<const QAction *>(sender());
+    if (!action)
+        return;
+    const QString path = action->data().toString();
+    // A file that is gone (deleted, renamed) leaves the list once its error was shown; one that
+    // is there but cannot be read (a half-copied file, a folder not mounted right now) stays.
+    if (!openFile(path) && !QFileInfo::exists(path)) {
+        QStringList files = recentFiles();
+        files.removeAll(path);
+        QSettings().setValue(keyRecentFiles(), files);
+        rebuildRecentMenu();
+        showStatus(tr("%1 is gone: it was taken off File > Open Recent.").arg(QDir::toNativeSeparators(path)));
+    }
 }
 
 bool MainWindow::maybeSave()

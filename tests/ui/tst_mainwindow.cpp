@@ -374,6 +374,20 @@ void TestMainWindow::saveThenOpenRoundTrips()
     QCOMPARE(sceneToJson(doc->world()), sceneToJson(saved));
     QCOMPARE(doc->world().mass, saved.mass);
     QCOMPARE(m_window->recentFiles().value(0), QFileInfo(path).absoluteFilePath());
+
+    // Open Recent on a file deleted since: its error, and it leaves the list.
+    QVERIFY(QFile::remove(path));
+    auto *recentMenu = m_window->findChild<QMenu *>(QStringLiteral("recentMenu"));
+    QVERIFY(recentMenu && !recentMenu->actions().isEmpty());
+    QCOMPARE(recentMenu->actions().first()->data().toString(), QFileInfo(path).absoluteFilePath());
+    const qsizetype recentBefore = m_window->recentFiles().size();
+    recentMenu->actions().first()->trigger();
+    QCOMPARE(m_prompts->errors.size(), 1);
+    QVERIFY2(m_prompts->errors.first().contains(QStringLiteral("No such file")), qPrintable(m_prompts->errors.first()));
+    QVERIFY(!m_window->recentFiles().contains(QFileInfo(path).absoluteFilePath()));
+    QCOMPARE(m_window->recentFiles().size(), recentBefore - 1);
+    QCOMPARE(recentMenu->actions().size(), recentBefore - 1);
+    QCOMPARE(sceneToJson(doc->world()), sceneToJson(saved)); // the open scene as it was
 }
 
 void TestMainWindow::presetOpensWithItsView()
