@@ -498,6 +498,8 @@ void StageView::mouseReleaseEvent(QMouseEvent *event)
         // acts on the next frame; until then an arrow shows it (a click while paused would
         // otherwise change nothing on screen, and a second click add to it unseen).
         const int i = m_gestureIndex;
+        if (i >= m_document->world().marbleCount())
+            break; // gone since the press (an undo by key, say)
         m_document->pushMarble(i, p);
         const Vec2 a = m_document->world().acceleration[static_cast<std::size_t>(i)];
         if (!m_pushed.contains(i))
