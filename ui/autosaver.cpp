@@ -50,7 +50,7 @@ void AutoSaver::start(int intervalMs)
 }
 
 bool AutoSaver::writeFiles(const QString &scenePath, const std::string &json, const QString &sourcePath,
-                           const QByteArray &sourceName)
+                           const QByteArray &sourceRecord)
 {
     QSaveFile scene(scenePath);
     if (!scene.open(QIODevice::WriteOnly)
@@ -58,7 +58,29 @@ bool AutoSaver::writeFiles(const QString &scenePath, const std::string &json, co
         || !scene.commit())
         return false;
     QSaveFile source(sourcePath);
-    return source.open(QIODevice::WriteOnly) && source.write(sourceName) == sourceName.size() && source.commit();
+    return source.open(QIODevice::WriteOnly) && source.write(sourceRecord) == sourceRecord.size() && source.commit();
+}
+
+QByteArray AutoSaver::sourceRecord() const
+{
+    QByteArray record = m_document->fileName().toUtf8();
+    if (m_document->fileName().isEmpty() && !m_presetTitle.isEmpty()) {
+        record.append('\0');
+        record.append(m_presetTitle.toUtf8());
+    }
+    return record;
+}
+
+QStringList AutoSaver::readSourceRecord() const
+{
+    QFile source(sourcePath());
+    if (!source.open(QIODevice::ReadOnly))
+        return {QString(), QString()};
+    const QByteArray record = source.readAll();
+    const qsizetype nul = record.indexOf('\0');
+    if (nul < 0)
+        return {QString::fromUtf8(record), QString()};
+    return {QString::fromUtf8(record.left(nul)), QString::fromUtf8(record.mid(nul + 1))};
 }
 
 bool AutoSaver::saveNow()
@@ -70,7 +92,7 @@ bool AutoSaver::saveNow()
         discard();
         return true;
     }
-    return writeFiles(scenePath(), sceneToJson(m_document->world()), sourcePath(), m_document->fileName().toUtf8());
+    return writeFiles(scenePath(), sceneToJson(m_document->world()), sourcePath(), sourceRecord());
 }
 
 bool AutoSaver::saveInBackground()
@@ -88,8 +110,8 @@ bool AutoSaver::saveInBackground()
     try {
         m_background = std::async(std::launch::async,
                                   [world = m_document->world(), scene = scenePath(), source = sourcePath(),
-                                   name = m_document->fileName().toUtf8()] {
-                                      return writeFiles(scene, sceneToJson(world), source, name);
+                                   record = sourceRecord()] {
+                                      return writeFiles(scene, sceneToJson(world), source, record);
                                   });
     } catch (const std::system_error &) {
         return saveNow(); // no thread to be had: write it here rather than not at all
@@ -111,10 +133,12 @@ bool AutoSaver::hasRecovery() const
 
 QString AutoSaver::recoverySource() const
 {
-    QFile source(sourcePath());
-    if (!source.open(QIODevice::ReadOnly))
-        return {};
-    return QString::fromUtf8(source.readAll());
+    return readSourceRecord().value(0);
+}
+
+QString AutoSaver::recoveryPresetTitle() const
+{
+    return readSourceRecord().value(1);
 }
 
 bool AutoSaver::recover(QString *error)

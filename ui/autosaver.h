@@ -2,6 +2,7 @@
 
 #include <QObject>
 #include <QString>
+#include <QStringList>
 #include <QTimer>
 
 #include <future>
@@ -44,8 +45,12 @@ public:
     bool waitForBackgroundSave();
     /// True when an autosave from an earlier session is waiting to be recovered.
     bool hasRecovery() const;
+    /// Names an untitled scene by the preset it came from (autosaved with it; "" for none).
+    void setPresetTitle(const QString &title) { m_presetTitle = title; }
     /// The file the autosaved scene came from ("" for an untitled scene).
     QString recoverySource() const;
+    /// The preset an untitled autosaved scene came from ("" for none, or for a file).
+    QString recoveryPresetTitle() const;
     /// Loads the autosave into the document (modified, named after its source); false with `error` on failure.
     bool recover(QString *error);
     /// Deletes the autosave (a clean exit, or the user declined recovery), after waiting for a
@@ -56,15 +61,21 @@ public:
 
 private:
     QString sourcePath() const;
+    /// What the source file holds: the scene's file name, then a NUL (which no path holds) and
+    /// the preset title (an autosave of an older version has the file name alone).
+    QByteArray sourceRecord() const;
+    /// The source file's two fields (file name, preset title).
+    QStringList readSourceRecord() const;
     /// Writes the autosave files (any thread).
     static bool writeFiles(const QString &scenePath, const std::string &json, const QString &sourcePath,
-                           const QByteArray &sourceName);
+                           const QByteArray &sourceRecord);
 
     SceneDocument *m_document;
     QString m_directory;
     QTimer m_timer;
     std::unique_ptr<QLockFile> m_lock;
     bool m_active = false;
+    QString m_presetTitle;
     std::future<bool> m_background; // the background save in flight, if any
 };
 

@@ -125,7 +125,7 @@ MainWindow::MainWindow(QWidget *parent)
 
     World scene;
     makePreset(presets().front().id, scene);
-    m_presetTitle = QString::fromStdString(presets().front().title);
+    setPresetTitle(QString::fromStdString(presets().front().title));
     m_document->resetScene(scene);
 
     readSettings();
@@ -676,7 +676,7 @@ bool MainWindow::replaceScene(const World &scene, const QString &fileName, const
         return false;
     m_run->pause();
     hideBarMessage();
-    m_presetTitle = presetTitle;
+    setPresetTitle(presetTitle);
     m_document->resetScene(scene, fileName);
     m_view->clearSelection();
     restoreViewBeforePreset();
@@ -867,11 +867,16 @@ void MainWindow::offerRecovery()
     if (!m_autoSaver->hasRecovery())
         return;
     const QString source = m_autoSaver->recoverySource();
-    const QString details = source.isEmpty() ? tr("An untitled scene had unsaved changes.")
-                                             : tr("The scene %1 had unsaved changes.").arg(source);
+    const QString preset = m_autoSaver->recoveryPresetTitle();
+    const QString details = !source.isEmpty()  ? tr("The scene %1 had unsaved changes.").arg(source)
+                            : !preset.isEmpty() ? tr("The scene made from the preset \"%1\" had unsaved changes.").arg(preset)
+                                                : tr("An untitled scene had unsaved changes.");
     if (m_prompts->askRecover(this, details)) {
         QString error;
         if (m_autoSaver->recover(&error)) {
+            // Named as before the crash: its file, or its preset (not the preset opened at start).
+            setPresetTitle(source.isEmpty() ? preset : QString());
+            updateTitle();
             showStatus(tr("Recovered the autosaved scene. Save it to keep it."));
             return;
         }
@@ -1101,7 +1106,13 @@ void MainWindow::updateTitle()
     setWindowTitle(tr("%1[*] — Marbles").arg(sceneName()));
     setWindowModified(m_document->isModified());
     if (!m_document->fileName().isEmpty())
-        m_presetTitle.clear();
+        setPresetTitle(QString());
+}
+
+void MainWindow::setPresetTitle(const QString &title)
+{
+    m_presetTitle = title;
+    m_autoSaver->setPresetTitle(title);
 }
 
 QString MainWindow::frameText() const

@@ -134,6 +134,8 @@ private:
     void showStatus(const QString &text);
     /// The open scene's name, as the title bar and the save prompt show it.
     QString sceneName() const;
+    /// The preset the open, untitled scene came from (also what its autosave is named by).
+    void setPresetTitle(const QString &title);
     void updateTitle();
     void updateFrameDisplay();
     void updateStatistics();

@@ -52,6 +52,7 @@ public:
     int saveQuestions = 0;
     QString savedSceneName; // the scene the last save question named
     int recoverQuestions = 0;
+    QString recoverDetails; // what the last recovery question said of the scene
     QStringList errors;
 
     SaveChoice askSaveChanges(QWidget *, const QString &name) override
@@ -60,9 +61,10 @@ public:
         savedSceneName = name;
         return saveChoice;
     }
-    bool askRecover(QWidget *, const QString &) override
+    bool askRecover(QWidget *, const QString &details) override
     {
         ++recoverQuestions;
+        recoverDetails = details;
         return recoverAnswer;
     }
     QString askOpenFileName(QWidget *, const QString &) override { return openName; }
@@ -765,8 +767,24 @@ void TestMainWindow::autosaveIsRecoveredAfterCrash()
     m_prompts->recoverAnswer = true;
     m_window->offerRecovery();
     QCOMPARE(m_prompts->recoverQuestions, 1);
+    QCOMPARE(m_prompts->recoverDetails,
+             QStringLiteral("The scene made from the preset \"Four marbles (Figure 11.8)\" had unsaved changes."));
     QCOMPARE(sceneToJson(m_window->document()->world()), edited);
     QVERIFY(m_window->document()->isModified());
+
+    // A scene made from another preset than the one the window opens with is named by it, in
+    // the question and, once recovered, in the title (the window had opened the first preset).
+    m_prompts->saveChoice = Prompts::SaveChoice::Discard; // the recovered scene's changes
+    QVERIFY(m_window->openPreset(QStringLiteral("pachinko")));
+    QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
+    QVERIFY(m_window->autoSaver()->saveNow());
+    m_window.reset();
+    makeWindow();
+    m_window->offerRecovery();
+    QCOMPARE(m_prompts->recoverDetails,
+             QStringLiteral("The scene made from the preset \"Pachinko board\" had unsaved changes."));
+    QCOMPARE(m_window->document()->world().params.friction, 0.05);
+    QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Pachinko board (preset)[*]")));
 
     // A clean exit leaves nothing to recover.
     m_prompts->saveChoice = Prompts::SaveChoice::Discard;
