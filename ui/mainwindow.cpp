@@ -39,6 +39,7 @@
 #include <QUndoView>
 #include <QVBoxLayout>
 
+#include <algorithm>
 #include <cmath>
 
 namespace marbles {
@@ -858,7 +859,12 @@ bool MainWindow::saveFile(const QString &path)
     }
     m_autoSaver->discard();
     addRecentFile(path);
-    showStatus(tr("Saved %1.").arg(QDir::toNativeSeparators(path)));
+    // A click's push waits for the next frame in the world; a file holds only scripted pushes.
+    const std::vector<Vec2> &pending = m_document->world().acceleration;
+    const bool pushPending = std::any_of(pending.begin(), pending.end(), [](Vec2 a) { return a.x != 0.0 || a.y != 0.0; });
+    showStatus(pushPending ? tr("Saved %1, without the push still to act (a click's push is not kept in the file).")
+                                 .arg(QDir::toNativeSeparators(path))
+                           : tr("Saved %1.").arg(QDir::toNativeSeparators(path)));
     return true;
 }
 
