@@ -306,7 +306,7 @@ void PlotDock::reset(const World &world)
         m_names[i] = QString::fromStdString(world.info[i].name);
     }
     m_frameMs = world.params.frameMs;
-    m_model = modelLabel(world);
+    m_models = QStringList{modelLabel(world)};
     rebuildTracks();
     m_hoverLabel->clear();
     m_dirty = true;
@@ -326,8 +326,11 @@ void PlotDock::resample(const World &world, const World *compare)
     }
     appendFrame(world, compare);
     const QString model = modelLabel(world);
-    if (model != m_model) {
-        m_model = model;
+    if (model != m_models.last()) {
+        // The lines before this frame are still the last model's (none but this frame: no line yet).
+        if (m_frames.size() <= 1)
+            m_models.clear();
+        m_models.append(model);
         styleSeries();
     }
     m_hoverLabel->clear();
@@ -343,6 +346,11 @@ void PlotDock::cutAfter(std::int64_t frame)
         return;
     m_frames.dropNewest(later);
     forEachValueBuffer([later](RingBuffer<double> &values) { values.dropNewest(later); });
+    if (m_frames.size() <= 1 && m_models.size() > 1) {
+        // Back to where no line is left: the model now is the only one to name.
+        m_models = QStringList{m_models.last()};
+        styleSeries();
+    }
     m_hoverLabel->clear();
     m_dirty = true;
 }
@@ -887,7 +895,7 @@ void PlotDock::styleSeries()
         }
     }
     if (m_modelKey && m_compareKey) {
-        m_modelKey->setName(tr("%1 (solid)").arg(m_model));
+        m_modelKey->setName(tr("%1 (solid)").arg(m_models.join(tr(", then "))));
         m_compareKey->setName(tr("%1 (dashed)").arg(m_compareModel));
     }
 

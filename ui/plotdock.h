@@ -9,6 +9,7 @@
 #include <QPointF>
 #include <QSize>
 #include <QString>
+#include <QStringList>
 
 #include <cstdint>
 #include <functional>
@@ -214,7 +215,9 @@ private:
     int m_marbleCount = 0;
     std::vector<QString> m_colors; ///< "#rrggbb" per marble, "" for the default palette
     std::vector<QString> m_names;
-    QString m_model = QStringLiteral("book"); ///< the document's model name, from the latest reset()
+    /// The document's models along the lines held, oldest first (one unless the model was
+    /// changed mid-run): the solid lines' legend entry names them all.
+    QStringList m_models{QStringLiteral("book")};
     QString m_compareModel; ///< the comparison model's name, "" when none
     double m_frameMs = 20.0;
     bool m_timeInSeconds = false;

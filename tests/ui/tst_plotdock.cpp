@@ -54,6 +54,7 @@ private slots:
     void frameAxisTicksAreWholeFrames();
     void legendLabelsFitTheRow();
     void legendListsMarblesInOrder();
+    void legendNamesEveryModelOfTheLines();
     void totalsOnRequest();
     void hoverShowsExactValues_data();
     void hoverShowsExactValues();
@@ -931,6 +932,42 @@ void TestPlotDock::legendListsMarblesInOrder()
     QTRY_COMPARE(visibleLabels(), inOrder); // new markers show once the legend is laid out
     QCOMPARE(dock.speedSeries(3)->count(), 6);
     QCOMPARE(dock.sampleSpeed(5, 3), std::hypot(0.06, 1.5));
+}
+
+void TestPlotDock::legendNamesEveryModelOfTheLines()
+{
+    // Compared with exact, the scene's own model changed mid-run (an edit keeps the lines): the
+    // solid lines are the book's up to the change and the impulse model's after it.
+    PlotDock dock;
+    World world = worldWith(2);
+    dock.setCompareModel(QStringLiteral("exact"));
+    const auto solidKey = [&dock]() -> QString {
+        for (QAbstractSeries *series : dock.chartView()->chart()->series()) {
+            if (series->name().endsWith(QStringLiteral("(solid)")))
+                return series->name();
+        }
+        return {};
+    };
+    dock.startAt(world, &world);
+    QCOMPARE(solidKey(), QStringLiteral("book (solid)"));
+    // At the first frame, before any line: the model named is the new one alone.
+    world.params.model = ModelKind::Exact;
+    dock.resample(world, &world);
+    QCOMPARE(solidKey(), QStringLiteral("exact (solid)"));
+    world.params.model = ModelKind::Book;
+    dock.resample(world, &world);
+    QCOMPARE(solidKey(), QStringLiteral("book (solid)"));
+    for (int f = 1; f <= 5; ++f) {
+        world.frame = f;
+        dock.appendFrame(world, &world);
+    }
+    world.params.model = ModelKind::Impulse;
+    dock.resample(world, &world);
+    QCOMPARE(solidKey(), QStringLiteral("book, then impulse (solid)"));
+    QCOMPARE(dock.sampleCount(), 6);
+    // Back to the first frame: no line is left, and the model now is the one named.
+    dock.cutAfter(0);
+    QCOMPARE(solidKey(), QStringLiteral("impulse (solid)"));
 }
 
 void TestPlotDock::totalsOnRequest()
