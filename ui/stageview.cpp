@@ -666,8 +666,15 @@ void StageView::drawForeground(QPainter *painter, const QRectF &rect)
         const QPointF at = head + u * 8.0;
         const QRectF box = painter->fontMetrics().boundingRect(label);
         // Left of the head when the arrow points left, right of it otherwise; centred vertically.
-        const double x = u.x() < -0.3 ? at.x() - box.width() : (std::abs(u.x()) <= 0.3 ? at.x() - box.width() / 2 : at.x());
-        const double y = at.y() + (u.y() > 0.3 ? box.height() * 0.8 : (u.y() < -0.3 ? -box.height() * 0.2 : box.height() * 0.3));
+        double x = u.x() < -0.3 ? at.x() - box.width() : (std::abs(u.x()) <= 0.3 ? at.x() - box.width() / 2 : at.x());
+        double y = at.y() + (u.y() > 0.3 ? box.height() * 0.8 : (u.y() < -0.3 ? -box.height() * 0.2 : box.height() * 0.3));
+        // Kept inside the view: a marble pushed towards the window's edge still shows its label.
+        const QRectF inside = QRectF(viewport()->rect()).adjusted(4, 4, -4, -4);
+        const double free = x;
+        x = std::clamp(x, inside.left() - box.left(), std::max(inside.left() - box.left(), inside.right() - box.right()));
+        if (x != free)
+            y += u.y() > 0.0 ? box.height() + 6 : -(box.height() + 6); // beside the arrow's head, not over it
+        y = std::clamp(y, inside.top() - box.top(), std::max(inside.top() - box.top(), inside.bottom() - box.bottom()));
         // On a light backing: over a crowd the label would cross marbles.
         const QRectF backing = box.translated(x, y).adjusted(-3, -1, 3, 1);
         painter->setPen(Qt::NoPen);
