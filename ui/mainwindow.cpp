@@ -14,6 +14,7 @@
 #include <QAction>
 #include <QActionGroup>
 #include <QApplication>
+#include <QChartView>
 #include <QCloseEvent>
 #include <QComboBox>
 #include <QDialog>
@@ -611,8 +612,20 @@ void MainWindow::createStatusBar()
     m_statisticsTimer->start();
 }
 
+void MainWindow::fitScreenHeight(int availableHeight)
+{
+    // The stage's and the plot's smallest sizes suit a laptop or a 1024 x 768 projector; on a
+    // screen less tall (800 x 600) they would push the status bar and the plot's legend below
+    // its edge: there both may shrink, to still readable sizes.
+    const bool small = availableHeight < kSmallScreenHeight;
+    m_view->setMinimumHeight(small ? 170 : StageView::kMinimumHeight);
+    m_plotDock->chartView()->setMinimumHeight(small ? 190 : PlotDock::kMinimumChartHeight);
+}
+
 void MainWindow::readSettings()
 {
+    if (const QScreen *where = screen())
+        fitScreenHeight(where->availableGeometry().height());
     QSettings settings;
     const QByteArray geometry = settings.value(QStringLiteral("window/geometry")).toByteArray();
     if (geometry.isEmpty() || !restoreGeometry(geometry))

@@ -41,6 +41,11 @@ class MainWindow : public QMainWindow {
 public:
     /// Most recent files remembered.
     static constexpr int kMaxRecentFiles = 8;
+    /// Below this available screen height (px) the stage and the plot may be smaller than usual.
+    static constexpr int kSmallScreenHeight = 720;
+    /// Sets the stage's and the plot's smallest heights for a screen `availableHeight` px tall
+    /// (done at start for the window's screen): smaller below kSmallScreenHeight.
+    void fitScreenHeight(int availableHeight);
     /// Redo's keys: Ctrl+Shift+Z, then the platform's own Redo keys (`platformRedo`, Ctrl+Y on
     /// Windows) that are not already there. A key listed twice would be an ambiguous shortcut,
     /// which Qt ignores.

@@ -246,7 +246,7 @@ PlotDock::PlotDock(QWidget *parent)
     m_chartView = new QChartView(m_chart, page);
     m_chartView->setObjectName(QStringLiteral("plotChartView"));
     m_chartView->setRenderHint(QPainter::Antialiasing);
-    m_chartView->setMinimumSize(240, 220);
+    m_chartView->setMinimumSize(240, kMinimumChartHeight);
     m_chartView->installEventFilter(this);
     column->addWidget(m_chartView, 1);
 

@@ -47,6 +47,8 @@ public:
     /// Smallest picture exportPng() makes, px: the dock is often a wide, low strip, whose shape
     /// would make a squat picture for a worksheet or a slide.
     static constexpr QSize kMinPngSize{1200, 675};
+    /// The chart's smallest height, px (a screen less tall than 720 px allows less: MainWindow).
+    static constexpr int kMinimumChartHeight = 220;
     /// How often buffered samples are handed to the chart, ms (about 5 times a second).
     static constexpr int kRefreshIntervalMs = 200;
 

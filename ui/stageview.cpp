@@ -60,7 +60,7 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
     setDragMode(QGraphicsView::NoDrag);
     setFocusPolicy(Qt::StrongFocus);
     setMouseTracking(false);
-    setMinimumSize(320, 240);
+    setMinimumSize(320, kMinimumHeight);
 
     m_trail = new TrailItem();
     m_trail->setZValue(-1.0);

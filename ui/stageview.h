@@ -35,6 +35,8 @@ public:
 
     /// A press and release closer than this (viewport px) is a click, not a drag.
     static constexpr int kClickTolerancePx = 4;
+    /// The view's smallest height, px (a screen less tall than 720 px allows less: MainWindow).
+    static constexpr int kMinimumHeight = 240;
     /// Radius of a marble made with the add-marble tool, stage px.
     static constexpr double kNewMarbleRadius = 20.0;
     /// Above this many marbles one MarbleFieldItem draws them all (one item per marble and per

@@ -16,6 +16,7 @@
 #include <QAction>
 #include <QToolButton>
 #include <QAbstractButton>
+#include <QChartView>
 #include <QComboBox>
 #include <QDialog>
 #include <QDir>
@@ -868,8 +869,8 @@ void TestMainWindow::toolbarsFitTheWindow()
 
 void TestMainWindow::firstStartFitsASmallScreen()
 {
-    // A classroom projector smaller than the window's usual 1400 x 900 (Qt's offscreen screen is
-    // one): the first start fills the screen instead of opening past its edges, and toolbars that
+    // A classroom projector smaller than the window's usual 1400 x 900 (Qt's offscreen screen,
+    // 800 x 600, is one): the first start fills the screen instead of opening past its edges, and toolbars that
     // do not fit side by side take rows of their own rather than hiding tools in an overflow menu.
     const QSize available = m_window->screen()->availableGeometry().size();
     if (available.width() >= 1400 && available.height() >= 900)
@@ -887,7 +888,21 @@ void TestMainWindow::firstStartFitsASmallScreen()
     QVERIFY(m_window->isMaximized());
     QTRY_COMPARE_LE(m_window->width(), available.width());
     QCOMPARE_LE(m_window->height(), available.height());
+    // The layout's smallest size fits too (an X server would otherwise make the window taller
+    // than the screen: at 800 x 600 the status bar and the plot's legend were below its edge).
+    QCOMPARE_LE(m_window->minimumSizeHint().width(), available.width());
+    QCOMPARE_LE(m_window->minimumSizeHint().height(), available.height());
     QCOMPARE(toolbarActionsHidden(), QString());
+    // On a screen 600 px tall (an 800 x 600 projector; Qt's offscreen screen is 800 px tall) the
+    // stage and the plot take less room, so that the window's smallest layout fits; on a taller
+    // one they keep their usual smallest sizes.
+    m_window->fitScreenHeight(600);
+    QTRY_COMPARE_LE(m_window->minimumSizeHint().height(), 600); // once the layout has taken it in
+    QCOMPARE_GE(m_window->plotDock()->chartView()->minimumHeight(), 190); // still readable
+    m_window->fitScreenHeight(768);
+    QCOMPARE(m_window->stageView()->minimumHeight(), StageView::kMinimumHeight);
+    QCOMPARE(m_window->plotDock()->chartView()->minimumHeight(), PlotDock::kMinimumChartHeight);
+    QTRY_COMPARE_GT(m_window->minimumSizeHint().height(), 600);
     QVERIFY(m_window->toolBarBreak(m_window->findChild<QToolBar *>(QStringLiteral("toolsToolBar"))));
 }
 
