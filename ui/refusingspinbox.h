@@ -1,6 +1,8 @@
 #pragma once
 
 #include <QDoubleSpinBox>
+#include <QEvent>
+#include <QKeyEvent>
 #include <QLocale>
 #include <QSpinBox>
 #include <QString>
@@ -70,7 +72,31 @@ public:
     double high() const override { return static_cast<double>(this->maximum()); }
     double current() const override { return static_cast<double>(this->value()); }
 
+protected:
+    // A space is never part of a number. Left to the field, Space (the window's Play / Pause,
+    // pressed right after Enter while the field still has the focus) replaced the selected value
+    // with a blank and the run went on; passed over, it reaches the window's shortcut.
+    bool event(QEvent *event) override
+    {
+        if (event->type() == QEvent::ShortcutOverride && isPlainSpace(static_cast<QKeyEvent *>(event)))
+            return true; // not accepted: the shortcut may take the key
+        return Base::event(event);
+    }
+    void keyPressEvent(QKeyEvent *event) override
+    {
+        if (isPlainSpace(event)) {
+            event->ignore(); // to the parent, as a key the field has no use for
+            return;
+        }
+        Base::keyPressEvent(event);
+    }
+
 private:
+    static bool isPlainSpace(const QKeyEvent *event)
+    {
+        return event->key() == Qt::Key_Space && (event->modifiers() & ~Qt::KeypadModifier) == Qt::NoModifier;
+    }
+
     bool outside(double value) const { return value < low() || value > high(); }
 
     QString bareText(const QString &text) const

@@ -108,6 +108,7 @@ private Q_SLOTS:
     void plotGetsOneSamplePerFrame();
     void plotShowsAPushAsAJump();
     void frictionChangedMidRunBendsThePlot();
+    void spacePausesFromANumberField();
     void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
     void tickRunsWhatFitsItsBudget_data();
@@ -627,6 +628,29 @@ void TestMainWindow::plotShowsAPushAsAJump()
     QVERIFY(plot->sampleSpeed(1, 0) == length(reference.velocity[0])); // deterministic: same bits
     plot->refreshChart();
     QCOMPARE(plot->speedSeries(0)->count(), 2);
+}
+
+void TestMainWindow::spacePausesFromANumberField()
+{
+    // A teacher types a friction, presses Enter (the field keeps the focus) and then Space to
+    // play: Space plays and pauses, and the field keeps the number (it once became a blank).
+    auto *friction = m_window->findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit"));
+    QVERIFY(friction);
+    RunController *run = m_window->runController();
+    QVERIFY(!run->isRunning());
+    friction->setFocus();
+    friction->selectAll();
+    QTest::keyClicks(friction, QStringLiteral("0.2"));
+    QTest::keyClick(friction, Qt::Key_Return);
+    QCOMPARE(m_window->document()->world().params.friction, 0.2);
+    friction->selectAll(); // as Enter leaves it: the whole number selected
+    QTest::keyClick(friction, Qt::Key_Space);
+    QVERIFY(run->isRunning());
+    QCOMPARE(friction->text(), QStringLiteral("0.2"));
+    QTest::keyClick(friction, Qt::Key_Space);
+    QVERIFY(!run->isRunning());
+    QCOMPARE(friction->text(), QStringLiteral("0.2"));
+    QCOMPARE(m_window->document()->world().params.friction, 0.2);
 }
 
 void TestMainWindow::selectingAMarblePlotsItsWholeRun()
