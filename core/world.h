@@ -158,6 +158,12 @@ public:
     /// pending acceleration, so it acts on the next update. Exact and impulse models apply it
     /// as an instant velocity change at the start of that update.
     void push(int i, Vec2 at);
+    /// Whether marble i has a push still to act (its pending acceleration is not zero).
+    bool pushPending(int i) const
+    {
+        const Vec2 a = acceleration[static_cast<std::size_t>(i)];
+        return a.x != 0.0 || a.y != 0.0;
+    }
     /// Applies the scripted pushes of the current frame (those in `pushes` for `frame`), in file
     /// order, as step() does before the model runs.
     void applyScriptedPushes();

@@ -40,7 +40,6 @@
 #include <QUndoView>
 #include <QVBoxLayout>
 
-#include <algorithm>
 #include <cmath>
 
 namespace marbles {
@@ -731,6 +730,11 @@ void MainWindow::addRecentFile(const QString &path)
     files.prepend(absolute);
     while (files.size() > kMaxRecentFiles)
         files.removeLast();
+    setRecentFiles(files);
+}
+
+void MainWindow::setRecentFiles(const QStringList &files)
+{
     QSettings().setValue(keyRecentFiles(), files);
     rebuildRecentMenu();
 }
@@ -760,8 +764,7 @@ void MainWindow::openRecent()
     if (!openFile(path) && !QFileInfo::exists(path)) {
         QStringList files = recentFiles();
         files.removeAll(path);
-        QSettings().setValue(keyRecentFiles(), files);
-        rebuildRecentMenu();
+        setRecentFiles(files);
         showStatus(tr("%1 is gone: it was taken off File > Open Recent.").arg(QDir::toNativeSeparators(path)));
     }
 }
@@ -873,8 +876,10 @@ bool MainWindow::saveFile(const QString &path)
     m_autoSaver->discard();
     addRecentFile(path);
     // A click's push waits for the next frame in the world; a file holds only scripted pushes.
-    const std::vector<Vec2> &pending = m_document->world().acceleration;
-    const bool pushPending = std::any_of(pending.begin(), pending.end(), [](Vec2 a) { return a.x != 0.0 || a.y != 0.0; });
+    const World &world = m_document->world();
+    bool pushPending = false;
+    for (int i = 0; i < world.marbleCount() && !pushPending; ++i)
+        pushPending = world.pushPending(i);
     showStatus(pushPending ? tr("Saved %1, without the push still to act (a click's push is not kept in the file).")
                                  .arg(QDir::toNativeSeparators(path))
                            : tr("Saved %1.").arg(QDir::toNativeSeparators(path)));

@@ -115,6 +115,8 @@ private:
     bool saveAs();
     void openRecent();
     void addRecentFile(const QString &path);
+    /// Stores the recent files' list (newest first) and rebuilds File > Open Recent from it.
+    void setRecentFiles(const QStringList &files);
     void rebuildRecentMenu();
 
     void togglePlay();

@@ -598,8 +598,7 @@ void StageView::findPendingPushes()
     m_pushed.clear();
     const World &world = m_document->world();
     for (int i = 0; i < world.marbleCount(); ++i) {
-        const Vec2 a = world.acceleration[static_cast<std::size_t>(i)];
-        if (a.x != 0.0 || a.y != 0.0)
+        if (world.pushPending(i))
             m_pushed.append(i);
     }
 }
@@ -609,11 +608,8 @@ QList<int> StageView::pendingPushes() const
     const World &world = m_document->world();
     QList<int> pending;
     for (int i : m_pushed) {
-        if (i < world.marbleCount()) {
-            const Vec2 a = world.acceleration[static_cast<std::size_t>(i)];
-            if (a.x != 0.0 || a.y != 0.0)
-                pending.append(i);
-        }
+        if (i < world.marbleCount() && world.pushPending(i))
+            pending.append(i);
     }
     return pending;
 }
