@@ -155,11 +155,18 @@ void World::push(int i, Vec2 at)
     assert(i >= 0 && i < marbleCount());
     if (i < 0 || i >= marbleCount())
         return;
+    const Vec2 add = pushAcceleration(i, at);
+    acceleration[i].x += add.x;
+    acceleration[i].y += add.y;
+}
+
+Vec2 World::pushAcceleration(int i, Vec2 at) const
+{
     // The book's hitMarble: force = (marble centre - click point), a += force * 10 / mass.
     // Evaluated as ((p - c) * pushScale) / m, the book's order of operations.
-    const Vec2 p = position[i];
-    acceleration[i].x += ((p.x - at.x) * params.pushScale) / mass[i];
-    acceleration[i].y += ((p.y - at.y) * params.pushScale) / mass[i];
+    const auto k = static_cast<std::size_t>(i);
+    const Vec2 p = position[k];
+    return {((p.x - at.x) * params.pushScale) / mass[k], ((p.y - at.y) * params.pushScale) / mass[k]};
 }
 
 void World::applyScriptedPushes()
@@ -168,6 +175,19 @@ void World::applyScriptedPushes()
         if (appliesNow(p))
             push(p.marble, p.at);
     }
+}
+
+Vec2 World::scriptedPushDue(int i) const
+{
+    Vec2 due;
+    for (const Push &p : pushes) {
+        if (p.marble == i && appliesNow(p)) {
+            const Vec2 add = pushAcceleration(i, p.at);
+            due.x += add.x;
+            due.y += add.y;
+        }
+    }
+    return due;
 }
 
 StepResult World::step()

@@ -170,6 +170,9 @@ public:
     /// Whether the next step() applies scripted push `p` (it is for this frame, on a marble
     /// that exists).
     bool appliesNow(const Push &p) const { return p.frame == frame && p.marble >= 0 && p.marble < marbleCount(); }
+    /// What the scripted pushes of the current frame will add to marble i's acceleration on the
+    /// next step() (zero when none is due), as push() computes it.
+    Vec2 scriptedPushDue(int i) const;
 
     /// Advances one frame with params.model: scripted pushes for this frame, then the model.
     /// Returns whether every marble is still finite.
@@ -181,6 +184,9 @@ public:
     Vec2 momentum() const;
 
 private:
+    /// What a click at `at` adds to marble i's acceleration.
+    Vec2 pushAcceleration(int i, Vec2 at) const;
+
     std::unique_ptr<Stepper> m_stepper;
     ModelKind m_stepperKind = ModelKind::Book;
 };

@@ -443,7 +443,7 @@ void MainWindow::showKeysAndMouse()
     }
     rows += QStringLiteral("<tr><td colspan=2>&nbsp;</td></tr>");
     row(tr("Click a marble"), tr("push it: further from its centre pushes harder, away from the click"));
-    row(tr("The push"), tr("acts on the next frame; an arrow shows it until then (clicks add up)"));
+    row(tr("The push"), tr("acts on the next frame; an arrow shows it until then (clicks add up), as it does a scene's scripted push"));
     row(tr("The marble clicked"), tr("is selected: inspected, plotted, and with Trails on its trail kept long"));
     row(tr("Drag a marble or a pin"), tr("move it (paused or running)"));
     row(tr("Right-click"), tr("add or delete here"));

@@ -68,6 +68,12 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
     m_scene->addItem(m_trail);
 
     connect(m_document, &SceneDocument::stepped, this, &StageView::syncPoses);
+    // A frame can bring a scripted push due or apply the pushes drawn: the arrows are redrawn
+    // even where no marble moves (a still stage is not repainted otherwise).
+    connect(m_document, &SceneDocument::stepped, this, [this] {
+        if (m_arrowsShown || !pendingPushes().isEmpty())
+            viewport()->update();
+    });
     connect(m_document, &SceneDocument::frameAdvanced, this, &StageView::sampleTrail);
     connect(m_document, &SceneDocument::timelineReset, this, &StageView::resetTrail);
     // An edit can renumber the marbles (a removal), and a step back brings back the pushes made
@@ -500,14 +506,22 @@ void StageView::mouseReleaseEvent(QMouseEvent *event)
         const int i = m_gestureIndex;
         if (i >= m_document->world().marbleCount())
             break; // gone since the press (an undo by key, say)
+        const Vec2 before = m_document->world().acceleration[static_cast<std::size_t>(i)];
         m_document->pushMarble(i, p);
-        const Vec2 a = m_document->world().acceleration[static_cast<std::size_t>(i)];
+        const Vec2 after = m_document->world().acceleration[static_cast<std::size_t>(i)];
+        const Vec2 a{after.x - before.x, after.y - before.y};
         if (!m_pushed.contains(i))
             m_pushed.append(i);
-        report(tr("Marble %1 pushed: on the next frame its velocity gains (%2, %3) px/frame")
-                   .arg(i)
-                   .arg(a.x, 0, 'f', 2)
-                   .arg(a.y, 0, 'f', 2));
+        const Vec2 scripted = m_document->world().scriptedPushDue(i);
+        QString text = tr("Marble %1 pushed: the click adds (%2, %3) px/frame to its velocity on the next frame")
+                           .arg(i)
+                           .arg(a.x, 0, 'f', 2)
+                           .arg(a.y, 0, 'f', 2);
+        if (before.x != 0.0 || before.y != 0.0)
+            text += tr(", earlier clicks (%1, %2)").arg(before.x, 0, 'f', 2).arg(before.y, 0, 'f', 2);
+        if (scripted.x != 0.0 || scripted.y != 0.0)
+            text += tr(", the scene's scripted push (%1, %2)").arg(scripted.x, 0, 'f', 2).arg(scripted.y, 0, 'f', 2);
+        report(text);
         viewport()->update();
         break;
     }
@@ -603,7 +617,7 @@ void StageView::findPendingPushes()
     }
 }
 
-QList<int> StageView::pendingPushes() const
+QList<int> StageView::clickedPushes() const
 {
     const World &world = m_document->world();
     QList<int> pending;
@@ -614,20 +628,32 @@ QList<int> StageView::pendingPushes() const
     return pending;
 }
 
+QList<int> StageView::pendingPushes() const
+{
+    const World &world = m_document->world();
+    QList<int> pending = clickedPushes();
+    for (const Push &push : world.pushes) {
+        if (world.appliesNow(push) && !pending.contains(push.marble))
+            pending.append(push.marble);
+    }
+    return pending;
+}
+
 void StageView::drawForeground(QPainter *painter, const QRectF &rect)
 {
     Q_UNUSED(rect);
-    if (m_pushed.isEmpty())
-        return;
+    const QList<int> clicked = clickedPushes();
+    if (clicked.isEmpty())
+        m_pushed.clear(); // every click's push has acted (a frame ran) or its marble is gone
     const QList<int> pending = pendingPushes();
-    if (pending.isEmpty()) {
-        m_pushed.clear(); // every push has acted (a frame ran) or its marble is gone
+    m_arrowsShown = !pending.isEmpty();
+    if (pending.isEmpty())
         return;
-    }
     // Drawn in viewport pixels, so that the arrow reads the same at any zoom: from the marble's
     // rim along the push, longer for a harder push (10 frames of the velocity it adds, within
-    // 24 to 160 px); the latest push has the velocity it adds written at its head (one label:
-    // several would overlap where marbles are close, and the status bar gave each).
+    // 24 to 160 px). The latest click has the velocity the frame adds written at its head (one
+    // label: several would overlap where marbles are close, and the status bar gave each); a
+    // scripted push no click joined is labelled as the scene's (a scene scripts a few).
     const World &world = m_document->world();
     const double scale = transform().m11();
     const QColor ink(190, 40, 120);
@@ -639,7 +665,8 @@ void StageView::drawForeground(QPainter *painter, const QRectF &rect)
     painter->setFont(font);
     for (int i : pending) {
         const auto k = static_cast<std::size_t>(i);
-        const Vec2 a = world.acceleration[k];
+        const Vec2 scripted = world.scriptedPushDue(i);
+        const Vec2 a{world.acceleration[k].x + scripted.x, world.acceleration[k].y + scripted.y};
         const double size = std::hypot(a.x, a.y);
         const QPointF u(a.x / size, a.y / size);
         if (!std::isfinite(u.x()) || !std::isfinite(u.y()))
@@ -655,10 +682,12 @@ void StageView::drawForeground(QPainter *painter, const QRectF &rect)
         painter->setPen(Qt::NoPen);
         painter->setBrush(ink);
         painter->drawPolygon(QPolygonF{head, head - u * 12.0 + across * 6.0, head - u * 12.0 - across * 6.0});
-        if (i != pending.back())
+        const bool byClick = clicked.contains(i);
+        if (byClick && i != clicked.back())
             continue;
         painter->setPen(ink);
-        const QString label = tr("+%1 px/frame").arg(size, 0, 'f', 2);
+        const QString label = byClick ? tr("+%1 px/frame").arg(size, 0, 'f', 2)
+                                      : tr("scripted +%1 px/frame").arg(size, 0, 'f', 2);
         const QPointF at = head + u * 8.0;
         const QRectF box = painter->fontMetrics().boundingRect(label);
         // Left of the head when the arrow points left, right of it otherwise; centred vertically.

@@ -118,9 +118,12 @@ public:
 
     /// Number of times the viewport was painted (for the display fps).
     qint64 paintCount() const { return m_paintCount; }
-    /// Marbles clicked since the last frame whose push is still to act (their acceleration is
-    /// not zero), in click order: each is drawn with an arrow along its push until a frame runs.
+    /// Marbles with a push to act on the next frame, each drawn with an arrow along all that
+    /// frame adds to its velocity: first those clicked since the last frame (their acceleration
+    /// is not zero), in click order, then those the scene's scripted pushes for this frame name.
     QList<int> pendingPushes() const;
+    /// Of pendingPushes(), those pushed by a click.
+    QList<int> clickedPushes() const;
 
 Q_SIGNALS:
     /// The selection changed.
@@ -181,6 +184,7 @@ private:
 
     Vec2 m_contextPoint;
     QList<int> m_pushed; // marbles clicked since the last frame (pendingPushes() filters them)
+    bool m_arrowsShown = false; // the last paint drew push arrows
     QList<QAction *> m_contextActions;
     qint64 m_paintCount = 0;
 };

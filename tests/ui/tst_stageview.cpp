@@ -61,6 +61,7 @@ private Q_SLOTS:
     void shortMoveIsStillAClick_data();
     void shortMoveIsStillAClick();
     void pushIsShownUntilItActs();
+    void scriptedPushIsShownWhenDue();
     void batchedAboveTheThreshold_data();
     void batchedAboveTheThreshold();
     void batchedClickSelectsAndPushes_data();
@@ -82,6 +83,10 @@ private:
     void loadCrowd(int n);
     /// A marble of the loaded scene with at least `minRadius`, well inside the stage.
     int bigMarble(double minRadius) const;
+    /// Pixels of the push arrow's ink on the ray from marble i's rim to the right (direction
+    /// +1) or to the left (-1), out to 20 px, in a band 7 px high (a click's pixel rounding tilts
+    /// the push a little).
+    int pushInkOnRay(int i, int direction) const;
 
     std::unique_ptr<SceneDocument> m_document;
     std::unique_ptr<StageView> m_view;
@@ -362,22 +367,7 @@ void TestStageView::pushIsShownUntilItActs()
     const int marble = 0;
     QCOMPARE(w.acceleration[marble], Vec2{});
     const QPoint centre = m_view->viewportPoint(w.position[marble]);
-    const int rim = static_cast<int>(w.radius[marble] * m_view->transform().m11());
-    // Pixels of the arrow's ink on the ray from the rim to the right (where a click left of the
-    // centre pushes), and on the ray to the left (where nothing is drawn).
-    const auto inkOnRay = [&](int direction) {
-        const QImage image = m_view->viewport()->grab().toImage();
-        int ink = 0;
-        for (int d = rim + 3; d < rim + 20; ++d) {
-            bool hit = false; // in a band 7 px high: the click's pixel rounding tilts the push a little
-            for (int dy = -3; dy <= 3; ++dy) {
-                const QColor c = image.pixelColor(centre + QPoint(direction * d, dy));
-                hit = hit || (c.red() > 140 && c.green() < 100 && c.blue() > 70 && c.blue() < c.red());
-            }
-            ink += hit ? 1 : 0;
-        }
-        return ink;
-    };
+    const auto inkOnRay = [&](int direction) { return pushInkOnRay(marble, direction); };
     QCOMPARE(inkOnRay(+1), 0);
     QSignalSpy messages(m_view.get(), &StageView::message);
     QTest::mouseClick(viewport(), Qt::LeftButton, {}, centre + QPoint(-8, 0));
@@ -386,11 +376,22 @@ void TestStageView::pushIsShownUntilItActs()
     QCOMPARE(m_view->pendingPushes(), QList<int>{marble});
     QCOMPARE(messages.count(), 1);
     QCOMPARE(messages.last().at(0).toString(),
-             QStringLiteral("Marble 0 pushed: on the next frame its velocity gains (%1, %2) px/frame")
+             QStringLiteral("Marble 0 pushed: the click adds (%1, %2) px/frame to its velocity on the next frame")
                  .arg(push.x, 0, 'f', 2)
                  .arg(push.y, 0, 'f', 2));
     QCOMPARE_GE(inkOnRay(+1), 10);
     QCOMPARE(inkOnRay(-1), 0);
+    // A second click adds to the first: the message gives this click's part and the earlier one.
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, centre + QPoint(-8, 0));
+    const Vec2 both = w.acceleration[marble];
+    QCOMPARE(messages.last().at(0).toString(),
+             QStringLiteral("Marble 0 pushed: the click adds (%1, %2) px/frame to its velocity on the next frame, "
+                            "earlier clicks (%3, %4)")
+                 .arg(both.x - push.x, 0, 'f', 2)
+                 .arg(both.y - push.y, 0, 'f', 2)
+                 .arg(push.x, 0, 'f', 2)
+                 .arg(push.y, 0, 'f', 2));
+    QCOMPARE(m_view->pendingPushes(), QList<int>{marble});
 
     // The frame applies it: the arrow goes.
     m_document->advance(1);
@@ -398,9 +399,74 @@ void TestStageView::pushIsShownUntilItActs()
     QCOMPARE(inkOnRay(+1), 0);
     // Stepping back returns to the frame before it, push pending: the arrow is back.
     QVERIFY(m_document->stepBack());
-    QCOMPARE(w.acceleration[marble], push);
+    QCOMPARE(w.acceleration[marble], both);
     QCOMPARE(m_view->pendingPushes(), QList<int>{marble});
     QCOMPARE_GE(inkOnRay(+1), 10);
+}
+
+void TestStageView::scriptedPushIsShownWhenDue()
+{
+    // A scene's scripted push is drawn while it is due (the frame it names is the current one),
+    // on a still stage too, so a class sees it coming before the step that applies it.
+    World scene;
+    scene.addMarble({300, 300}, 20);
+    scene.addMarble({500, 300}, 20);
+    scene.pushes.push_back({2, 0, {290, 300}}); // from the left: pushes right
+    m_document->resetScene(scene);
+    QTest::qWait(0);
+    const World &w = m_document->world();
+    QVERIFY(m_view->pendingPushes().isEmpty());
+    QCOMPARE(pushInkOnRay(0, +1), 0);
+    const qint64 paints = m_view->paintCount();
+    m_document->advance(2); // nothing moves: only the due push changes the picture
+    QCOMPARE(w.position[0], (Vec2{300, 300}));
+    QTRY_VERIFY(m_view->paintCount() > paints); // before any grab(), which paints by itself
+    QCOMPARE(m_view->pendingPushes(), QList<int>{0});
+    QVERIFY(m_view->clickedPushes().isEmpty());
+    QTRY_COMPARE_GE(pushInkOnRay(0, +1), 10);
+    QCOMPARE(pushInkOnRay(0, -1), 0);
+    QCOMPARE(w.scriptedPushDue(0).x, 10.0 * 10.0 / w.mass[0]);
+    QCOMPARE(w.scriptedPushDue(1), Vec2{});
+
+    // A click on the other marble joins it; the status bar gives the click's own part.
+    QSignalSpy messages(m_view.get(), &StageView::message);
+    const QPoint other = m_view->viewportPoint(w.position[1]);
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, other + QPoint(-8, 0));
+    QCOMPARE(m_view->pendingPushes(), (QList<int>{1, 0}));
+    QCOMPARE(m_view->clickedPushes(), QList<int>{1});
+    // A click on the scripted marble names the script's part too.
+    const QPoint first = m_view->viewportPoint(w.position[0]);
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, first + QPoint(-8, 0));
+    const Vec2 click = w.acceleration[0];
+    QCOMPARE(messages.last().at(0).toString(),
+             QStringLiteral("Marble 0 pushed: the click adds (%1, %2) px/frame to its velocity on the next frame, "
+                            "the scene's scripted push (%3, 0.00)")
+                 .arg(click.x, 0, 'f', 2)
+                 .arg(click.y, 0, 'f', 2)
+                 .arg(w.scriptedPushDue(0).x, 0, 'f', 2));
+
+    // The frame applies both: no arrow is left.
+    m_document->advance(1);
+    QVERIFY(m_view->pendingPushes().isEmpty());
+    QTRY_COMPARE(pushInkOnRay(0, +1), 0);
+}
+
+int TestStageView::pushInkOnRay(int i, int direction) const
+{
+    const World &w = m_document->world();
+    const QPoint centre = m_view->viewportPoint(w.position[i]);
+    const int rim = static_cast<int>(w.radius[i] * m_view->transform().m11());
+    const QImage image = m_view->viewport()->grab().toImage();
+    int ink = 0;
+    for (int d = rim + 3; d < rim + 20; ++d) {
+        bool hit = false;
+        for (int dy = -3; dy <= 3; ++dy) {
+            const QColor c = image.pixelColor(centre + QPoint(direction * d, dy));
+            hit = hit || (c.red() > 140 && c.green() < 100 && c.blue() > 70 && c.blue() < c.red());
+        }
+        ink += hit ? 1 : 0;
+    }
+    return ink;
 }
 
 void TestStageView::loadCrowd(int n)
