@@ -73,7 +73,7 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
             throw InvalidInput{"--set " + setting + ": expected KEY=VALUE"};
         const std::string error = setParam(world, setting.substr(0, eq), setting.substr(eq + 1));
         if (!error.empty())
-            throw InvalidInput{"--set " + setting + ": " + error};
+            throw InvalidInput{"--set " + error}; // the error names the setting ("KEY=VALUE: rule")
     }
     if (const std::string error = validateParams(world.params); !error.empty())
         throw InvalidInput{(settings.empty() ? scene : "--set") + ": " + error};

@@ -241,7 +241,9 @@ void TestCli::invalidInputExitsTwo_data()
     QTest::addRow("set without =") << QStringList{"run", "preset:pins", "--set", "friction"} << QByteArray()
                                    << "KEY=VALUE";
     QTest::addRow("set unknown key") << QStringList{"run", "preset:pins", "--set", "spin=3"} << QByteArray()
-                                     << "spin";
+                                     << "marbles-cli: --set spin=3: unknown key; the keys are";
+    QTest::addRow("set gravity one number") << QStringList{"run", "preset:pins", "--set", "gravity=1"} << QByteArray()
+                                            << "marbles-cli: --set gravity=1: must be two numbers";
     QTest::addRow("set negative friction") << QStringList{"run", "preset:pins", "--set", "friction=-1"}
                                            << QByteArray() << "friction";
     QTest::addRow("set friction 1.5 with exact")
