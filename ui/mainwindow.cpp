@@ -117,6 +117,8 @@ MainWindow::MainWindow(QWidget *parent)
     connect(m_run, &RunController::runningChanged, this, &MainWindow::onRunningChanged);
     connect(m_view, &StageView::selectionChanged, this, &MainWindow::onSelectionChanged);
     connect(m_view, &StageView::message, this, &MainWindow::showStatus);
+    connect(m_view, &StageView::frameMessage, this, &MainWindow::showFrameStatus);
+    connect(m_document, &SceneDocument::stepped, this, &MainWindow::expireFrameStatus);
     connect(m_compare, &CompareRun::modelChanged, this, &MainWindow::updateCompareControls);
     connect(m_compare, &CompareRun::restarted, this, &MainWindow::updateCompareReadout);
     connect(m_document, &SceneDocument::stepped, this, &MainWindow::updateCompareReadout);
@@ -966,7 +968,7 @@ void MainWindow::stepBackward()
 {
     m_run->pause();
     if (!m_document->stepBack())
-        showStatus(tr("Frame %1 is not kept: the history starts at frame %2 (it is cleared when marbles are "
+        showFrameStatus(tr("Frame %1 is not kept: the history starts at frame %2 (it is cleared when marbles are "
                       "added or removed, and holds the last %3 frames).")
                        .arg(m_document->world().frame - 1)
                        .arg(m_document->startFrame())
@@ -980,7 +982,7 @@ void MainWindow::rewindToStart()
     m_run->pause();
     if (m_document->rewind()) {
         hideBarMessage();
-        showStatus(tr("Back to frame %1.").arg(m_document->world().frame));
+        showFrameStatus(tr("Back to frame %1.").arg(m_document->world().frame));
     }
 }
 
@@ -1117,6 +1119,22 @@ void MainWindow::showStatus(const QString &text)
 {
     if (!text.isEmpty())
         statusBar()->showMessage(text, 8000);
+}
+
+void MainWindow::showFrameStatus(const QString &text)
+{
+    showStatus(text);
+    m_frameStatus = text;
+    m_frameStatusAt = m_document->world().frame;
+}
+
+void MainWindow::expireFrameStatus()
+{
+    if (m_frameStatus.isEmpty() || m_document->world().frame == m_frameStatusAt)
+        return;
+    if (statusBar()->currentMessage() == m_frameStatus)
+        statusBar()->clearMessage();
+    m_frameStatus.clear();
 }
 
 QString MainWindow::sceneName() const

@@ -139,6 +139,11 @@ private:
     void showBarMessage(const QString &text);
     void hideBarMessage();
     void showStatus(const QString &text);
+    /// Shows a status message about the current frame, cleared when another frame is shown
+    /// ("Back to frame 0" or a push still to act would read as the state of a later frame).
+    void showFrameStatus(const QString &text);
+    /// Clears a showFrameStatus() message once the frame is not the one it was about.
+    void expireFrameStatus();
     /// The open scene's name, as the title bar and the save prompt show it.
     QString sceneName() const;
     /// The preset the open, untitled scene came from (also what its autosave is named by).
@@ -211,6 +216,8 @@ private:
     QMenu *m_compareMenu = nullptr;
     QComboBox *m_compareBox = nullptr;
     QLabel *m_compareLabel = nullptr;
+    QString m_frameStatus;            // the showFrameStatus() message on show (empty: none)
+    std::int64_t m_frameStatusAt = 0; // the frame it is about
 
     QWidget *m_messageBar = nullptr;
     QLabel *m_messageText = nullptr;

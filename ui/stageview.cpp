@@ -513,15 +513,15 @@ void StageView::mouseReleaseEvent(QMouseEvent *event)
         if (!m_pushed.contains(i))
             m_pushed.append(i);
         const Vec2 scripted = m_document->world().scriptedPushDue(i);
-        QString text = tr("Marble %1 pushed: the click adds (%2, %3) px/frame to its velocity on the next frame")
+        QString text = tr("Marble %1 pushed: the click's push of (%2, %3) px/frame acts on the next frame")
                            .arg(i)
                            .arg(a.x, 0, 'f', 2)
                            .arg(a.y, 0, 'f', 2);
         if (before.x != 0.0 || before.y != 0.0)
-            text += tr(", earlier clicks (%1, %2)").arg(before.x, 0, 'f', 2).arg(before.y, 0, 'f', 2);
+            text += tr(", with earlier clicks' (%1, %2)").arg(before.x, 0, 'f', 2).arg(before.y, 0, 'f', 2);
         if (scripted.x != 0.0 || scripted.y != 0.0)
-            text += tr(", the scene's scripted push (%1, %2)").arg(scripted.x, 0, 'f', 2).arg(scripted.y, 0, 'f', 2);
-        report(text);
+            text += tr(", with the scene's scripted push (%1, %2)").arg(scripted.x, 0, 'f', 2).arg(scripted.y, 0, 'f', 2);
+        Q_EMIT frameMessage(text);
         viewport()->update();
         break;
     }

@@ -130,6 +130,8 @@ Q_SIGNALS:
     void selectionChanged();
     /// A note for the status bar (a refused drop, a moved drop).
     void message(const QString &text);
+    /// A note about the current frame (a push to act on the next one): stale once the frame changes.
+    void frameMessage(const QString &text);
 
 protected:
     void drawBackground(QPainter *painter, const QRectF &rect) override;

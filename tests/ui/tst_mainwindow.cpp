@@ -269,9 +269,13 @@ void TestMainWindow::clickPushesByBookFormula()
     QCOMPARE_LE(std::abs(a.y - expected.y), 1e-12);
     QCOMPARE(doc->world().position[marble], p); // a click is not a drag
     QCOMPARE(doc->undoStack()->count(), 0);     // a push is the experiment, not an edit
+    QVERIFY2(m_window->statusBar()->currentMessage().contains(QStringLiteral("acts on the next frame")),
+             qPrintable(m_window->statusBar()->currentMessage()));
 
-    // The next frame turns it into velocity: v = 0 + a (friction acts on the old v = 0).
+    // The next frame turns it into velocity: v = 0 + a (friction acts on the old v = 0). The
+    // status bar's word on the push is stale from then on.
     QTest::keyClick(m_window->stageView(), Qt::Key_Right);
+    QCOMPARE(m_window->statusBar()->currentMessage(), QString());
     const Vec2 v = doc->world().velocity[marble];
     QCOMPARE_LE(std::abs(v.x - expected.x), 1e-12);
     QCOMPARE_LE(std::abs(v.y - expected.y), 1e-12);
@@ -309,6 +313,13 @@ void TestMainWindow::stepKeysAreExact()
     QVERIFY(sameDynamicState(doc->world(), last));
     QTest::keyClick(view, Qt::Key_Home);
     QCOMPARE(doc->world().frame, 0);
+    // "Back to frame 0." holds at frame 0 only; another message outlives the frame.
+    QCOMPARE(m_window->statusBar()->currentMessage(), QStringLiteral("Back to frame 0."));
+    QTest::keyClick(view, Qt::Key_Right);
+    QCOMPARE(m_window->statusBar()->currentMessage(), QString());
+    m_window->statusBar()->showMessage(QStringLiteral("Saved."));
+    QTest::keyClick(view, Qt::Key_Right);
+    QCOMPARE(m_window->statusBar()->currentMessage(), QStringLiteral("Saved."));
 }
 
 void TestMainWindow::parameterEditReachesWorldAndUndoes()

@@ -369,14 +369,14 @@ void TestStageView::pushIsShownUntilItActs()
     const QPoint centre = m_view->viewportPoint(w.position[marble]);
     const auto inkOnRay = [&](int direction) { return pushInkOnRay(marble, direction); };
     QCOMPARE(inkOnRay(+1), 0);
-    QSignalSpy messages(m_view.get(), &StageView::message);
+    QSignalSpy messages(m_view.get(), &StageView::frameMessage);
     QTest::mouseClick(viewport(), Qt::LeftButton, {}, centre + QPoint(-8, 0));
     const Vec2 push = w.acceleration[marble];
     QVERIFY(push.x > 0.0);
     QCOMPARE(m_view->pendingPushes(), QList<int>{marble});
     QCOMPARE(messages.count(), 1);
     QCOMPARE(messages.last().at(0).toString(),
-             QStringLiteral("Marble 0 pushed: the click adds (%1, %2) px/frame to its velocity on the next frame")
+             QStringLiteral("Marble 0 pushed: the click's push of (%1, %2) px/frame acts on the next frame")
                  .arg(push.x, 0, 'f', 2)
                  .arg(push.y, 0, 'f', 2));
     QCOMPARE_GE(inkOnRay(+1), 10);
@@ -385,8 +385,8 @@ void TestStageView::pushIsShownUntilItActs()
     QTest::mouseClick(viewport(), Qt::LeftButton, {}, centre + QPoint(-8, 0));
     const Vec2 both = w.acceleration[marble];
     QCOMPARE(messages.last().at(0).toString(),
-             QStringLiteral("Marble 0 pushed: the click adds (%1, %2) px/frame to its velocity on the next frame, "
-                            "earlier clicks (%3, %4)")
+             QStringLiteral("Marble 0 pushed: the click's push of (%1, %2) px/frame acts on the next frame, "
+                            "with earlier clicks' (%3, %4)")
                  .arg(both.x - push.x, 0, 'f', 2)
                  .arg(both.y - push.y, 0, 'f', 2)
                  .arg(push.x, 0, 'f', 2)
@@ -429,7 +429,7 @@ void TestStageView::scriptedPushIsShownWhenDue()
     QCOMPARE(w.scriptedPushDue(1), Vec2{});
 
     // A click on the other marble joins it; the status bar gives the click's own part.
-    QSignalSpy messages(m_view.get(), &StageView::message);
+    QSignalSpy messages(m_view.get(), &StageView::frameMessage);
     const QPoint other = m_view->viewportPoint(w.position[1]);
     QTest::mouseClick(viewport(), Qt::LeftButton, {}, other + QPoint(-8, 0));
     QCOMPARE(m_view->pendingPushes(), (QList<int>{1, 0}));
@@ -439,8 +439,8 @@ void TestStageView::scriptedPushIsShownWhenDue()
     QTest::mouseClick(viewport(), Qt::LeftButton, {}, first + QPoint(-8, 0));
     const Vec2 click = w.acceleration[0];
     QCOMPARE(messages.last().at(0).toString(),
-             QStringLiteral("Marble 0 pushed: the click adds (%1, %2) px/frame to its velocity on the next frame, "
-                            "the scene's scripted push (%3, 0.00)")
+             QStringLiteral("Marble 0 pushed: the click's push of (%1, %2) px/frame acts on the next frame, "
+                            "with the scene's scripted push (%3, 0.00)")
                  .arg(click.x, 0, 'f', 2)
                  .arg(click.y, 0, 'f', 2)
                  .arg(w.scriptedPushDue(0).x, 0, 'f', 2));
