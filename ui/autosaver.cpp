@@ -2,12 +2,12 @@
 
 #include "core/sceneio.h"
 #include "ui/scenedocument.h"
+#include "ui/wholefile.h"
 
 #include <QCoreApplication>
 #include <QDir>
 #include <QFile>
 #include <QLockFile>
-#include <QSaveFile>
 #include <QStandardPaths>
 
 #include <chrono>
@@ -52,13 +52,8 @@ void AutoSaver::start(int intervalMs)
 bool AutoSaver::writeFiles(const QString &scenePath, const std::string &json, const QString &sourcePath,
                            const QByteArray &sourceRecord)
 {
-    QSaveFile scene(scenePath);
-    if (!scene.open(QIODevice::WriteOnly)
-        || scene.write(json.data(), static_cast<qint64>(json.size())) != static_cast<qint64>(json.size())
-        || !scene.commit())
-        return false;
-    QSaveFile source(sourcePath);
-    return source.open(QIODevice::WriteOnly) && source.write(sourceRecord) == sourceRecord.size() && source.commit();
+    return writeWholeFile(scenePath, QByteArray::fromStdString(json)).isEmpty()
+        && writeWholeFile(sourcePath, sourceRecord).isEmpty();
 }
 
 QByteArray AutoSaver::sourceRecord() const

@@ -1,5 +1,8 @@
 #include "ui/plotdock.h"
 
+#include "ui/wholefile.h"
+
+#include <QBuffer>
 #include <QChart>
 #include <QChartView>
 #include <QCheckBox>
@@ -14,7 +17,6 @@
 #include <QPixmap>
 #include <QPushButton>
 #include <QRadioButton>
-#include <QSaveFile>
 #include <QTimer>
 #include <QToolTip>
 #include <QFontMetrics>
@@ -669,10 +671,6 @@ QString PlotDock::hoverText() const
 
 QString PlotDock::exportCsv(const QString &path) const
 {
-    QSaveFile file(path);
-    if (!file.open(QIODevice::WriteOnly | QIODevice::Text))
-        return tr("%1: %2").arg(path, file.errorString());
-
     QByteArray text = "frame,time_s";
     for (const Track &t : m_tracks)
         text += ",speed_" + QByteArray::number(t.marble);
@@ -701,8 +699,8 @@ QString PlotDock::exportCsv(const QString &path) const
         }
         text += row.toLatin1() + '\n';
     }
-    if (file.write(text) != text.size() || !file.commit())
-        return tr("%1: %2").arg(path, file.errorString());
+    if (const QString failure = writeWholeFile(path, text); !failure.isEmpty())
+        return tr("%1: %2").arg(path, failure);
     return QString();
 }
 
@@ -722,13 +720,12 @@ QString PlotDock::exportPng(const QString &path)
     if (image.isNull())
         return tr("%1: the chart could not be drawn").arg(path);
     // Written whole or not at all, as the scene files are.
-    QSaveFile file(path);
-    if (!file.open(QIODevice::WriteOnly))
-        return tr("%1: %2").arg(path, file.errorString());
-    if (!image.save(&file, "PNG"))
-        return tr("%1: could not be written as PNG").arg(path);
-    if (!file.commit())
-        return tr("%1: %2").arg(path, file.errorString());
+    QByteArray png;
+    QBuffer buffer(&png);
+    if (!buffer.open(QIODevice::WriteOnly) || !image.save(&buffer, "PNG"))
+        return tr("%1: could not be encoded as PNG").arg(path);
+    if (const QString failure = writeWholeFile(path, png); !failure.isEmpty())
+        return tr("%1: %2").arg(path, failure);
     return QString();
 }
 

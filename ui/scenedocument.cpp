@@ -4,11 +4,11 @@
 #include "ui/marblecommand.h"
 #include "ui/paramcommand.h"
 #include "ui/pincommand.h"
+#include "ui/wholefile.h"
 #include "ui/worldedit.h"
 
 #include <QFile>
 #include <QFileInfo>
-#include <QSaveFile>
 
 #include <cmath>
 
@@ -84,18 +84,11 @@ bool SceneDocument::openFile(const QString &path, QString *error)
 
 bool SceneDocument::saveFile(const QString &path, QString *error)
 {
-    QSaveFile file(path);
     const std::string json = sceneToJson(m_world);
     const QString name = QFileInfo(path).fileName();
-    if (!file.open(QIODevice::WriteOnly)) {
+    if (const QString failure = writeWholeFile(path, QByteArray::fromStdString(json)); !failure.isEmpty()) {
         if (error)
-            *error = tr("%1: cannot write: %2").arg(name, file.errorString());
-        return false;
-    }
-    if (file.write(json.data(), static_cast<qint64>(json.size())) != static_cast<qint64>(json.size())
-        || !file.commit()) {
-        if (error)
-            *error = tr("%1: cannot write: %2").arg(name, file.errorString());
+            *error = tr("%1: %2").arg(name, failure);
         return false;
     }
     m_dirtyWithoutUndo = false;

@@ -2,10 +2,12 @@
 #include "core/world.h"
 #include "ui/plotdock.h"
 #include "ui/ringbuffer.h"
+#include "tests/ui/filesizelimit.h"
 
 #include <QChart>
 #include <QChartView>
 #include <QCheckBox>
+#include <QDir>
 #include <QFile>
 #include <QImage>
 #include <QLegend>
@@ -1116,6 +1118,28 @@ void TestPlotDock::exportCsvError()
     const QString png = dir.filePath(QStringLiteral("no/such/folder/plot.png"));
     QVERIFY(dock.exportPng(png).startsWith(png));
     QVERIFY(!QFile::exists(png));
+
+    // A disk that fills up halfway: the file that was there stays as it was (Qt's buffered
+    // QSaveFile renamed a cut-short file over it and reported success).
+    for (const QString &name : {QStringLiteral("plot.csv"), QStringLiteral("plot.png")}) {
+        const QString target = dir.filePath(name);
+        QFile old(target);
+        QVERIFY(old.open(QIODevice::WriteOnly));
+        old.write("the teacher's earlier export\n");
+        old.close();
+        QString failure;
+        {
+            test::FileSizeLimit limit(100);
+            QVERIFY(limit.ok());
+            failure = name.endsWith(QStringLiteral(".csv")) ? dock.exportCsv(target) : dock.exportPng(target);
+        }
+        QVERIFY2(failure.startsWith(target + QStringLiteral(": cannot write: ")), qPrintable(failure));
+        QVERIFY(old.open(QIODevice::ReadOnly));
+        QCOMPARE(old.readAll(), QByteArray("the teacher's earlier export\n"));
+        old.close();
+    }
+    QCOMPARE(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden),
+             (QStringList{QStringLiteral("plot.csv"), QStringLiteral("plot.png")}));
 }
 
 void TestPlotDock::exportPng()

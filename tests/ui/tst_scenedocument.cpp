@@ -6,7 +6,10 @@
 #include "ui/history.h"
 #include "ui/scenedocument.h"
 #include "ui/worldedit.h"
+#include "tests/ui/filesizelimit.h"
 
+#include <QDir>
+#include <QFile>
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QTest>
@@ -64,6 +67,7 @@ private Q_SLOTS:
     void dropWithNoRoomIsRefused();
     void nonFiniteStateStopsWithMessage();
     void saveThenOpenRoundTrips();
+    void failedSaveKeepsTheFile();
     void invalidFileLeavesSceneUntouched_data();
     void invalidFileLeavesSceneUntouched();
 };
@@ -696,6 +700,37 @@ void TestSceneDocument::saveThenOpenRoundTrips()
     QCOMPARE(other.world().position, doc.world().position);
     QCOMPARE(other.world().velocity, doc.world().velocity);
     QCOMPARE(other.world().mass, doc.world().mass);
+}
+
+void TestSceneDocument::failedSaveKeepsTheFile()
+{
+    // A disk that fills up in the middle of a save: the file that was there stays whole, the
+    // scene stays modified, the error names the file, and no temporary file is left.
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    SceneDocument doc;
+    doc.resetScene(preset("pachinko"));
+    const QString path = dir.filePath(QStringLiteral("kept.marbles.json"));
+    QString error;
+    QVERIFY2(doc.saveFile(path, &error), qPrintable(error));
+    QFile saved(path);
+    QVERIFY(saved.open(QIODevice::ReadOnly));
+    const QByteArray before = saved.readAll();
+    saved.close();
+    QCOMPARE_GT(before.size(), 2000);
+
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
+    QVERIFY(doc.isModified());
+    {
+        test::FileSizeLimit limit(1000);
+        QVERIFY(limit.ok());
+        QVERIFY(!doc.saveFile(path, &error));
+    }
+    QVERIFY2(error.startsWith(QStringLiteral("kept.marbles.json: cannot write: ")), qPrintable(error));
+    QVERIFY(saved.open(QIODevice::ReadOnly));
+    QCOMPARE(saved.readAll(), before);
+    QVERIFY(doc.isModified());
+    QCOMPARE(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList{QStringLiteral("kept.marbles.json")});
 }
 
 void TestSceneDocument::invalidFileLeavesSceneUntouched_data()
