@@ -408,6 +408,9 @@ void SceneDocument::applyChange(Change change)
     const bool restart = !m_history.fits(m_world);
     if (restart)
         m_history.reset(m_world);
+    else if (m_world.frame == m_history.startFrame())
+        m_history.reset(m_world); // an edit of the timeline's first frame is what rewind() returns to
+                                  // (no later frame is kept while that frame is shown)
     if (!validMarble(m_world, m_held))
         m_held = -1;
     emitModification();

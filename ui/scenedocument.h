@@ -60,7 +60,8 @@ public:
     bool canStepBack() const { return m_history.canStepBack(m_world); }
     /// Restores the previous frame exactly; false when it is not kept.
     bool stepBack();
-    /// Restores the first frame of the timeline (frame 0 unless marbles were added or removed since).
+    /// Restores the first frame of the timeline (frame 0 unless marbles were added or removed
+    /// since), with the edits made while it was shown; an edit at a later frame does not change it.
     bool rewind();
     /// Frame number that rewind() returns to.
     std::int64_t startFrame() const { return m_history.startFrame(); }

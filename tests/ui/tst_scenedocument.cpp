@@ -115,6 +115,31 @@ void TestSceneDocument::rewindReturnsToFrameZero()
     QCOMPARE(doc.world().frame, 300);
     QVERIFY(doc.rewind());
     QVERIFY(sameDynamicState(doc.world(), start));
+
+    // Edits at frame 0 make the frame rewind() returns to (a teacher who moved a marble and gave
+    // another a speed before pressing Play gets them back with Home); an edit at a later frame
+    // belongs to that frame only.
+    QVERIFY(doc.setMarblePosition(0, {180, 150}).isEmpty());
+    QVERIFY(doc.setMarbleVelocity(1, {-3, 0}).isEmpty());
+    const World edited = doc.world();
+    doc.advance(5);
+    QVERIFY(doc.setMarbleVelocity(2, {0, 4}).isEmpty());
+    doc.advance(5);
+    QVERIFY(doc.rewind());
+    QCOMPARE(doc.world().frame, 0);
+    QVERIFY(sameDynamicState(doc.world(), edited));
+    QCOMPARE(doc.world().position[0], (Vec2{180, 150}));
+    QCOMPARE(doc.world().velocity[1], (Vec2{-3, 0}));
+    QCOMPARE(doc.world().velocity[2], Vec2{});
+    // Stepping back to frame 0 and editing there moves the start too.
+    doc.advance(3);
+    for (int i = 0; i < 3; ++i)
+        QVERIFY(doc.stepBack());
+    QVERIFY(doc.setMarbleVelocity(3, {1, 1}).isEmpty());
+    doc.advance(4);
+    QVERIFY(doc.rewind());
+    QCOMPARE(doc.world().velocity[3], (Vec2{1, 1}));
+    QCOMPARE(doc.world().position[0], (Vec2{180, 150}));
 }
 
 void TestSceneDocument::jumpBackRewindsTimelineEditResetsIt()
