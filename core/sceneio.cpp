@@ -872,21 +872,26 @@ SceneLoad parseScene(std::string_view text, std::string_view source)
     return result;
 }
 
-SceneLoad loadSceneFile(const std::string &path)
+SceneLoad loadSceneFile(const std::string &path, std::string_view shownAs)
 {
     SceneLoad result;
+    const std::string name = shownAs.empty() ? path : std::string(shownAs);
     auto refuse = [&](const std::string &message) {
-        result.error = path + ": " + message;
+        result.error = name + ": " + message;
         return result;
     };
 
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    // Opened without blocking: opening a named pipe would otherwise wait for a writer, for ever
+    // if none comes. Reads block again (a pipe that is being written is read to its end).
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0)
         return refuse("cannot open the file: " + osError(errno));
     struct Closer {
         int fd;
         ~Closer() { ::close(fd); }
     } closer{fd};
+    if (const int flags = ::fcntl(fd, F_GETFL); flags < 0 || ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) < 0)
+        return refuse("cannot read the file: " + osError(errno));
 
     struct stat info {};
     if (::fstat(fd, &info) != 0)
@@ -922,7 +927,7 @@ SceneLoad loadSceneFile(const std::string &path)
     } catch (const std::bad_alloc &) {
         return refuse("size: not enough memory to read this file");
     }
-    return parseScene(text, path);
+    return parseScene(text, name);
 }
 
 std::string sceneToJson(const World &world)

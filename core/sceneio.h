@@ -30,8 +30,10 @@ struct SceneLoad {
 
 /// Parses scene JSON text. `source` names it in messages: "<source>: <place>: <rule>".
 SceneLoad parseScene(std::string_view text, std::string_view source);
-/// Reads a file and parses it; the message names the file as given. ("-" is not special here.)
-SceneLoad loadSceneFile(const std::string &path);
+/// Reads a file and parses it; the message names the file as `shownAs`, or as given when that is
+/// empty. ("-" is not special here.) A pipe or device is read up to the size limit; a named pipe
+/// nothing writes to reads as empty, rather than waiting for a writer.
+SceneLoad loadSceneFile(const std::string &path, std::string_view shownAs = {});
 /// Serialises a world as a scene file: pretty JSON, unknown keys kept, numbers round-trip exactly.
 /// The file starts at the world's current frame: its pushes are counted from it, and those of
 /// earlier frames, which have acted, are left out; read back, the scene runs on as the world would.

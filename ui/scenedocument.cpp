@@ -48,22 +48,11 @@ void SceneDocument::resetScene(const World &world, const QString &fileName)
 
 bool SceneDocument::readSceneFile(const QString &path, World &out, QString *error)
 {
-    const QString name = QFileInfo(path).fileName();
-    QFile file(path);
-    if (!file.open(QIODevice::ReadOnly)) {
-        if (error)
-            *error = tr("%1: cannot open: %2").arg(name, file.errorString());
-        return false;
-    }
-    if (file.size() < 0 || static_cast<std::size_t>(file.size()) > kMaxSceneBytes) {
-        if (error)
-            *error = tr("%1: larger than %2 bytes").arg(name).arg(kMaxSceneBytes);
-        return false;
-    }
-    const QByteArray text = file.readAll();
-    const QByteArray source = name.toUtf8();
-    SceneLoad load = parseScene(std::string_view(text.constData(), static_cast<std::size_t>(text.size())),
-                                std::string_view(source.constData(), static_cast<std::size_t>(source.size())));
+    // The core's reader: a device or pipe is read only up to the size limit, and a named pipe
+    // nothing writes to does not hang the window. Messages name the file without its folder.
+    const QByteArray name = QFileInfo(path).fileName().toUtf8();
+    SceneLoad load = loadSceneFile(QFile::encodeName(path).toStdString(),
+                                   std::string_view(name.constData(), static_cast<std::size_t>(name.size())));
     if (!load.ok) {
         if (error)
             *error = QString::fromStdString(load.error);

@@ -961,6 +961,11 @@ void TestSceneIo::loadFileErrors_data()
     QTest::addRow("missing") << "nothing-here.marbles.json" << "cannot open the file: No such file or directory";
     QTest::addRow("folder") << "folder" << "cannot read the file: it is a folder, not a scene file";
     QTest::addRow("empty") << "empty.marbles.json" << "line 1, column 1: the text is empty";
+    // A named pipe nothing writes to: read as empty at once (opening it used to wait for ever).
+    QTest::addRow("named pipe") << "pipe.marbles.json" << "line 1, column 1: the text is empty";
+    // A device without end: read only up to the limit (the window's reader read on without one).
+    QTest::addRow("endless device") << "zero.marbles.json"
+                                    << "size: a scene file must be at most 268435456 bytes (256 MiB), got more than that";
 }
 
 void TestSceneIo::loadFileErrors()
@@ -974,10 +979,15 @@ void TestSceneIo::loadFileErrors()
         QFile empty(dir.filePath("empty.marbles.json"));
         QVERIFY(empty.open(QIODevice::WriteOnly));
     }
+    QVERIFY(::mkfifo(QFile::encodeName(dir.filePath("pipe.marbles.json")).constData(), 0600) == 0);
+    QVERIFY(QFile::link(QStringLiteral("/dev/zero"), dir.filePath("zero.marbles.json")));
     const QString path = dir.filePath(name);
     const SceneLoad load = loadSceneFile(path.toStdString());
     QVERIFY(!load.ok);
     QVERIFY2(q(load.error).startsWith(path + ": " + rule), load.error.c_str());
+    // Named as the caller shows it (the window gives the file's name without its folder).
+    const SceneLoad shown = loadSceneFile(path.toStdString(), "shown.json");
+    QVERIFY2(q(shown.error).startsWith("shown.json: " + rule), shown.error.c_str());
 }
 
 void TestSceneIo::loadRefusesHugeFileBeforeReading()

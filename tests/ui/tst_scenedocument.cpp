@@ -15,6 +15,7 @@
 #include <QTest>
 
 #include <array>
+#include <sys/stat.h>
 #include <cmath>
 
 using namespace marbles;
@@ -768,6 +769,10 @@ void TestSceneDocument::invalidFileLeavesSceneUntouched_data()
         << QStringLiteral("marbles[0].radius");
     QTest::addRow("wrong format") << QByteArray(R"({"format":"other","version":1})") << QStringLiteral("format");
     QTest::addRow("missing file") << QByteArray() << QString();
+    // Read up to the size limit (the window's reader once read on, gigabytes a second); and a
+    // named pipe nothing writes to (it once froze the window, waiting for a writer).
+    QTest::addRow("endless device") << QByteArray("link:/dev/zero") << QStringLiteral("at most 268435456 bytes");
+    QTest::addRow("named pipe") << QByteArray("fifo") << QStringLiteral("the text is empty");
 }
 
 void TestSceneDocument::invalidFileLeavesSceneUntouched()
@@ -776,7 +781,11 @@ void TestSceneDocument::invalidFileLeavesSceneUntouched()
     QFETCH(QString, expected);
     QTemporaryDir dir;
     const QString path = dir.filePath(QStringLiteral("bad.marbles.json"));
-    if (!content.isEmpty()) {
+    if (content.startsWith("link:")) {
+        QVERIFY(QFile::link(QString::fromUtf8(content.mid(5)), path));
+    } else if (content == "fifo") {
+        QVERIFY(::mkfifo(QFile::encodeName(path).constData(), 0600) == 0);
+    } else if (!content.isEmpty()) {
         QFile file(path);
         QVERIFY(file.open(QIODevice::WriteOnly));
         file.write(content);
