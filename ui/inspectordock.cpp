@@ -32,7 +32,10 @@ QDoubleSpinBox *makeBox(double min, double max, int decimals, const QString &suf
 
 void showValue(QDoubleSpinBox *box, double value, bool overTyping)
 {
-    if (box->hasFocus() && !overTyping)
+    // Typing not yet taken is left alone; a field whose number was taken shows the scene's, even
+    // with the focus (an Undo right after Enter left the undone radius on show).
+    const auto *refusing = dynamic_cast<const Refusing *>(box);
+    if (box->hasFocus() && refusing && refusing->typing() && !overTyping)
         return;
     const QSignalBlocker blocker(box);
     box->setValue(value);
@@ -88,15 +91,25 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     m_error = new QLabel(body);
     m_error->setWordWrap(true);
     m_error->setStyleSheet(QStringLiteral("color: #b00020;"));
+    // Room for two lines kept at all times: a message that appeared took its room from the
+    // fields, which moved up under the pointer aimed at one of them.
+    m_error->setMinimumHeight(2 * m_error->fontMetrics().lineSpacing());
+    m_error->setAlignment(Qt::AlignLeft | Qt::AlignTop);
     layout->addWidget(m_error);
     layout->addStretch(1);
     setWidget(body);
 
     for (QDoubleSpinBox *box : {m_radius, m_mass, m_x, m_y, m_vx, m_vy}) {
         connect(box, &QAbstractSpinBox::editingFinished, this, [this, box] {
+            // Runs after the edit's valueChanged (and its report()): a number refused here is
+            // explained; an edit that changed nothing (a blank, letters) leaves no earlier
+            // refusal on show, which would read as this edit's.
             auto *refusing = dynamic_cast<Refusing *>(box);
             if (const std::optional<double> refused = refusing ? refusing->takeRefused() : std::nullopt)
                 m_error->setText(refusalMessage(*refusing, *refused, box->locale()));
+            else if (!m_reportedThisEdit)
+                m_error->clear();
+            m_reportedThisEdit = false;
         });
     }
     connect(m_radius, &QDoubleSpinBox::valueChanged, this, &InspectorDock::onRadius);
@@ -168,6 +181,7 @@ void InspectorDock::showMarble(bool overTyping)
 
 void InspectorDock::report(const QString &error)
 {
+    m_reportedThisEdit = true;
     m_error->setText(error);
     if (!error.isEmpty()) {
         Q_EMIT message(error);

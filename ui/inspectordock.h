@@ -57,6 +57,7 @@ private:
     QDoubleSpinBox *m_vx = nullptr;
     QDoubleSpinBox *m_vy = nullptr;
     QLabel *m_error = nullptr;
+    bool m_reportedThisEdit = false; // report() ran since the last field edit ended
     QLabel *m_beyond = nullptr; // the true numbers of fields that show their limit instead
     QWidget *m_form = nullptr;
 };

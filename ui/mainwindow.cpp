@@ -204,7 +204,9 @@ void MainWindow::createActions()
 
     m_saveAsAction = new QAction(QIcon::fromTheme(QStringLiteral("document-save-as")), tr("Save &As…"), this);
     m_saveAsAction->setObjectName(QStringLiteral("actionSaveAs"));
-    m_saveAsAction->setShortcut(QKeySequence::SaveAs);
+    // Ctrl+Shift+S everywhere: the platform's Save As is empty without a desktop's key theme.
+    m_saveAsAction->setShortcuts(
+        eachOnce(QKeySequence::keyBindings(QKeySequence::SaveAs) + QList<QKeySequence>{QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_S)}));
     connect(m_saveAsAction, &QAction::triggered, this, &MainWindow::saveAs);
 
     m_quitAction = new QAction(QIcon::fromTheme(QStringLiteral("application-exit")), tr("&Quit"), this);

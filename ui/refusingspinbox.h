@@ -8,7 +8,9 @@
 #include <QString>
 #include <QValidator>
 
+#include <cmath>
 #include <optional>
+#include <type_traits>
 #include <utility>
 
 namespace marbles {
@@ -24,6 +26,8 @@ public:
     virtual double high() const = 0;
     virtual double current() const = 0;
     virtual QString shown(double value) const = 0;
+    /// Whether the field holds typing not yet taken (its text is not its value's).
+    virtual bool typing() const = 0;
 
 protected:
     mutable std::optional<double> m_refused;
@@ -55,8 +59,18 @@ public:
         const double value = this->locale().toDouble(bare, &number);
         if ((number && outside(value)) || (bare == this->locale().negativeSign() && low() >= 0.0))
             return QValidator::Intermediate;
+        if constexpr (kDecimal) {
+            // A number in powers of ten ("2e1", "1.5E-3"), which QDoubleSpinBox drops the 'e' of
+            // (2e1 became 21): taken when it is within the range, and while it is being typed.
+            if (number && std::isfinite(value))
+                return QValidator::Acceptable;
+            if (isExponentStart(bare))
+                return QValidator::Intermediate;
+        }
         return state;
     }
+
+    bool typing() const override { return this->cleanText() != this->textFromValue(this->value()); }
 
     void fixup(QString &input) const override
     {
@@ -76,10 +90,16 @@ protected:
     // A space is never part of a number. Left to the field, Space (the window's Play / Pause,
     // pressed right after Enter while the field still has the focus) replaced the selected value
     // with a blank and the run went on; passed over, it reaches the window's shortcut.
+    // Likewise Undo and Redo once the typing is taken: the field's own undo would only put back
+    // text whose number the scene already has, and the teacher's "oops" after Enter is meant for
+    // the scene's Undo. While typing, they undo the typing, as in any field.
     bool event(QEvent *event) override
     {
-        if (event->type() == QEvent::ShortcutOverride && isPlainSpace(static_cast<QKeyEvent *>(event)))
-            return true; // not accepted: the shortcut may take the key
+        if (event->type() == QEvent::ShortcutOverride) {
+            const auto *key = static_cast<QKeyEvent *>(event);
+            if (isPlainSpace(key) || (isUndoOrRedo(key) && !typing()))
+                return true; // not accepted: the shortcut may take the key
+        }
         return Base::event(event);
     }
     void keyPressEvent(QKeyEvent *event) override
@@ -91,14 +111,6 @@ protected:
         Base::keyPressEvent(event);
     }
 
-private:
-    static bool isPlainSpace(const QKeyEvent *event)
-    {
-        return event->key() == Qt::Key_Space && (event->modifiers() & ~Qt::KeypadModifier) == Qt::NoModifier;
-    }
-
-    bool outside(double value) const { return value < low() || value > high(); }
-
     QString bareText(const QString &text) const
     {
         QString bare = text;
@@ -108,6 +120,35 @@ private:
             bare.chop(this->suffix().size());
         return bare.trimmed();
     }
+
+private:
+    static constexpr bool kDecimal = std::is_same_v<Base, QDoubleSpinBox>;
+
+    static bool isPlainSpace(const QKeyEvent *event)
+    {
+        return event->key() == Qt::Key_Space && (event->modifiers() & ~Qt::KeypadModifier) == Qt::NoModifier;
+    }
+    static bool isUndoOrRedo(const QKeyEvent *event)
+    {
+        const QKeyCombination pressed = event->keyCombination();
+        return event->matches(QKeySequence::Undo) || event->matches(QKeySequence::Redo)
+            || pressed == QKeyCombination(Qt::ControlModifier | Qt::ShiftModifier, Qt::Key_Z);
+    }
+    // "2e", "-1.5E-": a number in powers of ten whose exponent is still to come.
+    bool isExponentStart(const QString &bare) const
+    {
+        const qsizetype e = bare.lastIndexOf(QLatin1Char('e'), -1, Qt::CaseInsensitive);
+        if (e <= 0)
+            return false;
+        const QString exponent = bare.mid(e + 1);
+        if (!exponent.isEmpty() && exponent != this->locale().negativeSign() && exponent != this->locale().positiveSign())
+            return false;
+        bool number = false;
+        this->locale().toDouble(bare.left(e), &number);
+        return number;
+    }
+
+    bool outside(double value) const { return value < low() || value > high(); }
 };
 
 /// A decimal spin box with that refusal.
@@ -115,6 +156,15 @@ class RefusingDoubleSpinBox : public RefusingSpinBox<QDoubleSpinBox> {
 public:
     using RefusingSpinBox<QDoubleSpinBox>::RefusingSpinBox;
     QString shown(double value) const override { return textFromValue(value) + suffix(); }
+
+protected:
+    // Reads powers of ten too ("2e1" is 20), which validate() lets through.
+    double valueFromText(const QString &text) const override
+    {
+        bool number = false;
+        const double value = locale().toDouble(bareText(text), &number);
+        return number && std::isfinite(value) ? value : QDoubleSpinBox::valueFromText(text);
+    }
 };
 
 /// A whole-number spin box with the same refusal of numbers beyond its range.

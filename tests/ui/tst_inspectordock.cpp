@@ -52,6 +52,7 @@ private Q_SLOTS:
     void outOfRangeNumbersAreRefusedWhole();
     void numbersBeyondTheFieldsAreSaid();
     void refusedEditShowsTheMarblesNumber();
+    void fieldsFollowUndoAndReadPowersOfTen();
 
 private:
     std::unique_ptr<SceneDocument> m_document;
@@ -186,6 +187,40 @@ void TestInspectorDock::refusedEditShowsTheMarblesNumber()
     typeInto(x, QStringLiteral("150"));
     QCOMPARE(m_document->world().position[0].x, 150.0);
     QCOMPARE_LE(std::abs(x->value() - 150.0), 0.005);
+}
+
+void TestInspectorDock::fieldsFollowUndoAndReadPowersOfTen()
+{
+    m_dock->setMarble(1);
+    const double radius = m_document->world().radius[1];
+    QDoubleSpinBox *field = m_dock->field(QStringLiteral("radius"));
+    typeInto(field, QStringLiteral("500"));
+    QCOMPARE(m_document->world().radius[1], 500.0);
+    // Undone while the field still has the focus: it shows the radius the marble has again.
+    QVERIFY(field->hasFocus());
+    m_document->undoStack()->undo();
+    QCOMPARE(m_document->world().radius[1], radius);
+    QCOMPARE_LE(std::abs(field->value() - radius), 0.005);
+
+    // Powers of ten: 2e1 is 20 (it was taken as 21, the 'e' dropped), 1.5E1 is 15; 1e308 is
+    // refused as above the field's most (it was taken as 1308).
+    typeInto(field, QStringLiteral("2e1"));
+    QCOMPARE(m_document->world().radius[1], 20.0);
+    typeInto(field, QStringLiteral("1.5E1"));
+    QCOMPARE(m_document->world().radius[1], 15.0);
+    typeInto(field, QStringLiteral("1e308"));
+    QCOMPARE(m_document->world().radius[1], 15.0);
+    QVERIFY2(errorText(*m_dock).startsWith(QStringLiteral("1e+308 is above this field's most")), qPrintable(errorText(*m_dock)));
+    // An edit that changes nothing (the field emptied) leaves no earlier refusal on show.
+    typeInto(field, QString());
+    QCOMPARE(m_document->world().radius[1], 15.0);
+    QCOMPARE(errorText(*m_dock), QString());
+    // A field being typed in keeps its typing when the scene changes under it.
+    field->setFocus();
+    field->selectAll();
+    QTest::keyClicks(field, QStringLiteral("3"));
+    m_document->advance(1);
+    QCOMPARE(field->cleanText(), QStringLiteral("3"));
 }
 
 QTEST_MAIN(TestInspectorDock)

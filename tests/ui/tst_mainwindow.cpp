@@ -109,6 +109,7 @@ private Q_SLOTS:
     void plotShowsAPushAsAJump();
     void frictionChangedMidRunBendsThePlot();
     void spacePausesFromANumberField();
+    void undoKeysReachTheSceneFromANumberField();
     void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
     void tickRunsWhatFitsItsBudget_data();
@@ -664,6 +665,33 @@ void TestMainWindow::spacePausesFromANumberField()
     QCOMPARE(m_window->document()->world().params.friction, 0.2);
 }
 
+void TestMainWindow::undoKeysReachTheSceneFromANumberField()
+{
+    // A teacher types a wrong friction, presses Enter, then Ctrl+Z: the scene's Undo takes it
+    // back (the field's own undo ate the keys, and the friction stayed), and Ctrl+Shift+Z
+    // redoes it. While a number is still being typed, Ctrl+Z undoes the typing only.
+    auto *friction = m_window->findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit"));
+    QVERIFY(friction);
+    SceneDocument *doc = m_window->document();
+    friction->setFocus();
+    friction->selectAll();
+    QTest::keyClicks(friction, QStringLiteral("0.7"));
+    QTest::keyClick(friction, Qt::Key_Return);
+    QCOMPARE(doc->world().params.friction, 0.7);
+    QTest::keyClick(friction, Qt::Key_Z, Qt::ControlModifier);
+    QCOMPARE(doc->world().params.friction, 0.1);
+    QCOMPARE(friction->text(), QStringLiteral("0.1")); // the field follows, focus or not
+    QTest::keyClick(friction, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+    QCOMPARE(doc->world().params.friction, 0.7);
+    QCOMPARE(friction->text(), QStringLiteral("0.7"));
+    QTest::keyClicks(friction, QStringLiteral("5"));
+    QCOMPARE(friction->text(), QStringLiteral("0.75"));
+    QTest::keyClick(friction, Qt::Key_Z, Qt::ControlModifier);
+    QCOMPARE(friction->text(), QStringLiteral("0.7"));
+    QCOMPARE(doc->world().params.friction, 0.7);
+    QCOMPARE(doc->undoStack()->index(), 1);
+}
+
 void TestMainWindow::selectingAMarblePlotsItsWholeRun()
 {
     // A teacher watches marble 1, runs, then clicks marble 2: its line covers the frames run so
@@ -1009,6 +1037,10 @@ void TestMainWindow::shortcutsWork()
     QCOMPARE(MainWindow::zoomInShortcuts({ctrlPlus}), (QList<QKeySequence>{ctrlPlus, ctrlEqual}));
     QCOMPARE(MainWindow::zoomInShortcuts({ctrlPlus, ctrlEqual}), (QList<QKeySequence>{ctrlPlus, ctrlEqual}));
     QCOMPARE(MainWindow::zoomInShortcuts({}), QList<QKeySequence>{ctrlEqual});
+    // Save As has Ctrl+Shift+S whatever the platform's key theme gives (nothing without a desktop).
+    auto *saveAs = m_window->findChild<QAction *>(QStringLiteral("actionSaveAs"));
+    QVERIFY(saveAs);
+    QVERIFY(saveAs->shortcuts().contains(QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_S)));
     const double before = m_window->stageView()->transform().m11();
     QTest::keyClick(stage, Qt::Key_Equal, Qt::ControlModifier);
     QCOMPARE_GT(m_window->stageView()->transform().m11(), before * 1.2);
