@@ -117,6 +117,16 @@ void appendThinned(QList<QPointF> &out, qsizetype n, qsizetype maxPoints, XFn x,
     }
 }
 
+/// A speed or a momentum as plotted: the book's sqrt(x^2 + y^2) (the same bits as the models'
+/// own lengths), but where the squares overflow, the size without overflow: the book's blow-up
+/// passes 1.3e154 px/frame some 800 frames before its numbers stop being finite, and its lines
+/// ended there.
+double magnitude(Vec2 u)
+{
+    const double l = length(u);
+    return std::isinf(l) ? std::hypot(u.x, u.y) : l;
+}
+
 /// An axis's range and tick count.
 struct AxisRange {
     double min = 0.0;
@@ -374,18 +384,18 @@ void PlotDock::appendFrame(const World &world, const World *compare)
     m_frameMs = world.params.frameMs;
     m_frames.push(world.frame);
     m_kinetic.push(world.kineticEnergy());
-    m_momentum.push(length(world.momentum()));
+    m_momentum.push(magnitude(world.momentum()));
     for (Track &t : m_tracks) {
         const auto i = static_cast<std::size_t>(t.marble);
-        t.speed.push(i < world.velocity.size() ? length(world.velocity[i]) : kNaN);
+        t.speed.push(i < world.velocity.size() ? magnitude(world.velocity[i]) : kNaN);
     }
     if (!m_compareModel.isEmpty()) {
         for (Track &t : m_tracks) {
             const auto i = static_cast<std::size_t>(t.marble);
-            t.compareSpeed.push(compare && i < compare->velocity.size() ? length(compare->velocity[i]) : kNaN);
+            t.compareSpeed.push(compare && i < compare->velocity.size() ? magnitude(compare->velocity[i]) : kNaN);
         }
         m_compareKinetic.push(compare ? compare->kineticEnergy() : kNaN);
-        m_compareMomentum.push(compare ? length(compare->momentum()) : kNaN);
+        m_compareMomentum.push(compare ? magnitude(compare->momentum()) : kNaN);
     }
     m_dirty = true;
 }
@@ -816,7 +826,7 @@ void PlotDock::startFrom(RingBuffer<double> &values, int marble, const VelocityL
     const auto i = static_cast<std::size_t>(marble);
     for (std::size_t k = 0; k < m_frames.size(); ++k) {
         const std::vector<Vec2> *velocities = lookup ? lookup(m_frames.at(k)) : nullptr;
-        values.push(velocities && i < velocities->size() ? length((*velocities)[i]) : kNaN);
+        values.push(velocities && i < velocities->size() ? magnitude((*velocities)[i]) : kNaN);
     }
 }
 

@@ -47,6 +47,7 @@ private slots:
     void newLineTakesEarlierSpeeds();
     void lineColours();
     void chartGetsSamples();
+    void hugeSpeedsArePlotted();
     void liveRefresh();
     void refreshMovesAxesOnlyWhenTheirRangeChanges();
     void thinningKeepsSpikes();
@@ -697,6 +698,33 @@ void TestPlotDock::chartGetsSamples()
     QCOMPARE_LE(yAxis->min(), 0.0);
     QCOMPARE_GE(yAxis->max(), std::max(maxY(line), maxY(dock.speedSeries(1))));
     QCOMPARE(dock.chartView()->chart()->animationOptions(), QChart::NoAnimation);
+}
+
+void TestPlotDock::hugeSpeedsArePlotted()
+{
+    // The book's blow-up (friction above 2) passes 1.3e154 px/frame, where v.x^2 + v.y^2
+    // overflows, hundreds of frames before its numbers stop being finite: the lines go on up to
+    // there (they ended at the overflow, frame 1110 of 1978 in the default scene at friction 2.5).
+    PlotDock dock;
+    World world = worldWith(1);
+    dock.reset(world);
+    const double speeds[] = {3.0, 2e154, -4e200, 1e308};
+    for (double v : speeds) {
+        world.velocity[0] = {v, 0.0};
+        ++world.frame;
+        dock.appendFrame(world);
+    }
+    world.velocity[0] = {3.0, 4.0};
+    ++world.frame;
+    dock.appendFrame(world);
+    dock.refreshChart();
+    QLineSeries *line = dock.speedSeries(0);
+    QCOMPARE(line->count(), 5);
+    QCOMPARE(line->at(1).y(), 2e154);
+    QCOMPARE(line->at(2).y(), 4e200);
+    QCOMPARE(line->at(3).y(), 1e308);
+    QCOMPARE(line->at(4).y(), 5.0); // the book's length below the overflow: sqrt(9 + 16)
+    QCOMPARE_GE(valueAxisOf(line)->max(), 1e308);
 }
 
 void TestPlotDock::liveRefresh()
