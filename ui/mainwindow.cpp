@@ -3,6 +3,7 @@
 #include "core/presets.h"
 #include "ui/autosaver.h"
 #include "ui/comparerun.h"
+#include "ui/elidingstatusbar.h"
 #include "ui/inspectordock.h"
 #include "ui/parametersdock.h"
 #include "ui/plotdock.h"
@@ -573,6 +574,7 @@ void MainWindow::createDocks()
 
 void MainWindow::createStatusBar()
 {
+    setStatusBar(new ElidingStatusBar(this));
     const auto addLabel = [this](const QString &name, const QString &tip) {
         auto *label = new QLabel(this);
         label->setObjectName(name);

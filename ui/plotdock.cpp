@@ -149,6 +149,15 @@ AxisRange niceRange(QValueAxis *scratch, double lo, double hi)
         lo -= lo == 0.0 ? 0.0 : pad;
         hi += pad;
     }
+    // Qt Charts works out tick i as i * (max - min) / ticks, which overflows near the largest
+    // double (the book's blow-up reaches 1e308 px/frame): its ticks read "inf". The axis stops
+    // short of that; the last few frames of such a run go off its top.
+    constexpr double largest = std::numeric_limits<double>::max() / (4 * kAxisTicks);
+    if (hi > largest) {
+        hi = largest;
+        lo = std::min(lo, largest / 2);
+        return {lo, hi, kAxisTicks};
+    }
     scratch->setTickCount(kAxisTicks);
     scratch->setRange(lo, hi);
     scratch->applyNiceNumbers();

@@ -4,6 +4,7 @@
 #include "core/presets.h"
 #include "core/sceneio.h"
 #include "ui/autosaver.h"
+#include "ui/elidingstatusbar.h"
 #include "ui/mainwindow.h"
 #include "ui/parametersdock.h"
 #include "ui/plotdock.h"
@@ -110,6 +111,7 @@ private Q_SLOTS:
     void frictionChangedMidRunBendsThePlot();
     void spacePausesFromANumberField();
     void undoKeysReachTheSceneFromANumberField();
+    void longStatusMessageIsElided();
     void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
     void tickRunsWhatFitsItsBudget_data();
@@ -690,6 +692,28 @@ void TestMainWindow::undoKeysReachTheSceneFromANumberField()
     QCOMPARE(friction->text(), QStringLiteral("0.7"));
     QCOMPARE(doc->world().params.friction, 0.7);
     QCOMPARE(doc->undoStack()->index(), 1);
+}
+
+void TestMainWindow::longStatusMessageIsElided()
+{
+    // The book's blow-up message is longer than the room left of the status bar's figures: it
+    // ends in an ellipsis before them (it was cut off against them mid-word, "...for the boc4
+    // marble(s)") and the whole of it is the message all the same.
+    auto *bar = qobject_cast<ElidingStatusBar *>(m_window->statusBar());
+    QVERIFY(bar);
+    const QString text = QStringLiteral("The simulation stopped at frame 1978: marble 3 (\"medium\") left finite numbers, "
+                                        "as the book's explicit update does with a friction above 2; lower the friction "
+                                        "below 2 for the book model, or step back to see the frames before");
+    bar->showMessage(text);
+    QCOMPARE(bar->currentMessage(), text);
+    const QString shown = bar->shownMessage();
+    QVERIFY2(shown.endsWith(QChar(0x2026)) && shown.size() < text.size(), qPrintable(shown));
+    QCOMPARE_LE(bar->fontMetrics().horizontalAdvance(shown), bar->messageRect().width());
+    const auto *count = m_window->findChild<QLabel *>(QStringLiteral("countLabel"));
+    QVERIFY(count && count->isVisible());
+    QCOMPARE_LT(bar->messageRect().right(), count->x());
+    bar->showMessage(QStringLiteral("Saved."));
+    QCOMPARE(bar->shownMessage(), QStringLiteral("Saved."));
 }
 
 void TestMainWindow::selectingAMarblePlotsItsWholeRun()

@@ -708,7 +708,7 @@ void TestPlotDock::hugeSpeedsArePlotted()
     PlotDock dock;
     World world = worldWith(1);
     dock.reset(world);
-    const double speeds[] = {3.0, 2e154, -4e200, 1e308};
+    const double speeds[] = {3.0, 2e154, -4e200, 1.7e308};
     for (double v : speeds) {
         world.velocity[0] = {v, 0.0};
         ++world.frame;
@@ -722,9 +722,13 @@ void TestPlotDock::hugeSpeedsArePlotted()
     QCOMPARE(line->count(), 5);
     QCOMPARE(line->at(1).y(), 2e154);
     QCOMPARE(line->at(2).y(), 4e200);
-    QCOMPARE(line->at(3).y(), 1e308);
+    QCOMPARE(line->at(3).y(), 1.7e308);
     QCOMPARE(line->at(4).y(), 5.0); // the book's length below the overflow: sqrt(9 + 16)
-    QCOMPARE_GE(valueAxisOf(line)->max(), 1e308);
+    // Up to where Qt Charts' tick arithmetic, i * (max - min), still gives numbers (its ticks read
+    // "inf" above); the last frames of a blow-up go off the top.
+    const QValueAxis *axis = valueAxisOf(line);
+    QCOMPARE_GE(axis->max(), 1e306);
+    QVERIFY(std::isfinite(axis->tickCount() * (axis->max() - axis->min())));
 }
 
 void TestPlotDock::liveRefresh()
