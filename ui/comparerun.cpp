@@ -69,6 +69,8 @@ void CompareRun::restart()
     // The scene's parameters were checked for the document's model only: friction >= 1, say, is
     // the book model's instability on show, but the exact and impulse models cannot run with it.
     m_problem = QString::fromStdString(validateParams(m_world->params));
+    if (!m_problem.isEmpty() && m_world->params.friction >= 1.0)
+        m_problem = tr("it needs a friction below 1 (the scene's is %1)").arg(m_world->params.friction);
     updateGhost();
     Q_EMIT restarted();
 }

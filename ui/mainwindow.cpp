@@ -32,6 +32,7 @@
 #include <QSettings>
 #include <QShowEvent>
 #include <QSignalBlocker>
+#include <QStandardItemModel>
 #include <QStatusBar>
 #include <QStyle>
 #include <QTimer>
@@ -1078,13 +1079,27 @@ void MainWindow::updateCompareControls()
     const int chosen = m_compare->isActive() ? static_cast<int>(m_compare->model()) : -1;
     const QSignalBlocker blocker(m_compareBox);
     m_compareBox->clear();
+    // The exact and impulse models need a friction below 1 (the book's above it is its
+    // instability on show): while it is higher they are not offered, as in the Model box.
+    const bool damped = m_document->world().params.friction < 1.0;
+    const QString needsDamping = tr("Needs friction below 1: lower the friction first.");
+    auto *items = qobject_cast<QStandardItemModel *>(m_compareBox->model());
     for (QAction *action : m_compareGroup->actions()) {
         const int data = action->data().toInt();
         // The scene's own model is not offered: it would only ever show a gap of 0.
         action->setVisible(data < 0 || data != static_cast<int>(current));
         action->setChecked(data == chosen);
-        if (action->isVisible())
+        const bool runnable = data < 0 || data == static_cast<int>(ModelKind::Book) || damped;
+        action->setEnabled(runnable || data == chosen);
+        action->setToolTip(runnable ? QString() : needsDamping);
+        if (action->isVisible()) {
             m_compareBox->addItem(tr("Compare: %1").arg(action->text().remove(QLatin1Char('&')).toLower()), data);
+            if (items && !runnable) {
+                QStandardItem *item = items->item(m_compareBox->count() - 1);
+                item->setEnabled(data == chosen); // the comparison on show stays, its readout says why it waits
+                item->setToolTip(needsDamping);
+            }
+        }
     }
     m_compareBox->setCurrentIndex(m_compareBox->findData(chosen));
     QString plotted;

@@ -642,6 +642,10 @@ void TestCompareRun::waitsWhileParamsInvalid()
     QVERIFY(compare.world() == nullptr);
     QVERIFY2(compare.problem().contains(QStringLiteral("friction")), qPrintable(compare.problem()));
     QVERIFY2(compare.summary().contains(QStringLiteral("not running")), qPrintable(compare.summary()));
+    // In a teacher's words, not the file format's ("params.friction: must be < 1 ...").
+    QVERIFY2(compare.summary().endsWith(QStringLiteral("not running: it needs a friction below 1 (the scene's is %1)")
+                                            .arg(doc.world().params.friction)),
+             qPrintable(compare.summary()));
     QCOMPARE(ghostCount(&scene), 0);
     doc.advance(10);
     QVERIFY(!compare.isTracking());

@@ -32,6 +32,7 @@
 #include <QScreen>
 #include <QSettings>
 #include <QStandardPaths>
+#include <QStandardItemModel>
 #include <QStatusBar>
 #include <QTemporaryDir>
 #include <QTest>
@@ -111,6 +112,7 @@ private Q_SLOTS:
     void frictionChangedMidRunBendsThePlot();
     void spacePausesFromANumberField();
     void undoKeysReachTheSceneFromANumberField();
+    void compareOffersOnlyModelsThatCanRun();
     void longStatusMessageIsElided();
     void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
@@ -692,6 +694,36 @@ void TestMainWindow::undoKeysReachTheSceneFromANumberField()
     QCOMPARE(friction->text(), QStringLiteral("0.7"));
     QCOMPARE(doc->world().params.friction, 0.7);
     QCOMPARE(doc->undoStack()->index(), 1);
+}
+
+void TestMainWindow::compareOffersOnlyModelsThatCanRun()
+{
+    // Friction 1.5 is the book's sign flip on show; the exact and impulse models cannot run with
+    // it, so Compare does not offer them (it once showed "Compare: exact" with nothing compared).
+    auto *box = m_window->findChild<QComboBox *>(QStringLiteral("compareBox"));
+    QVERIFY(box);
+    auto *items = qobject_cast<QStandardItemModel *>(box->model());
+    QVERIFY(items);
+    const auto offered = [&](ModelKind model) {
+        const int row = box->findData(static_cast<int>(model));
+        return row >= 0 && items->item(row)->isEnabled();
+    };
+    QVERIFY(offered(ModelKind::Exact));
+    QVERIFY(offered(ModelKind::Impulse));
+    QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("1.5")).isEmpty());
+    QVERIFY(!offered(ModelKind::Exact));
+    QVERIFY(!offered(ModelKind::Impulse));
+    int menuItems = 0; // Simulation > Compare With > Exact
+    for (QAction *action : m_window->findChildren<QAction *>()) {
+        if (action->data().toInt() == static_cast<int>(ModelKind::Exact) && action->actionGroup()
+            && action->text().contains(QStringLiteral("xact"))) {
+            QVERIFY(!action->isEnabled());
+            ++menuItems;
+        }
+    }
+    QCOMPARE(menuItems, 1);
+    QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("0.5")).isEmpty());
+    QVERIFY(offered(ModelKind::Exact));
 }
 
 void TestMainWindow::longStatusMessageIsElided()
