@@ -59,7 +59,8 @@ void pinsExample(World &w)
 }
 
 // Example 3: marbles of different masses. A light marble runs into a heavy one at rest and
-// bounces back; a heavy one runs into two light ones and sends them flying.
+// bounces back (faster than it came in the book model); a heavy one rolls on towards two light
+// ones and nudges the first.
 void massesExample(World &w)
 {
     named(w, w.addMarble({120, 180}, 12, {9, 0}), "light");
@@ -149,13 +150,14 @@ const std::vector<PresetEntry> &entries()
 {
     static const std::vector<PresetEntry> list = {
         {{"four-marbles", "Four marbles (Figure 11.8)",
-          "Four marbles of different sizes; click one to push it, heavier ones move less."},
+          "Four marbles of different sizes; click one to push it: clicked as far from the centre, heavier ones move less."},
          fourMarbles},
         {{"pins", "Marbles among pins (Example 2)",
-          "Marbles bounce off fixed pins: the velocity is reflected about the line to the pin."},
+          "Marbles bounce off fixed pins: the part of the velocity along the line to the pin is reversed."},
          pinsExample},
         {{"masses", "Different masses (Example 3)",
-          "Light and heavy marbles collide and share the speed by their mass ratio."},
+          "A light marble hits a heavy one: the book sends it back faster than it came (its speed shared out by "
+          "the mass ratio, which makes energy); the exact model sends it back slower and the heavy one on."},
          massesExample},
         {{"newtons-cradle", "Newton's cradle",
           "A row of touching marbles struck at one end: compare how each model passes the momentum on."},

@@ -406,7 +406,7 @@ void MainWindow::createMenus()
             tr("<p><b>Marbles %1</b></p>"
                "<p>A physics lesson you can play with: the marbles of chapter 11 of a game-programming "
                "book, step by step (the <i>book</i> model, its shortcuts included), beside the exact "
-               "physics (collisions at their exact moment, momentum kept) and a game engine's "
+               "physics (collisions at their exact moment, momentum kept in every one) and a game engine's "
                "<i>impulse</i> model, so that a class can see where the shortcuts go wrong.</p>"
                "<p>Running with Qt %2.</p>")
                 .arg(QCoreApplication::applicationVersion(), QString::fromLatin1(qVersion())));

@@ -147,10 +147,12 @@ void ParametersDock::buildUi()
     // The chapter's constants first, in the order the chapter introduces them.
     m_massScale = makeSpin("massScaleEdit", 0.000001, 1000.0, 0.05, tr(" per px"));
     addField(tr("&Mass scale"), m_massScale, tr("m = massScale \u00d7 r"),
-             tr("Mass per pixel of radius: bigger marbles are heavier."));
+             tr("Mass per pixel of radius: bigger marbles are heavier. Hits depend on the ratio of "
+                "masses only; the scale changes how far a click pushes, and the energy and momentum figures."));
 
     m_friction = makeSpin("frictionEdit", 0.0, kBookFrictionMax, 0.01, QString());
-    addField(tr("&Friction"), m_friction, tr("a += \u2212v \u00d7 k"),
+    addField(tr("&Friction"), m_friction,
+             tr("book: a += \u2212v \u00d7 k\nexact, impulse: the velocity falls by (1 \u2212 k) a frame, smoothly over the frame"),
              tr("Fraction of its speed a marble loses to air each frame."));
     m_frictionWarning = new QLabel(page);
     m_frictionWarning->setObjectName(QStringLiteral("frictionWarning"));
@@ -162,7 +164,8 @@ void ParametersDock::buildUi()
     m_zeroThreshold = makeSpin("zeroThresholdEdit", 0.0, 1000.0, 0.005, tr(" px/frame"));
     addField(tr("&Zero threshold"), m_zeroThreshold,
              tr("if \u2212Z \u2264 v.x \u2264 Z then v.x = 0 (the same for v.y)"),
-             tr("Slower than this, a marble's speed snaps to exactly zero, so it comes to rest."));
+             tr("A velocity component (x or y) no larger than this snaps to exactly zero: a slow marble "
+                "comes to rest, and one moving nearly along an axis loses its small sideways part."));
 
     m_pushScale = makeSpin("pushScaleEdit", -1000000.0, 1000000.0, 1.0, QString());
     addField(tr("&Push scale"), m_pushScale, tr("a += (p \u2212 click) \u00d7 pushScale / m"),
@@ -185,8 +188,11 @@ void ParametersDock::buildUi()
              tr("Which physics moves the marbles: the book's, a game engine's, or the exact one."));
 
     m_restitution = makeSpin("restitutionEdit", 0.0, 1.0, 0.05, QString());
-    addField(tr("&Restitution"), m_restitution, tr("v\u2099' = \u2212e \u00d7 v\u2099 (normal speed after a hit)"),
-             tr("Bounciness: 1 keeps all the speed along the hit, 0 stops it."));
+    addField(tr("&Restitution"), m_restitution,
+             tr("v\u2099' = \u2212e \u00d7 v\u2099 (the speed of approach along the hit, for two marbles the one "
+                "relative to the other)"),
+             tr("Bounciness: the share of the speed of approach along a hit that comes back (1: all of it; 0: none, "
+                "two marbles move on together, a marble stops against a wall or pin)."));
 
     auto *gravity = new QWidget(page);
     gravity->setObjectName(QStringLiteral("gravityEdit"));
@@ -214,7 +220,8 @@ void ParametersDock::buildUi()
     m_shortCircuit = new QCheckBox(tr("Stop at the first hit"), page);
     m_shortCircuit->setObjectName(QStringLiteral("shortCircuitEdit"));
     addField(tr("S&hort circuit"), m_shortCircuit, tr("after a marble's first hit, skip its remaining tests this frame"),
-             tr("The book's shortcut: a marble checks no more walls, pins or marbles once it hits one."));
+             tr("The shortcut the chapter suggests (its own code does not take it): a marble checks no more "
+                "walls, pins or marbles once it hits one, so it can miss a second hit."));
 
     // Remember each field's own tooltip: a disabled field shows why instead, and gets it back.
     for (QWidget *w : {static_cast<QWidget *>(m_restitution), static_cast<QWidget *>(m_substeps),

@@ -221,7 +221,9 @@ PlotDock::PlotDock(QWidget *parent)
     m_showKinetic->setToolTip(tr("Total kinetic energy, \u03a3 m v\u00b2 / 2 (right-hand axis)"));
     m_showMomentum = new QCheckBox(tr("&Momentum"), page);
     m_showMomentum->setObjectName(QStringLiteral("momentumCheck"));
-    m_showMomentum->setToolTip(tr("Size of the total momentum, |\u03a3 m v| (right-hand axis)"));
+    m_showMomentum->setToolTip(tr("Size of the total momentum, |\u03a3 m v| (right-hand axis).\n"
+                                  "Walls, pins and friction change it in every model; hits between marbles keep it\n"
+                                  "in the exact and impulse models, not in the book's."));
     auto *csvButton = new QPushButton(tr("CSV\u2026"), page);
     csvButton->setObjectName(QStringLiteral("exportCsvButton"));
     csvButton->setToolTip(tr("Export the samples as CSV: frame, time, each marble's speed, kinetic energy, momentum"));

@@ -142,7 +142,7 @@ StepResult SceneDocument::step()
         const QString name = QString::fromStdString(m_world.info[result.badMarble].name);
         Q_EMIT simulationFailed(
             tr("The simulation stopped at frame %1: marble %2%3 left finite numbers (its position or velocity "
-               "became infinite or NaN). Step back, or lower the friction below 2 for the book model.")
+               "became infinite or NaN). Step back, or lower the friction to 2 or less for the book model.")
                 .arg(m_world.frame)
                 .arg(result.badMarble)
                 .arg(name.isEmpty() ? QString() : QStringLiteral(" (\"%1\")").arg(name)));
