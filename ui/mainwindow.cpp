@@ -1108,6 +1108,10 @@ void MainWindow::updateCompareControls()
         plotted = QString::fromUtf8(name.data(), static_cast<qsizetype>(name.size()));
     }
     m_plotDock->setCompareModel(plotted);
+    // A comparison starts from the scene's current frame: that sample gets its totals (its
+    // speeds come from the comparison's kept frames); the CSV's first row had none.
+    if (m_compare->world())
+        m_plotDock->resample(m_document->world(), m_compare->world());
     updateCompareReadout();
 }
 

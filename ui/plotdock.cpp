@@ -60,20 +60,22 @@ QPen comparePen(QColor colour)
     return pen;
 }
 
-/// Colours of the two totals' lines (the comparison model's in the same colour, dashed).
+/// Colours of the two totals' lines (the comparison model's in the same colour, dashed): apart
+/// from every marble's.
 const QColor kKineticColour(0x33, 0x33, 0x33);
-const QColor kMomentumColour(0xc0, 0x5a, 0x00);
+const QColor kMomentumColour(0x8c, 0x1c, 0x8c);
 
-/// Marbles without a colour of their own are drawn blue on the stage; their lines use shades
-/// of blue, different enough to tell apart.
+/// Marbles without a colour of their own are drawn blue on the stage; the first one's line is
+/// that blue, the others' clearly different hues (colour-blind safe, after Okabe and Ito): four
+/// shades of blue, which the lines once were, could not be told apart in class.
 QColor defaultMarbleColor(int marble)
 {
-    static const QColor shades[] = {
-        QColor(0x1f, 0x63, 0xc6), QColor(0x4f, 0xa3, 0xe8), QColor(0x13, 0x2f, 0x7a), QColor(0x2b, 0xb5, 0xc9),
-        QColor(0x6a, 0x5a, 0xd6), QColor(0x8c, 0xbc, 0xf0), QColor(0x0d, 0x6e, 0x8f), QColor(0x3d, 0x4f, 0xa8),
+    static const QColor hues[] = {
+        QColor(0x1f, 0x63, 0xc6), QColor(0xe6, 0x9f, 0x00), QColor(0x00, 0x9e, 0x73), QColor(0xcc, 0x79, 0xa7),
+        QColor(0x56, 0xb4, 0xe9), QColor(0xd5, 0x5e, 0x00), QColor(0x6a, 0x5a, 0xd6), QColor(0x99, 0x99, 0x33),
     };
-    constexpr int count = sizeof(shades) / sizeof(shades[0]);
-    return shades[marble % count];
+    constexpr int count = sizeof(hues) / sizeof(hues[0]);
+    return hues[marble % count];
 }
 
 /// The shortest decimal text that reads back as the same double ("" for NaN: no sample).
@@ -257,6 +259,8 @@ PlotDock::PlotDock(QWidget *parent)
     m_axisTotals = new QValueAxis(m_chart);
     m_rangeScratch = new QValueAxis(this); // never added to the chart (niceRange())
     m_axisTotals->setLabelFormat(QStringLiteral("%g"));
+    // Its ticks fall elsewhere than the speed axis's: two sets of grid lines read as a double grid.
+    m_axisTotals->setGridLineVisible(false);
     m_axisTotals->setVisible(false);
     m_chart->addAxis(m_axisX, Qt::AlignBottom);
     m_chart->addAxis(m_axisSpeed, Qt::AlignLeft);
@@ -616,6 +620,7 @@ void PlotDock::refreshChart()
                 totalMax);
         }
         series->replace(points);
+        showPoints(series);
     };
     refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked());
     refreshTotal(m_momentumSeries, m_momentum, m_showMomentum->isChecked());
@@ -627,8 +632,11 @@ void PlotDock::refreshChart()
     // Speeds and the totals are never negative: both axes start at zero.
     const AxisRange time = n > 0 ? niceRange(m_rangeScratch, x(0), x(n - 1)) : niceRange(m_rangeScratch, 0.0, xOf(100));
     applyRange(m_axisX, m_timeInSeconds ? time : wholeTicks(time));
-    applyRange(m_axisSpeed, niceRange(m_rangeScratch, 0.0, std::isfinite(speedMax) ? std::max(speedMax, 0.0) : 1.0));
-    applyRange(m_axisTotals, niceRange(m_rangeScratch, 0.0, std::isfinite(totalMax) ? std::max(totalMax, 0.0) : 1.0));
+    // A little room above the highest point: a line at a round maximum (Newton's cradle's 6
+    // px/frame) ran along the chart's top edge, where it could hardly be seen.
+    const auto top = [](double max) { return std::isfinite(max) ? std::max(max, 0.0) * 1.04 : 1.0; };
+    applyRange(m_axisSpeed, niceRange(m_rangeScratch, 0.0, top(speedMax)));
+    applyRange(m_axisTotals, niceRange(m_rangeScratch, 0.0, top(totalMax)));
     m_dirty = false;
 }
 
@@ -917,16 +925,16 @@ void PlotDock::styleSeries()
         m_compareKey->setName(tr("%1 (dashed)").arg(m_compareModel));
     }
 
-    // The totals: dashed (energy) and dash-dotted (momentum) apart from the solid speed lines;
-    // while comparing, the document's are solid and the comparison model's dashed, as for speeds,
-    // whose legend entries ("book (solid)", "exact (dashed)") stand for the totals too.
+    // The totals: solid in colours of their own; dashed is kept for the comparison model's lines
+    // (a dashed energy line without a comparison read as another model's), as for speeds, whose
+    // legend entries ("book (solid)", "exact (dashed)") stand for the totals too.
     const bool comparing = m_compareKineticSeries != nullptr;
-    auto styleTotal = [&](QLineSeries *series, const QString &what, QColor colour, Qt::PenStyle alone) {
-        series->setPen(QPen(colour, 2.0, comparing ? Qt::SolidLine : alone));
+    auto styleTotal = [&](QLineSeries *series, const QString &what, QColor colour) {
+        series->setPen(QPen(colour, 2.0));
         series->setName(what);
     };
-    styleTotal(m_kineticSeries, tr("kinetic energy"), kKineticColour, Qt::DashLine);
-    styleTotal(m_momentumSeries, tr("|momentum|"), kMomentumColour, Qt::DashDotLine);
+    styleTotal(m_kineticSeries, tr("kinetic energy"), kKineticColour);
+    styleTotal(m_momentumSeries, tr("|momentum|"), kMomentumColour);
     if (comparing) {
         m_compareKineticSeries->setPen(comparePen(kKineticColour));
         m_compareMomentumSeries->setPen(comparePen(kMomentumColour));

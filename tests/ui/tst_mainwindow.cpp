@@ -113,6 +113,7 @@ private Q_SLOTS:
     void spacePausesFromANumberField();
     void undoKeysReachTheSceneFromANumberField();
     void compareOffersOnlyModelsThatCanRun();
+    void comparisonStartsWithItsTotals();
     void longStatusMessageIsElided();
     void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
@@ -724,6 +725,26 @@ void TestMainWindow::compareOffersOnlyModelsThatCanRun()
     QCOMPARE(menuItems, 1);
     QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("0.5")).isEmpty());
     QVERIFY(offered(ModelKind::Exact));
+}
+
+void TestMainWindow::comparisonStartsWithItsTotals()
+{
+    // Compare With > Exact at frame 0: the comparison's totals begin at frame 0, where both
+    // models hold the same marbles (the CSV's frame 0 row had its comparison columns empty).
+    PlotDock *plot = m_window->plotDock();
+    QAction *exact = nullptr;
+    for (QAction *action : m_window->findChildren<QAction *>()) {
+        if (action->actionGroup() && action->data().toInt() == static_cast<int>(ModelKind::Exact)
+            && action->text().contains(QStringLiteral("xact")))
+            exact = action;
+    }
+    QVERIFY(exact);
+    exact->trigger();
+    QCOMPARE(plot->sampleCount(), 1);
+    QCOMPARE(plot->sampleCompareKineticEnergy(0), plot->sampleKineticEnergy(0));
+    QTest::keyClick(m_window->stageView(), Qt::Key_Right);
+    QCOMPARE(plot->sampleCount(), 2);
+    QVERIFY(std::isfinite(plot->sampleCompareKineticEnergy(1)));
 }
 
 void TestMainWindow::longStatusMessageIsElided()
