@@ -700,6 +700,10 @@ bool MainWindow::replaceScene(const World &scene, const QString &fileName, const
     m_document->resetScene(scene, fileName);
     m_view->clearSelection();
     restoreViewBeforePreset();
+    // The keys go to the stage (Right steps, Space plays): a number field that had the focus
+    // kept it, with a stale part of its old text selected over the new scene's value.
+    if (QWidget *focused = QApplication::focusWidget(); focused && focused != m_view && isAncestorOf(focused))
+        m_view->setFocus(Qt::OtherFocusReason);
     return true;
 }
 

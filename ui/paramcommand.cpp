@@ -5,6 +5,8 @@
 
 #include <QCoreApplication>
 
+#include <utility>
+
 namespace marbles {
 
 ParamState ParamState::of(const World &world)
@@ -20,14 +22,48 @@ void ParamState::applyTo(World &world) const
         world.mass = mass;
 }
 
-SetParamCommand::SetParamCommand(SceneDocument *document, const QString &key, const ParamState &before,
-                                 const ParamState &after)
+namespace {
+
+// A parameter as the Parameters dock names it ("zero threshold", not the file's zeroThreshold).
+QString paramLabel(const QString &key)
+{
+    static const std::pair<const char *, const char *> labels[] = {
+        {"model", QT_TRANSLATE_NOOP("marbles", "model")},
+        {"massScale", QT_TRANSLATE_NOOP("marbles", "mass scale")},
+        {"friction", QT_TRANSLATE_NOOP("marbles", "friction")},
+        {"zeroThreshold", QT_TRANSLATE_NOOP("marbles", "zero threshold")},
+        {"pushScale", QT_TRANSLATE_NOOP("marbles", "push scale")},
+        {"frameMs", QT_TRANSLATE_NOOP("marbles", "frame interval")},
+        {"restitution", QT_TRANSLATE_NOOP("marbles", "restitution")},
+        {"gravity", QT_TRANSLATE_NOOP("marbles", "gravity")},
+        {"substeps", QT_TRANSLATE_NOOP("marbles", "substeps")},
+        {"shortCircuit", QT_TRANSLATE_NOOP("marbles", "short circuit")},
+        {"width", QT_TRANSLATE_NOOP("marbles", "stage width")},
+        {"height", QT_TRANSLATE_NOOP("marbles", "stage height")},
+        {"walls", QT_TRANSLATE_NOOP("marbles", "walls")},
+    };
+    for (const auto &[name, label] : labels) {
+        if (key == QLatin1String(name))
+            return QCoreApplication::translate("marbles", label);
+    }
+    return key;
+}
+
+QString describe(const QString &key, const QString &value)
+{
+    return QCoreApplication::translate("marbles", "Set %1 to %2").arg(paramLabel(key), value);
+}
+
+} // namespace
+
+SetParamCommand::SetParamCommand(SceneDocument *document, const QString &key, const QString &value,
+                                 const ParamState &before, const ParamState &after)
     : m_document(document)
     , m_key(key)
     , m_before(before)
     , m_after(after)
 {
-    setText(QCoreApplication::translate("marbles", "Set %1").arg(key));
+    setText(describe(key, value));
 }
 
 void SetParamCommand::redo()
@@ -53,6 +89,7 @@ bool SetParamCommand::mergeWith(const QUndoCommand *other)
     if (next->m_key != m_key)
         return false;
     m_after = next->m_after;
+    setText(next->text()); // the value the edits ended on
     return true;
 }
 

@@ -26,7 +26,9 @@ struct ParamState {
 /// Sets one parameter (a Parameters dock edit). Consecutive edits of the same key merge.
 class SetParamCommand : public QUndoCommand {
 public:
-    SetParamCommand(SceneDocument *document, const QString &key, const ParamState &before, const ParamState &after);
+    /// `value` is the new value as typed (for the Undo History's "Set friction to 0.2").
+    SetParamCommand(SceneDocument *document, const QString &key, const QString &value, const ParamState &before,
+                    const ParamState &after);
     void redo() override;
     void undo() override;
     int id() const override;

@@ -387,7 +387,7 @@ QString SceneDocument::setParam(const QString &key, const QString &value)
     const ParamState after = ParamState::of(trial);
     if (before.params == after.params && before.stage == after.stage && before.mass == after.mass)
         return {};
-    m_undoStack.push(new SetParamCommand(this, key, before, after));
+    m_undoStack.push(new SetParamCommand(this, key, value, before, after));
     return {};
 }
 

@@ -668,6 +668,13 @@ void TestMainWindow::spacePausesFromANumberField()
     QVERIFY(!run->isRunning());
     QCOMPARE(friction->text(), QStringLiteral("0.2"));
     QCOMPARE(m_window->document()->world().params.friction, 0.2);
+    // A scene opened then takes the keys to the stage: Right steps (in the field it moved the
+    // cursor, and the field kept a part of its old text selected).
+    m_prompts->saveChoice = Prompts::SaveChoice::Discard;
+    QVERIFY(m_window->openPreset(QStringLiteral("pins")));
+    QVERIFY(!friction->hasFocus());
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_Right);
+    QCOMPARE(m_window->document()->world().frame, 1);
 }
 
 void TestMainWindow::undoKeysReachTheSceneFromANumberField()

@@ -67,6 +67,7 @@ private Q_SLOTS:
     void scriptedPushesMoveWithTheirMarble();
     void dropWithNoRoomIsRefused();
     void nonFiniteStateStopsWithMessage();
+    void paramEditsAreNamedAsTheDockNamesThem();
     void saveThenOpenRoundTrips();
     void failedSaveKeepsTheFile();
     void invalidFileLeavesSceneUntouched_data();
@@ -700,6 +701,22 @@ void TestSceneDocument::nonFiniteStateStopsWithMessage()
     const QString message = failed.first().first().toString();
     QVERIFY2(message.contains(QStringLiteral("frame %1").arg(doc.world().frame)), qPrintable(message));
     QVERIFY2(message.contains(QStringLiteral("marble 0")), qPrintable(message));
+}
+
+void TestSceneDocument::paramEditsAreNamedAsTheDockNamesThem()
+{
+    // The Undo History reads "Set zero threshold to 0.5", not the file's "Set zeroThreshold";
+    // edits of one parameter in a row merge, and the entry gives the value they ended on.
+    SceneDocument doc;
+    doc.resetScene(preset("four-marbles"));
+    QVERIFY(doc.setParam(QStringLiteral("zeroThreshold"), QStringLiteral("0.5")).isEmpty());
+    QCOMPARE(doc.undoStack()->text(0), QStringLiteral("Set zero threshold to 0.5"));
+    QVERIFY(doc.setParam(QStringLiteral("frameMs"), QStringLiteral("40")).isEmpty());
+    QVERIFY(doc.setParam(QStringLiteral("frameMs"), QStringLiteral("25")).isEmpty());
+    QCOMPARE(doc.undoStack()->count(), 2);
+    QCOMPARE(doc.undoStack()->text(1), QStringLiteral("Set frame interval to 25"));
+    QVERIFY(doc.setParam(QStringLiteral("model"), QStringLiteral("exact")).isEmpty());
+    QCOMPARE(doc.undoStack()->text(2), QStringLiteral("Set model to exact"));
 }
 
 void TestSceneDocument::saveThenOpenRoundTrips()
