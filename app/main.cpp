@@ -4,6 +4,9 @@
 
 #include <QApplication>
 #include <QCommandLineParser>
+#include <QFileInfo>
+
+#include <cstdio>
 
 int main(int argc, char *argv[])
 {
@@ -26,8 +29,15 @@ int main(int argc, char *argv[])
     marbles::MainWindow window;
     window.show();
     const QStringList files = parser.positionalArguments();
-    window.offerRecovery();
-    if (!files.isEmpty())
+    if (files.size() > 1) {
+        std::fprintf(stderr, "%s\n",
+                     qPrintable(QCoreApplication::translate("main", "marbles: one scene at a time: opening %1, not %2")
+                                    .arg(files.front(), files.mid(1).join(QStringLiteral(", ")))));
+    }
+    // A recovered scene made from the file asked for is that file with the changes the crash
+    // would have lost: opening the file again would only ask to save them, then drop them.
+    const QString recovered = window.offerRecovery();
+    if (!files.isEmpty() && (recovered.isEmpty() || QFileInfo(recovered) != QFileInfo(files.front())))
         window.openFile(files.front());
     return QApplication::exec();
 }

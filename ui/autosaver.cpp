@@ -87,7 +87,7 @@ bool AutoSaver::saveNow()
         discard();
         return true;
     }
-    return writeFiles(scenePath(), sceneToJson(m_document->world()), sourcePath(), sourceRecord());
+    return writeFiles(scenePath(), sceneToJson(m_document->worldAtStart()), sourcePath(), sourceRecord());
 }
 
 bool AutoSaver::saveInBackground()
@@ -104,7 +104,7 @@ bool AutoSaver::saveInBackground()
     // The copy is the only work done here; turning it into JSON and writing it is the worker's.
     try {
         m_background = std::async(std::launch::async,
-                                  [world = m_document->world(), scene = scenePath(), source = sourcePath(),
+                                  [world = m_document->worldAtStart(), scene = scenePath(), source = sourcePath(),
                                    record = sourceRecord()] {
                                       return writeFiles(scene, sceneToJson(world), source, record);
                                   });

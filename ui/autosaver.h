@@ -18,6 +18,9 @@ class SceneDocument;
 /// QStandardPaths::AppDataLocation. On the next start a leftover autosave means the last session
 /// did not end cleanly, and the scene can be recovered; a clean exit deletes it. A lock file
 /// keeps a second running instance from writing over (or recovering) the first one's autosave.
+/// What is kept is the scene as at the start of its run (SceneDocument::worldAtStart()): the
+/// teacher's work is the scene and its edits, and a scene taken mid-run would come back with its
+/// marbles moved and its scripted pushes that had acted gone.
 /// The timer's saves take a copy of the world and write it on a worker thread, so that a large
 /// scene (100,000 marbles: 16 MB of JSON, about 0.3 s) does not stall a running window.
 class AutoSaver : public QObject {

@@ -136,12 +136,19 @@ bool FrameHistory::stepBack(World &world)
     return true;
 }
 
-bool FrameHistory::rewind(World &world)
+bool FrameHistory::restoreStart(World &world) const
 {
     if (static_cast<int>(m_start.position.size()) != world.marbleCount())
         return false;
     m_start.restoreInto(world);
     world.lastHit = m_startHits;
+    return true;
+}
+
+bool FrameHistory::rewind(World &world)
+{
+    if (!restoreStart(world))
+        return false;
     m_frames.clear();
     m_bytes = 0;
     m_hits = m_startHits;

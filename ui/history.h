@@ -37,6 +37,9 @@ public:
     bool stepBack(World &world);
     /// Restores the first frame of the timeline and forgets the rest; false when the marble count changed.
     bool rewind(World &world);
+    /// Writes the first frame of the timeline into `world` (a copy of the one this history follows),
+    /// keeping every frame; false (world untouched) when the marble count changed.
+    bool restoreStart(World &world) const;
     /// True when the kept frames have as many marbles as `world` (so they can be restored into it).
     bool fits(const World &world) const { return static_cast<int>(m_start.position.size()) == world.marbleCount(); }
     /// Frame number of the start of the timeline.

@@ -897,15 +897,16 @@ bool MainWindow::saveFile(const QString &path)
     return true;
 }
 
-void MainWindow::offerRecovery()
+QString MainWindow::offerRecovery()
 {
     if (!m_autoSaver->hasRecovery())
-        return;
+        return QString();
     const QString source = m_autoSaver->recoverySource();
     const QString preset = m_autoSaver->recoveryPresetTitle();
-    const QString details = !source.isEmpty()  ? tr("The scene %1 had unsaved changes.").arg(source)
-                            : !preset.isEmpty() ? tr("The scene made from the preset \"%1\" had unsaved changes.").arg(preset)
-                                                : tr("An untitled scene had unsaved changes.");
+    const QString scene = !source.isEmpty()  ? tr("The scene %1 had unsaved changes.").arg(source)
+                          : !preset.isEmpty() ? tr("The scene made from the preset \"%1\" had unsaved changes.").arg(preset)
+                                              : tr("An untitled scene had unsaved changes.");
+    const QString details = scene + QLatin1Char(' ') + tr("It comes back with every change, as at the start of its run.");
     if (m_prompts->askRecover(this, details)) {
         QString error;
         if (m_autoSaver->recover(&error)) {
@@ -913,11 +914,12 @@ void MainWindow::offerRecovery()
             setPresetTitle(source.isEmpty() ? preset : QString());
             updateTitle();
             showStatus(tr("Recovered the autosaved scene. Save it to keep it."));
-            return;
+            return m_document->fileName();
         }
         m_prompts->showError(this, tr("Cannot recover the scene"), error);
     }
     m_autoSaver->discard();
+    return QString();
 }
 
 void MainWindow::showEvent(QShowEvent *event)

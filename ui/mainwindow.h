@@ -69,8 +69,10 @@ public:
     bool saveFile(const QString &path);
     /// Replaces the scene with preset `id` (unsaved changes are asked about first).
     bool openPreset(const QString &id);
-    /// Offers to recover an autosaved scene left by a session that did not end cleanly.
-    void offerRecovery();
+    /// Offers to recover an autosaved scene left by a session that did not end cleanly. Returns
+    /// the file the recovered scene was made from ("" when nothing was recovered or the scene
+    /// had no file).
+    QString offerRecovery();
 
     /// The document (owned by the window).
     SceneDocument *document() const { return m_document; }

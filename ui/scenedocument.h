@@ -65,6 +65,14 @@ public:
     bool rewind();
     /// Frame number that rewind() returns to.
     std::int64_t startFrame() const { return m_history.startFrame(); }
+    /// A copy of the world as rewind() would make it: the scene with every edit, at the start of
+    /// its timeline (its scripted pushes all to come), what an autosave keeps.
+    World worldAtStart() const
+    {
+        World start = m_world;
+        m_history.restoreStart(start);
+        return start;
+    }
     /// The step-back history (how many frames it keeps and their bytes).
     const FrameHistory &history() const { return m_history; }
     /// Mean time of the model's step per simulated frame over the recent frames (without the
