@@ -145,6 +145,43 @@ bool FrameHistory::restoreStart(World &world) const
     return true;
 }
 
+FrameHistory::MarbleStart FrameHistory::startOf(int i) const
+{
+    const auto k = static_cast<std::size_t>(i);
+    if (i < 0 || k >= m_start.position.size())
+        return {};
+    return {m_start.position[k], m_start.velocity[k], m_start.acceleration[k],
+            k < m_startHits.size() ? m_startHits[k] : HitRecord{}};
+}
+
+void FrameHistory::insertMarble(int i, const MarbleStart &start)
+{
+    const auto k = static_cast<std::size_t>(i);
+    if (i < 0 || k > m_start.position.size() || m_startHits.size() != m_start.position.size())
+        return;
+    const auto at = [k](auto &values) { return values.begin() + static_cast<std::ptrdiff_t>(k); };
+    m_start.position.insert(at(m_start.position), start.position);
+    m_start.velocity.insert(at(m_start.velocity), start.velocity);
+    m_start.acceleration.insert(at(m_start.acceleration), start.acceleration);
+    m_startHits.insert(at(m_startHits), start.lastHit);
+    m_frames.clear();
+    m_bytes = 0;
+}
+
+void FrameHistory::removeMarble(int i)
+{
+    const auto k = static_cast<std::size_t>(i);
+    if (i < 0 || k >= m_start.position.size() || m_startHits.size() != m_start.position.size())
+        return;
+    const auto at = [k](auto &values) { return values.begin() + static_cast<std::ptrdiff_t>(k); };
+    m_start.position.erase(at(m_start.position));
+    m_start.velocity.erase(at(m_start.velocity));
+    m_start.acceleration.erase(at(m_start.acceleration));
+    m_startHits.erase(at(m_startHits));
+    m_frames.clear();
+    m_bytes = 0;
+}
+
 bool FrameHistory::rewind(World &world)
 {
     if (!restoreStart(world))

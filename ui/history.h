@@ -40,8 +40,26 @@ public:
     /// Writes the first frame of the timeline into `world` (a copy of the one this history follows),
     /// keeping every frame; false (world untouched) when the marble count changed.
     bool restoreStart(World &world) const;
+
+    /// One marble's part of the timeline's first frame.
+    struct MarbleStart {
+        Vec2 position;
+        Vec2 velocity;
+        Vec2 acceleration;
+        HitRecord lastHit;
+    };
+    /// Marble i's part of the first frame (a default one past the end).
+    MarbleStart startOf(int i) const;
+    /// A marble joins the scene at index i (0 <= i <= count): the first frame gets it as `start`,
+    /// so that rewind() still reaches it; the step-back frames, which have no place for it, are
+    /// forgotten.
+    void insertMarble(int i, const MarbleStart &start);
+    /// Marble i leaves the scene: the first frame loses it; the step-back frames are forgotten.
+    void removeMarble(int i);
     /// True when the kept frames have as many marbles as `world` (so they can be restored into it).
-    bool fits(const World &world) const { return static_cast<int>(m_start.position.size()) == world.marbleCount(); }
+    bool fits(const World &world) const { return startSize() == world.marbleCount(); }
+    /// Marbles in the timeline's first frame.
+    int startSize() const { return static_cast<int>(m_start.position.size()); }
     /// Frame number of the start of the timeline.
     std::int64_t startFrame() const { return m_start.frame; }
     /// Number of step-back frames kept (the start frame not counted).

@@ -979,11 +979,13 @@ void MainWindow::stepBackward()
 {
     m_run->pause();
     if (!m_document->stepBack())
-        showFrameStatus(tr("Frame %1 is not kept: the history starts at frame %2 (it is cleared when marbles are "
-                      "added or removed, and holds the last %3 frames).")
-                       .arg(m_document->world().frame - 1)
-                       .arg(m_document->startFrame())
-                       .arg(FrameHistory::kDefaultMaxFrames));
+        showFrameStatus(tr("Frame %1 is not kept: Step Back goes back to frame %2 (it keeps the last %3 frames, "
+                           "fewer for a large scene, and starts again when a marble is added or removed); Home "
+                           "goes to frame %4.")
+                            .arg(m_document->world().frame - 1)
+                            .arg(m_document->world().frame - static_cast<std::int64_t>(m_document->history().size()))
+                            .arg(FrameHistory::kDefaultMaxFrames)
+                            .arg(m_document->startFrame()));
     else
         hideBarMessage();
 }
@@ -1236,7 +1238,9 @@ void MainWindow::updateSlowLabel()
 void MainWindow::updateEditActions()
 {
     m_deleteAction->setEnabled(m_view->selectionKind() != StageView::SelectionKind::None);
-    m_stepBackAction->setEnabled(m_document->canStepBack());
+    // Enabled past the first frame even when the frame before is not kept: Left then says why
+    // it stops there (greyed out, it did nothing and said nothing).
+    m_stepBackAction->setEnabled(m_document->canStepBack() || m_document->world().frame != m_document->startFrame());
     m_rewindAction->setEnabled(m_document->world().frame != m_document->startFrame() || m_document->canStepBack());
 }
 

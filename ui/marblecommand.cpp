@@ -119,6 +119,9 @@ void AddMarbleCommand::redo()
     World &world = m_document->editableWorld();
     m_index = world.marbleCount();
     insertMarble(world, m_index, m_record);
+    // In the timeline's first frame too, where it is added: Home replays the scene with it.
+    const auto k = static_cast<std::size_t>(m_index);
+    m_document->marbleInserted(m_index, {world.position[k], world.velocity[k], world.acceleration[k], world.lastHit[k]});
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 
@@ -129,6 +132,7 @@ void AddMarbleCommand::undo()
     if (m_index < 0 || m_index >= world.marbleCount())
         return;
     world.removeMarble(m_index);
+    m_document->marbleRemoved(m_index);
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 
@@ -148,6 +152,7 @@ void RemoveMarbleCommand::redo()
     m_record = marbleRecord(world, m_index);
     m_pushes = world.pushes;
     world.removeMarble(m_index);
+    m_start = m_document->marbleRemoved(m_index);
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 
@@ -159,6 +164,7 @@ void RemoveMarbleCommand::undo()
         return;
     insertMarble(world, m_index, m_record);
     world.pushes = m_pushes;
+    m_document->marbleInserted(m_index, m_start); // where it was at the timeline's start
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 

@@ -2,6 +2,7 @@
 
 #include "core/world.h"
 #include "ui/commandids.h"
+#include "ui/history.h"
 #include "ui/worldedit.h"
 
 #include <QUndoCommand>
@@ -78,6 +79,7 @@ private:
     int m_index;
     MarbleRecord m_record;
     std::vector<Push> m_pushes;
+    FrameHistory::MarbleStart m_start; // its part of the timeline's first frame
 };
 
 } // namespace marbles

@@ -11,6 +11,7 @@
 #include <QFileInfo>
 
 #include <cmath>
+#include <utility>
 
 namespace marbles {
 
@@ -391,9 +392,29 @@ QString SceneDocument::setParam(const QString &key, const QString &value)
     return {};
 }
 
+void SceneDocument::marbleInserted(int i, const FrameHistory::MarbleStart &start)
+{
+    // Only while the first frame follows the world (one marble fewer there than here now).
+    if (m_history.startSize() + 1 == m_world.marbleCount())
+        m_history.insertMarble(i, start);
+    m_marblesRenumbered = true;
+}
+
+FrameHistory::MarbleStart SceneDocument::marbleRemoved(int i)
+{
+    FrameHistory::MarbleStart start;
+    if (m_history.startSize() == m_world.marbleCount() + 1) {
+        start = m_history.startOf(i);
+        m_history.removeMarble(i);
+    }
+    m_marblesRenumbered = true;
+    return start;
+}
+
 void SceneDocument::applyChange(Change change)
 {
-    // An added or removed marble starts a new timeline: the kept frames describe other marbles.
+    // The first frame follows marbles added or removed (marbleInserted(), marbleRemoved()); if it
+    // did not, the timeline starts again here.
     const bool restart = !m_history.fits(m_world);
     if (restart)
         m_history.reset(m_world);
@@ -404,7 +425,8 @@ void SceneDocument::applyChange(Change change)
         m_held = -1;
     emitModification();
     Q_EMIT sceneChanged(change);
-    if (restart)
+    // Marbles renumbered: what the plots and trails hold of each index is another marble's.
+    if (restart || std::exchange(m_marblesRenumbered, false))
         Q_EMIT timelineReset();
     else
         Q_EMIT timelineEdited();

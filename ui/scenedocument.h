@@ -65,6 +65,12 @@ public:
     bool rewind();
     /// Frame number that rewind() returns to.
     std::int64_t startFrame() const { return m_history.startFrame(); }
+    /// For the commands that add or remove marbles, after they did it to the world: marble i
+    /// joined the scene with `start` as its part of the timeline's first frame (or left it, and
+    /// its part is returned, for an undo to give back), so that rewind() still reaches frame 0
+    /// with the scene as edited. Step Back's kept frames are forgotten; plots start over.
+    void marbleInserted(int i, const FrameHistory::MarbleStart &start);
+    FrameHistory::MarbleStart marbleRemoved(int i);
     /// A copy of the world as rewind() would make it: the scene with every edit, at the start of
     /// its timeline (its scripted pushes all to come), what an autosave keeps.
     World worldAtStart() const
@@ -162,6 +168,7 @@ private:
     FrameHistory m_history;
     QString m_fileName;
     bool m_dirtyWithoutUndo = false;
+    bool m_marblesRenumbered = false; // marbleInserted() or marbleRemoved() since the last applyChange()
     bool m_lastModified = false;
 
     int m_held = -1;

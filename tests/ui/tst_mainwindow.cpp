@@ -5,6 +5,7 @@
 #include "core/sceneio.h"
 #include "ui/autosaver.h"
 #include "ui/elidingstatusbar.h"
+#include "ui/history.h"
 #include "ui/mainwindow.h"
 #include "ui/parametersdock.h"
 #include "ui/plotdock.h"
@@ -100,6 +101,7 @@ private Q_SLOTS:
     void clickPushesByBookFormula();
     void stepKeysAreExact_data();
     void stepKeysAreExact();
+    void stepBackSaysWhereItStops();
     void parameterEditReachesWorldAndUndoes();
     void deleteAndAddToolsAreUndoable();
     void saveThenOpenRoundTrips();
@@ -326,6 +328,27 @@ void TestMainWindow::stepKeysAreExact()
     m_window->statusBar()->showMessage(QStringLiteral("Saved."));
     QTest::keyClick(view, Qt::Key_Right);
     QCOMPARE(m_window->statusBar()->currentMessage(), QStringLiteral("Saved."));
+}
+
+void TestMainWindow::stepBackSaysWhereItStops()
+{
+    // A marble added mid-run: Step Back has no frame before this one (the frames kept have no
+    // place for the new marble), and Left says so and where Home goes, rather than doing nothing
+    // greyed out; Home reaches frame 0, the added marble there.
+    SceneDocument *doc = m_window->document();
+    StageView *view = m_window->stageView();
+    view->setFocus();
+    doc->advance(12);
+    QVERIFY(doc->addMarble({700, 80}, 15).isEmpty());
+    QTest::keyClick(view, Qt::Key_Left);
+    QCOMPARE(doc->world().frame, 12);
+    QCOMPARE(m_window->statusBar()->currentMessage(),
+             QStringLiteral("Frame 11 is not kept: Step Back goes back to frame 12 (it keeps the last %1 frames, fewer "
+                            "for a large scene, and starts again when a marble is added or removed); Home goes to frame 0.")
+                 .arg(FrameHistory::kDefaultMaxFrames));
+    QTest::keyClick(view, Qt::Key_Home);
+    QCOMPARE(doc->world().frame, 0);
+    QCOMPARE(doc->world().marbleCount(), 5);
 }
 
 void TestMainWindow::parameterEditReachesWorldAndUndoes()

@@ -142,6 +142,34 @@ void TestSceneDocument::rewindReturnsToFrameZero()
     QVERIFY(doc.rewind());
     QCOMPARE(doc.world().velocity[3], (Vec2{1, 1}));
     QCOMPARE(doc.world().position[0], (Vec2{180, 150}));
+
+    // A marble added mid-run joins frame 0 where it was added; one deleted mid-run leaves it;
+    // undone, frame 0 is the scene it was (Home once stayed at the frame of the edit, even after
+    // the undo, and frame 0 with its scripted push could not be reached again).
+    const World beforeAdd = doc.world();
+    doc.advance(100);
+    QVERIFY(doc.addMarble({700, 80}, 15).isEmpty());
+    const Vec2 added = doc.world().position.back();
+    doc.advance(20);
+    QVERIFY(doc.rewind());
+    QCOMPARE(doc.world().frame, 0);
+    QCOMPARE(doc.world().marbleCount(), beforeAdd.marbleCount() + 1);
+    QCOMPARE(doc.world().position.back(), added);
+    QCOMPARE(doc.world().velocity.back(), Vec2{});
+    QCOMPARE(doc.world().position[0], beforeAdd.position[0]);
+    doc.undoStack()->undo(); // the marble goes again
+    doc.advance(50);
+    doc.removeMarble(1);
+    QCOMPARE(doc.world().marbleCount(), beforeAdd.marbleCount() - 1);
+    doc.advance(10);
+    QVERIFY(doc.rewind());
+    QCOMPARE(doc.world().position[1], beforeAdd.position[2]);
+    doc.advance(10);
+    doc.undoStack()->undo(); // marble 1 back, mid-run
+    QVERIFY(doc.rewind());
+    QCOMPARE(doc.world().frame, 0);
+    QVERIFY(sameDynamicState(doc.world(), beforeAdd));
+    QCOMPARE(doc.world().pushes, beforeAdd.pushes);
 }
 
 void TestSceneDocument::jumpBackRewindsTimelineEditResetsIt()
