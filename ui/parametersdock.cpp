@@ -144,14 +144,16 @@ void ParametersDock::buildUi()
         return spin;
     };
 
-    // The chapter's constants first, in the order the chapter introduces them.
+    // The chapter's constants first, in the order the chapter introduces them. Each label's
+    // Alt key is its own, and none is a menu's (File, Edit, Simulation, View, Help): Alt+F went
+    // to Friction instead of the File menu, Alt+H to Short circuit. The Plot dock's are apart too.
     m_massScale = makeSpin("massScaleEdit", 0.000001, 1000.0, 0.05, tr(" per px"));
     addField(tr("&Mass scale"), m_massScale, tr("m = massScale \u00d7 r"),
              tr("Mass per pixel of radius: bigger marbles are heavier. Hits depend on the ratio of "
                 "masses only; the scale changes how far a click pushes, and the energy and momentum figures."));
 
     m_friction = makeSpin("frictionEdit", 0.0, kBookFrictionMax, 0.01, QString());
-    addField(tr("&Friction"), m_friction,
+    addField(tr("Fr&iction"), m_friction,
              tr("book: a += \u2212v \u00d7 k\nexact, impulse: the velocity falls by (1 \u2212 k) a frame, smoothly over the frame"),
              tr("Fraction of its speed a marble loses to air each frame."));
     m_frictionWarning = new QLabel(page);
@@ -172,7 +174,7 @@ void ParametersDock::buildUi()
              tr("How hard a click pushes; clicking further from the centre pushes harder (negative pulls)."));
 
     m_frameMs = makeSpin("frameMsEdit", 0.1, 10000.0, 1.0, tr(" ms"));
-    addField(tr("F&rame interval"), m_frameMs, tr("one frame lasts frameMs ms of real time; the physics counts frames"),
+    addField(tr("Frame i&nterval"), m_frameMs, tr("one frame lasts frameMs ms of real time; the physics counts frames"),
              tr("Real time between two frames: changes how fast the run plays, not its physics."));
 
     // The models and what only they use.
@@ -214,12 +216,12 @@ void ParametersDock::buildUi()
     m_substeps = new CountSpinBox(page);
     m_substeps->setObjectName(QStringLiteral("substepsEdit"));
     m_substeps->setRange(1, 1000);
-    addField(tr("&Substeps"), m_substeps, tr("h = 1 / substeps frame"),
+    addField(tr("Su&bsteps"), m_substeps, tr("h = 1 / substeps frame"),
              tr("Smaller steps inside each frame: more accurate, but slower."));
 
     m_shortCircuit = new QCheckBox(tr("Stop at the first hit"), page);
     m_shortCircuit->setObjectName(QStringLiteral("shortCircuitEdit"));
-    addField(tr("S&hort circuit"), m_shortCircuit, tr("after a marble's first hit, skip its remaining tests this frame"),
+    addField(tr("Short circ&uit"), m_shortCircuit, tr("after a marble's first hit, skip its remaining tests this frame"),
              tr("The shortcut the chapter suggests (its own code does not take it): a marble checks no more "
                 "walls, pins or marbles once it hits one, so it can miss a second hit."));
 

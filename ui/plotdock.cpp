@@ -211,7 +211,7 @@ PlotDock::PlotDock(QWidget *parent)
     column->setSpacing(4);
 
     auto *controls = new QHBoxLayout;
-    m_frameAxis = new QRadioButton(tr("&Frames"), page);
+    m_frameAxis = new QRadioButton(tr("Fr&ames"), page);
     m_frameAxis->setObjectName(QStringLiteral("frameAxisButton"));
     m_frameAxis->setToolTip(tr("Horizontal axis in frames, the physics' own unit of time"));
     m_secondAxis = new QRadioButton(tr("Se&conds"), page);
@@ -221,7 +221,7 @@ PlotDock::PlotDock(QWidget *parent)
     m_showKinetic = new QCheckBox(tr("&Kinetic energy"), page);
     m_showKinetic->setObjectName(QStringLiteral("kineticCheck"));
     m_showKinetic->setToolTip(tr("Total kinetic energy, \u03a3 m v\u00b2 / 2 (right-hand axis)"));
-    m_showMomentum = new QCheckBox(tr("&Momentum"), page);
+    m_showMomentum = new QCheckBox(tr("Momen&tum"), page);
     m_showMomentum->setObjectName(QStringLiteral("momentumCheck"));
     m_showMomentum->setToolTip(tr("Size of the total momentum, |\u03a3 m v| (right-hand axis).\n"
                                   "Walls, pins and friction change it in every model; hits between marbles keep it\n"

@@ -28,6 +28,7 @@
 #include <QKeySequence>
 #include <QLabel>
 #include <QLineSeries>
+#include <QMap>
 #include <QMenu>
 #include <QMenuBar>
 #include <QScreen>
@@ -101,6 +102,7 @@ private Q_SLOTS:
     void clickPushesByBookFormula();
     void stepKeysAreExact_data();
     void stepKeysAreExact();
+    void altKeysAreEachOnce();
     void stepBackSaysWhereItStops();
     void parameterEditReachesWorldAndUndoes();
     void deleteAndAddToolsAreUndoable();
@@ -328,6 +330,32 @@ void TestMainWindow::stepKeysAreExact()
     m_window->statusBar()->showMessage(QStringLiteral("Saved."));
     QTest::keyClick(view, Qt::Key_Right);
     QCOMPARE(m_window->statusBar()->currentMessage(), QStringLiteral("Saved."));
+}
+
+void TestMainWindow::altKeysAreEachOnce()
+{
+    // Alt+F opens the File menu: no field or button of the docks takes a menu's letter, and no
+    // two take the same (Alt+F went to the Friction field, Alt+H to Short circuit, Alt+S
+    // nowhere; the Model and Momentum fields shared M).
+    QMap<QChar, QStringList> owners;
+    const auto note = [&](const QString &text) {
+        const qsizetype at = text.indexOf(QLatin1Char('&'));
+        if (at >= 0 && at + 1 < text.size() && text.at(at + 1) != QLatin1Char('&'))
+            owners[text.at(at + 1).toLower()] << text;
+    };
+    for (QAction *menu : m_window->menuBar()->actions())
+        note(menu->text());
+    for (const QLabel *label : m_window->findChildren<QLabel *>()) {
+        if (label->buddy())
+            note(label->text());
+    }
+    for (const QAbstractButton *button : m_window->findChildren<QAbstractButton *>()) {
+        if (!qobject_cast<const QToolButton *>(button))
+            note(button->text());
+    }
+    QCOMPARE_GE(owners.size(), 15);
+    for (auto it = owners.cbegin(); it != owners.cend(); ++it)
+        QVERIFY2(it.value().size() == 1, qPrintable(it.value().join(QStringLiteral(", "))));
 }
 
 void TestMainWindow::stepBackSaysWhereItStops()
