@@ -124,6 +124,14 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     refresh();
 }
 
+InspectorDock::~InspectorDock()
+{
+    // QWidget's destructor takes the focus from a field, which ends its edit: the fields' slots
+    // here must not run on a dock already half destroyed (UBSan saw it).
+    for (QDoubleSpinBox *box : {m_radius, m_mass, m_x, m_y, m_vx, m_vy})
+        disconnect(box, nullptr, this, nullptr);
+}
+
 QDoubleSpinBox *InspectorDock::field(const QString &name) const
 {
     return m_form->findChild<QDoubleSpinBox *>(name);

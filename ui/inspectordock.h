@@ -19,6 +19,7 @@ class InspectorDock : public QDockWidget {
 public:
     /// The dock (objectName "inspectorDock") for `document`, which must outlive it.
     explicit InspectorDock(SceneDocument *document, QWidget *parent = nullptr);
+    ~InspectorDock() override;
 
     /// Shows marble i (-1 shows nothing).
     void setMarble(int i);
