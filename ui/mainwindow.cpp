@@ -633,12 +633,18 @@ void MainWindow::readSettings()
     if (const QScreen *where = screen())
         fitScreenHeight(where->availableGeometry().height());
     QSettings settings;
+    // A layout kept from a larger screen (the teacher's desk, then the classroom's projector)
+    // would hide tools behind the toolbars' overflow and give the plot the room the stage needs:
+    // on a smaller screen the window is laid out as on a first start.
+    const QSize savedScreen = settings.value(QStringLiteral("window/screen")).toSize();
+    const QSize screenNow = screen() ? screen()->availableGeometry().size() : QSize();
+    const bool smallerScreen = savedScreen.isValid() && screenNow.isValid()
+        && (screenNow.width() < savedScreen.width() || screenNow.height() < savedScreen.height());
     const QByteArray geometry = settings.value(QStringLiteral("window/geometry")).toByteArray();
-    if (geometry.isEmpty() || !restoreGeometry(geometry))
+    if (smallerScreen || geometry.isEmpty() || !restoreGeometry(geometry))
         fitFirstWindow();
-    if (!restoreState(settings.value(QStringLiteral("window/state")).toByteArray())) {
+    if (smallerScreen || !restoreState(settings.value(QStringLiteral("window/state")).toByteArray()))
         m_firstLayout = true;
-    }
     updateFrameLabelsShown();
     m_vectorsAction->setChecked(settings.value(QStringLiteral("view/vectors"), true).toBool());
     m_trailsAction->setChecked(settings.value(QStringLiteral("view/trails"), false).toBool());
@@ -667,6 +673,8 @@ void MainWindow::writeSettings()
     QSettings settings;
     settings.setValue(QStringLiteral("window/geometry"), saveGeometry());
     settings.setValue(QStringLiteral("window/state"), saveState());
+    if (screen())
+        settings.setValue(QStringLiteral("window/screen"), screen()->availableGeometry().size());
     settings.setValue(QStringLiteral("view/vectors"), checkedBeforePreset(m_vectorsAction));
     settings.setValue(QStringLiteral("view/trails"), checkedBeforePreset(m_trailsAction));
     settings.setValue(QStringLiteral("run/speedIndex"), m_speedBox->currentIndex());
@@ -925,19 +933,40 @@ QString MainWindow::offerRecovery()
 void MainWindow::showEvent(QShowEvent *event)
 {
     QMainWindow::showEvent(event);
-    if (!m_firstLayout)
+    if (m_shownOnce)
         return;
+    m_shownOnce = true;
+    fitToolBars();
+    if (!m_firstLayout) {
+        // A kept layout: the Parameters dock gets back the width its fields need (restored
+        // before the window had its size, it came back 55 px narrower, its fields cut off behind
+        // a sideways scroll bar), as far as the stage keeps its own.
+        const int wanted = m_parametersDock->fieldsWidth();
+        if (m_parametersDock->isVisible() && !m_parametersDock->isFloating() && m_parametersDock->width() < wanted)
+            resizeDocks({m_parametersDock}, {wanted}, Qt::Horizontal);
+        return;
+    }
     // First start (no saved layout): the stage gets most of the room, the plot a strip below it.
     // Dock sizes only apply once the window has its size, hence here and not in the constructor.
     m_firstLayout = false;
-    // On a narrow screen a toolbar that would not fit in the row goes to a new row, rather than
-    // its tools behind an overflow menu.
+    resizeDocks({m_parametersDock, m_inspectorDock}, {350, 350}, Qt::Horizontal);
+    resizeDocks({m_parametersDock, m_inspectorDock}, {560, 260}, Qt::Vertical);
+    resizeDocks({m_plotDock}, {210}, Qt::Vertical);
+}
+
+void MainWindow::fitToolBars()
+{
+    // On a narrow screen a toolbar that would not fit in its row goes to a new row, rather than
+    // its tools behind an overflow menu; on every start, as a kept layout may come from a wider
+    // window.
     const int width = isMaximized() && screen() ? screen()->availableGeometry().width() : this->width();
     int row = 0;
     for (const QString &name : {QStringLiteral("fileToolBar"), QStringLiteral("runToolBar"), QStringLiteral("toolsToolBar")}) {
         auto *bar = findChild<QToolBar *>(name);
-        if (!bar || bar->isHidden())
+        if (!bar || bar->isHidden() || toolBarArea(bar) != Qt::TopToolBarArea)
             continue;
+        if (toolBarBreak(bar))
+            row = 0;
         const int barWidth = bar->sizeHint().width();
         if (row > 0 && row + barWidth > width) {
             insertToolBarBreak(bar);
@@ -945,9 +974,6 @@ void MainWindow::showEvent(QShowEvent *event)
         }
         row += barWidth;
     }
-    resizeDocks({m_parametersDock, m_inspectorDock}, {350, 350}, Qt::Horizontal);
-    resizeDocks({m_parametersDock, m_inspectorDock}, {560, 260}, Qt::Vertical);
-    resizeDocks({m_plotDock}, {210}, Qt::Vertical);
 }
 
 void MainWindow::closeEvent(QCloseEvent *event)

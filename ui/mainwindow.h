@@ -156,6 +156,8 @@ private:
     void updateSlowLabel();
     void updateFrameLabelsShown();
     void fitFirstWindow();
+    /// Breaks the toolbars into rows where one would not fit beside the last (on every start).
+    void fitToolBars();
     void showKeysAndMouse();
     void updateEditActions();
     /// Asks to save changes, then opens `scene` in place of the open one; false if cancelled.
@@ -172,6 +174,7 @@ private:
     std::unique_ptr<Prompts> m_prompts;
     QString m_presetTitle;
     bool m_firstLayout = false;
+    bool m_shownOnce = false;
     /// A toggle a preset set for its lesson (PresetView): the teacher's own setting before it,
     /// given back when another scene opens (and saved in its place) unless changed meanwhile.
     struct PresetToggle {

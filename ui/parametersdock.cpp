@@ -10,6 +10,7 @@
 #include <QLabel>
 #include <QLocale>
 #include <QScrollArea>
+#include <QStyle>
 #include <QSignalBlocker>
 #include <QSpinBox>
 #include <QStandardItemModel>
@@ -371,6 +372,17 @@ void ParametersDock::updateFrictionWarning()
     m_frictionWarning->setStyleSheet(
         text.isEmpty() ? QString() : QStringLiteral("QLabel { color: %1; font-weight: bold; }").arg(colour.name()));
     m_frictionWarning->setVisible(!text.isEmpty());
+}
+
+int ParametersDock::fieldsWidth() const
+{
+    const auto *scroll = qobject_cast<const QScrollArea *>(widget());
+    if (!scroll || !scroll->widget())
+        return width();
+    // The page as it asks to be, its scroll area's frame, room for the vertical scroll bar, and
+    // the dock's own margins (its width less its content's).
+    const int bar = scroll->style()->pixelMetric(QStyle::PM_ScrollBarExtent, nullptr, scroll);
+    return scroll->widget()->sizeHint().width() + 2 * scroll->frameWidth() + bar + (width() - scroll->width());
 }
 
 void ParametersDock::updateModelChoices()

@@ -34,6 +34,8 @@ public:
 
     /// Shows `params` in every field; emits no paramEdited().
     void setParams(const Params &params);
+    /// The width at which every field shows whole, without a sideways scroll bar.
+    int fieldsWidth() const;
     /// The values the fields show now (what the user sees), as Params.
     Params shownParams() const;
 

@@ -127,6 +127,7 @@ private Q_SLOTS:
     void autosaveIsRecoveredAfterCrash();
     void autosaveWritesInTheBackground();
     void layoutIsRestored();
+    void layoutFromALargerScreenIsNotRestored();
     void toolbarsFitTheWindow();
     void statusBarRepeatsTheFrameOnlyWithoutTheRunToolbar();
     void firstStartFitsASmallScreen();
@@ -1075,6 +1076,32 @@ void TestMainWindow::layoutIsRestored()
     QVERIFY(!m_window->plotDock()->isVisible());
     QVERIFY(m_window->parametersDock()->isVisible());
     QVERIFY(m_window->stageView()->trailsVisible());
+}
+
+void TestMainWindow::layoutFromALargerScreenIsNotRestored()
+{
+    // Set up at a desk, then started on the classroom's projector: a layout kept from a larger
+    // screen put every toolbar in one row (tools behind its overflow menu) and the stage in a
+    // corner; the window is laid out as on a first start instead. A layout from this screen is
+    // restored, with the Parameters dock as wide as its fields need (it came back narrower,
+    // fields cut off).
+    const QSize available = m_window->screen()->availableGeometry().size();
+    m_prompts->saveChoice = Prompts::SaveChoice::Discard;
+    m_window->plotDock()->hide();
+    QVERIFY(m_window->close());
+    m_window.reset();
+    QSettings().setValue(QStringLiteral("window/screen"), available + QSize(600, 400));
+    makeWindow();
+    QVERIFY(m_window->plotDock()->isVisible()); // not the kept layout, where it was hidden
+    QCOMPARE(toolbarActionsHidden(), QString());
+
+    m_window->plotDock()->hide();
+    QVERIFY(m_window->close());
+    m_window.reset();
+    QCOMPARE(QSettings().value(QStringLiteral("window/screen")).toSize(), available);
+    makeWindow();
+    QVERIFY(!m_window->plotDock()->isVisible()); // kept
+    QTRY_COMPARE_GE(m_window->parametersDock()->width(), m_window->parametersDock()->fieldsWidth());
 }
 
 void TestMainWindow::toolbarsFitTheWindow()
