@@ -23,6 +23,7 @@
 #include <QDir>
 #include <QDockWidget>
 #include <QFileInfo>
+#include <QFontMetrics>
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QMenu>
@@ -42,6 +43,7 @@
 #include <QUndoView>
 #include <QVBoxLayout>
 
+#include <algorithm>
 #include <cmath>
 
 namespace marbles {
@@ -494,12 +496,17 @@ void MainWindow::createToolBars()
     runBar->addSeparator();
     m_frameDisplay = new QLabel(runBar);
     m_frameDisplay->setObjectName(QStringLiteral("frameDisplay"));
+    // Wide enough for "Frame 999999   t = 99999.99 s": the Compare box and the tools after it
+    // stayed put as the frame number grew (they moved under the pointer).
     m_frameDisplay->setMinimumWidth(220);
     m_frameDisplay->setContentsMargins(8, 0, 8, 0);
     QFont font = m_frameDisplay->font();
     font.setPointSizeF(font.pointSizeF() * 1.15);
     font.setBold(true);
     m_frameDisplay->setFont(font);
+    m_frameDisplay->setMinimumWidth(std::max(m_frameDisplay->minimumWidth(),
+                                             QFontMetrics(font).horizontalAdvance(tr("Frame %1   t = %2 s").arg(999999).arg(99999.99, 0, 'f', 2))
+                                                 + 16));
     runBar->addWidget(m_frameDisplay);
     runBar->addSeparator();
     m_compareBox = new QComboBox(runBar);
@@ -648,6 +655,9 @@ void MainWindow::readSettings()
     updateFrameLabelsShown();
     m_vectorsAction->setChecked(settings.value(QStringLiteral("view/vectors"), true).toBool());
     m_trailsAction->setChecked(settings.value(QStringLiteral("view/trails"), false).toBool());
+    m_plotDock->setTimeInSeconds(settings.value(QStringLiteral("plot/seconds"), false).toBool());
+    m_plotDock->setKineticEnergyShown(settings.value(QStringLiteral("plot/kineticEnergy"), false).toBool());
+    m_plotDock->setMomentumShown(settings.value(QStringLiteral("plot/momentum"), false).toBool());
     const int speed = settings.value(QStringLiteral("run/speedIndex"), kRealTimeSpeedIndex).toInt();
     if (speed >= 0 && speed < m_speedBox->count())
         m_speedBox->setCurrentIndex(speed);
@@ -677,6 +687,9 @@ void MainWindow::writeSettings()
         settings.setValue(QStringLiteral("window/screen"), screen()->availableGeometry().size());
     settings.setValue(QStringLiteral("view/vectors"), checkedBeforePreset(m_vectorsAction));
     settings.setValue(QStringLiteral("view/trails"), checkedBeforePreset(m_trailsAction));
+    settings.setValue(QStringLiteral("plot/seconds"), m_plotDock->isTimeInSeconds());
+    settings.setValue(QStringLiteral("plot/kineticEnergy"), m_plotDock->isKineticEnergyShown());
+    settings.setValue(QStringLiteral("plot/momentum"), m_plotDock->isMomentumShown());
     settings.setValue(QStringLiteral("run/speedIndex"), m_speedBox->currentIndex());
 }
 

@@ -89,12 +89,22 @@ QString csvNumber(double value)
 /// Appends the finite points (x(i), y(i)), i in [0, n), thinned to at most maxPoints: within
 /// each bucket the lowest and the highest point are kept, in sample order.
 /// Widens [yMin, yMax] to cover what was appended.
+/// A line has no value for the frames its model did not keep (a marble selected after a long
+/// run of a large scene: Step Back's history holds its last few hundred frames; a comparison
+/// started mid-run): it is drawn from the last gap on, as a line across the gap (from frame 0's
+/// value to the first kept one) would show a change that was never seen.
 template<typename XFn, typename YFn>
 void appendThinned(QList<QPointF> &out, qsizetype n, qsizetype maxPoints, XFn x, YFn y, double &yMin, double &yMax)
 {
-    const qsizetype bucket = n <= maxPoints ? 1 : (2 * n + maxPoints - 1) / maxPoints;
-    out.reserve(bucket == 1 ? n : 2 * (n / bucket + 1));
-    for (qsizetype start = 0; start < n; start += bucket) {
+    qsizetype from = n;
+    while (from > 0 && !std::isfinite(y(from - 1)))
+        --from; // a run that stopped on a blow-up ends with a frame that is no number
+    while (from > 0 && std::isfinite(y(from - 1)))
+        --from;
+    const qsizetype first = from;
+    const qsizetype bucket = n - first <= maxPoints ? 1 : (2 * (n - first) + maxPoints - 1) / maxPoints;
+    out.reserve(bucket == 1 ? n - first : 2 * ((n - first) / bucket + 1));
+    for (qsizetype start = first; start < n; start += bucket) {
         const qsizetype end = std::min(n, start + bucket);
         qsizetype lo = -1;
         qsizetype hi = -1;
@@ -541,6 +551,16 @@ double PlotDock::sampleKineticEnergy(qsizetype i) const
 double PlotDock::sampleMomentum(qsizetype i) const
 {
     return m_momentum.at(static_cast<std::size_t>(i));
+}
+
+bool PlotDock::isKineticEnergyShown() const
+{
+    return m_showKinetic->isChecked();
+}
+
+bool PlotDock::isMomentumShown() const
+{
+    return m_showMomentum->isChecked();
 }
 
 double PlotDock::secondsAt(std::int64_t frame) const

@@ -132,6 +132,9 @@ public:
     void setKineticEnergyShown(bool shown);
     /// Shows the magnitude of the total momentum (on the right-hand axis).
     void setMomentumShown(bool shown);
+    /// Whether the totals' lines are shown.
+    bool isKineticEnergyShown() const;
+    bool isMomentumShown() const;
     /// Horizontal axis in seconds (true) or frames (false).
     void setTimeInSeconds(bool seconds);
     /// True when the horizontal axis counts seconds.

@@ -37,6 +37,7 @@ void SceneDocument::resetScene(const World &world, const QString &fileName)
     m_draggedPin = -1;
     m_world = world;
     m_history.reset(m_world);
+    m_physicsMsPerFrame = 0.0; // the last scene's figure is not this one's
     m_undoStack.clear();
     m_undoStack.setClean();
     m_dirtyWithoutUndo = false;

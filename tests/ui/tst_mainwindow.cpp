@@ -1070,12 +1070,21 @@ void TestMainWindow::layoutIsRestored()
 {
     m_window->plotDock()->hide();
     m_window->findChild<QAction *>(QStringLiteral("actionTrails"))->setChecked(true);
+    m_window->plotDock()->setTimeInSeconds(true);
+    m_window->plotDock()->setKineticEnergyShown(true);
     QVERIFY(m_window->close());
     m_window.reset();
     makeWindow();
     QVERIFY(!m_window->plotDock()->isVisible());
     QVERIFY(m_window->parametersDock()->isVisible());
     QVERIFY(m_window->stageView()->trailsVisible());
+    // The plot's choices too (they went back to frames, no totals, at every start).
+    QVERIFY(m_window->plotDock()->isTimeInSeconds());
+    QVERIFY(m_window->plotDock()->isKineticEnergyShown());
+    QVERIFY(!m_window->plotDock()->isMomentumShown());
+    // As the other tests expect them (this window writes its settings when it closes).
+    m_window->plotDock()->setTimeInSeconds(false);
+    m_window->plotDock()->setKineticEnergyShown(false);
 }
 
 void TestMainWindow::layoutFromALargerScreenIsNotRestored()

@@ -653,6 +653,18 @@ void TestPlotDock::newLineTakesEarlierSpeeds()
     dock.refreshChart();
     QCOMPARE(dock.speedSeries(2)->count(), 7);
 
+    // The frame the timeline starts from is kept too, then a gap: the line starts after the gap
+    // (a line from frame 1 to frame 4 would show a change nobody saw: on a 20,000-marble crowd,
+    // a straight fall from frame 0's speed to the first kept frame, 740 frames on).
+    kept[1] = {{0.01, 0.0}, {0.01, -0.5}, {0.01, -1.0}};
+    dock.setSelectedMarbles({0});
+    dock.setSelectedMarbles({2, 0});
+    QVERIFY(dock.sampleSpeed(0, 2) == length({0.01, -1.0}));
+    QVERIFY(std::isnan(dock.sampleSpeed(1, 2)));
+    dock.refreshChart();
+    QCOMPARE(dock.speedSeries(2)->count(), 7);
+    QCOMPARE(dock.speedSeries(2)->at(0).x(), 4.0);
+
     // A comparison starting now: its speeds where it knows the frames, gaps before.
     dock.setCompareModel(QStringLiteral("exact"));
     QVERIFY(std::isnan(dock.sampleCompareSpeed(7, 2)));
