@@ -569,7 +569,15 @@ void MainWindow::createDocks()
     // made rather than wiping the run before it.
     connect(m_document, &SceneDocument::timelineEdited, this,
             [this] { m_plotDock->resample(m_document->world(), m_compare->world()); });
-    connect(m_document, &SceneDocument::timelineRewound, m_plotDock, &PlotDock::cutAfter);
+    // Back to a frame: the later samples go. A comparison that cannot step back there (its
+    // kept frames start later, at an edit) starts again from the scene's frame: that frame's
+    // sample gets its values, so that the dashed lines meet the solid ones where the ghosts do
+    // (they stayed apart at the frame the comparison restarted from).
+    connect(m_document, &SceneDocument::timelineRewound, this, [this](std::int64_t frame) {
+        m_plotDock->cutAfter(frame);
+        if (m_compare->world())
+            m_plotDock->resample(m_document->world(), m_compare->world());
+    });
     // A marble selected after a run is plotted from as far back as Step Back can go.
     m_plotDock->setVelocityLookup(
         [this](std::int64_t frame) { return m_document->history().velocitiesAt(frame, m_document->world()); },

@@ -118,6 +118,7 @@ private Q_SLOTS:
     void undoKeysReachTheSceneFromANumberField();
     void compareOffersOnlyModelsThatCanRun();
     void comparisonStartsWithItsTotals();
+    void compareSteppedBackPastAnEditMeetsAtTheRestart();
     void longStatusMessageIsElided();
     void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
@@ -804,6 +805,34 @@ void TestMainWindow::comparisonStartsWithItsTotals()
     QTest::keyClick(m_window->stageView(), Qt::Key_Right);
     QCOMPARE(plot->sampleCount(), 2);
     QVERIFY(std::isfinite(plot->sampleCompareKineticEnergy(1)));
+}
+
+void TestMainWindow::compareSteppedBackPastAnEditMeetsAtTheRestart()
+{
+    // Comparing, an edit at frame 60 starts the comparison again from there; stepped back to
+    // frame 50, it starts again from frame 50 (its kept frames begin at 60): the ghosts sit on
+    // the marbles, and the plot's comparison sample at frame 50 says the same (it kept the
+    // earlier comparison's, 100 px and more apart).
+    QVERIFY(m_window->openPreset(QStringLiteral("masses")));
+    SceneDocument *doc = m_window->document();
+    PlotDock *plot = m_window->plotDock();
+    plot->setSelectedMarbles({0});
+    for (QAction *action : m_window->findChildren<QAction *>()) {
+        if (action->actionGroup() && action->data().toInt() == static_cast<int>(ModelKind::Exact)
+            && action->text().contains(QStringLiteral("xact")))
+            action->trigger();
+    }
+    QVERIFY(m_window->findChild<QLabel *>(QStringLiteral("compareLabel"))->isVisible());
+    doc->advance(60);
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
+    doc->advance(40);
+    for (int k = 0; k < 50; ++k)
+        QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+    QCOMPARE(doc->world().frame, 50);
+    const qsizetype last = plot->sampleCount() - 1;
+    QCOMPARE(plot->sampleFrame(last), std::int64_t(50));
+    QCOMPARE(plot->sampleCompareSpeed(last, 0), plot->sampleSpeed(last, 0));
+    QVERIFY(plot->sampleCompareSpeed(last - 13, 0) != plot->sampleSpeed(last - 13, 0)); // the earlier comparison
 }
 
 void TestMainWindow::longStatusMessageIsElided()
