@@ -129,6 +129,17 @@ MainWindow::MainWindow(QWidget *parent)
 
     m_autoSaver = new AutoSaver(m_document, QString(), this);
     m_autoSaver->start();
+    // A second window cannot keep an autosave (the first one holds it): its first unsaved change
+    // says so, rather than a crash losing it unannounced.
+    if (!m_autoSaver->isActive()) {
+        connect(m_document, &SceneDocument::modificationChanged, this, [this](bool modified) {
+            if (modified && !m_warnedNoAutosave) {
+                m_warnedNoAutosave = true;
+                showStatus(tr("Changes in this window are not autosaved: another Marbles window keeps the autosave. "
+                              "Save with Ctrl+S."));
+            }
+        });
+    }
 
     World scene;
     makePreset(presets().front().id, scene);

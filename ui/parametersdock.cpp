@@ -176,7 +176,8 @@ void ParametersDock::buildUi()
 
     m_frameMs = makeSpin("frameMsEdit", 0.1, 10000.0, 1.0, tr(" ms"));
     addField(tr("Frame i&nterval"), m_frameMs, tr("one frame lasts frameMs ms of real time; the physics counts frames"),
-             tr("Real time between two frames: changes how fast the run plays, not its physics."));
+             tr("Real time between two frames: changes how fast the run plays, not its physics. The time shown "
+                "(t, the plot in seconds) counts every frame at this interval, those before a change too."));
 
     // The models and what only they use.
     m_model = new QComboBox(page);

@@ -126,6 +126,7 @@ private Q_SLOTS:
     void tickRunsWhatFitsItsBudget();
     void runThatCannotKeepUpSlowsDownAndSaysSo();
     void autosaveIsRecoveredAfterCrash();
+    void secondWindowSaysItIsNotAutosaved();
     void autosaveWritesInTheBackground();
     void layoutIsRestored();
     void layoutFromALargerScreenIsNotRestored();
@@ -1060,6 +1061,19 @@ void TestMainWindow::autosaveIsRecoveredAfterCrash()
     makeWindow();
     m_window->offerRecovery();
     QCOMPARE(m_prompts->recoverQuestions, 0);
+}
+
+void TestMainWindow::secondWindowSaysItIsNotAutosaved()
+{
+    // The first window holds the autosave; a second one cannot keep one, and says so at its
+    // first unsaved change (a tester lost a second window's work to a crash, unannounced).
+    QVERIFY(m_window->autoSaver()->isActive());
+    MainWindow second;
+    QVERIFY(!second.autoSaver()->isActive());
+    QVERIFY(second.document()->setParam(QStringLiteral("friction"), QStringLiteral("0.6")).isEmpty());
+    QVERIFY2(second.statusBar()->currentMessage().startsWith(QStringLiteral("Changes in this window are not autosaved")),
+             qPrintable(second.statusBar()->currentMessage()));
+    second.document()->undoStack()->undo();
 }
 
 void TestMainWindow::autosaveWritesInTheBackground()
