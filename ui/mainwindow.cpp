@@ -1234,10 +1234,11 @@ QString MainWindow::sceneName() const
 
 void MainWindow::updateTitle()
 {
-    setWindowTitle(tr("%1[*] — Marbles").arg(sceneName()));
-    setWindowModified(m_document->isModified());
     if (!m_document->fileName().isEmpty())
         setPresetTitle(QString());
+    setWindowTitle(tr("%1[*] — Marbles").arg(sceneName()));
+    setWindowModified(m_document->isModified());
+    m_plotDock->setSceneName(sceneName());
 }
 
 void MainWindow::setPresetTitle(const QString &title)

@@ -14,6 +14,7 @@
 #include <QLegendMarker>
 #include <QLineSeries>
 #include <QMessageBox>
+#include <QPainter>
 #include <QPixmap>
 #include <QPushButton>
 #include <QRadioButton>
@@ -753,21 +754,57 @@ QString PlotDock::exportCsv(const QString &path) const
     return QString();
 }
 
+QString PlotDock::exportCaption() const
+{
+    QStringList parts;
+    if (!m_sceneName.isEmpty())
+        parts << m_sceneName;
+    const QString models = m_models.join(tr(", then "));
+    parts << (m_compareModel.isEmpty() ? tr("model: %1").arg(models)
+                                       : tr("model: %1 (solid), %2 (dashed)").arg(models, m_compareModel));
+    if (!m_frames.isEmpty()) {
+        const std::int64_t first = m_frames.at(0);
+        const std::int64_t last = m_frames.last();
+        parts << tr("frames %1 to %2, %3 to %4 s")
+                     .arg(first)
+                     .arg(last)
+                     .arg(secondsAt(first), 0, 'f', 2)
+                     .arg(secondsAt(last), 0, 'f', 2);
+    }
+    return parts.join(QStringLiteral(" \u2014 "));
+}
+
 QString PlotDock::exportPng(const QString &path)
 {
     if (m_dirty)
         refreshChart();
-    // Drawn at least kMinPngSize: the view is made that large for the picture and given its
-    // size back at once (no event is handled in between, so nothing else sees it).
+    // Drawn at least kMinPngSize: the view is made that large for the picture, less a strip at
+    // the top for the caption, and given its size back at once (no event is handled in between,
+    // so nothing else sees it).
     const QSize onScreen = m_chartView->size();
     const QSize size = onScreen.expandedTo(kMinPngSize);
-    if (size != onScreen)
-        m_chartView->resize(size);
-    const QPixmap image = m_chartView->grab();
-    if (size != onScreen)
-        m_chartView->resize(onScreen);
-    if (image.isNull())
+    QFont font = m_chartView->font();
+    font.setPointSizeF(font.pointSizeF() * 1.1);
+    const int strip = QFontMetrics(font).height() + 12;
+    const QSize chartSize(size.width(), size.height() - strip);
+    m_chartView->resize(chartSize);
+    const QPixmap chart = m_chartView->grab();
+    m_chartView->resize(onScreen);
+    if (chart.isNull())
         return tr("%1: the chart could not be drawn").arg(path);
+    QPixmap image(size * chart.devicePixelRatio());
+    image.setDevicePixelRatio(chart.devicePixelRatio());
+    image.fill(Qt::white);
+    {
+        QPainter painter(&image);
+        painter.setRenderHint(QPainter::TextAntialiasing);
+        painter.setFont(font);
+        painter.setPen(QColor(0x22, 0x22, 0x22));
+        const QRect captionRect(10, 0, size.width() - 20, strip);
+        painter.drawText(captionRect, Qt::AlignLeft | Qt::AlignVCenter | Qt::TextSingleLine,
+                         QFontMetrics(font).elidedText(exportCaption(), Qt::ElideRight, captionRect.width()));
+        painter.drawPixmap(0, strip, chart);
+    }
     // Written whole or not at all, as the scene files are.
     QByteArray png;
     QBuffer buffer(&png);

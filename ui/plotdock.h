@@ -162,8 +162,15 @@ public:
     /// kinetic_<model>,momentum_<model> while a comparison model is plotted. Returns "" or a
     /// message naming the file.
     QString exportCsv(const QString &path) const;
-    /// Saves the chart as a PNG of the chart view's size. Returns "" or a message naming the file.
+    /// Saves the chart as a PNG, at least kMinPngSize, with exportCaption() above it. Returns "" or
+    /// a message naming the file.
     QString exportPng(const QString &path);
+    /// The scene's name, for the PNG's caption.
+    void setSceneName(const QString &name) { m_sceneName = name; }
+    /// The line written above the chart in a PNG: the scene, the models and the frames shown
+    /// ("Pachinko board (preset) — model: book (solid), exact (dashed) — frames 0 to 137, 0.00
+    /// to 2.74 s"), so that a picture in a worksheet says what it is.
+    QString exportCaption() const;
 
 protected:
     bool eventFilter(QObject *watched, QEvent *event) override;
@@ -224,6 +231,7 @@ private:
     /// changed mid-run): the solid lines' legend entry names them all.
     QStringList m_models{QStringLiteral("book")};
     QString m_compareModel; ///< the comparison model's name, "" when none
+    QString m_sceneName;
     double m_frameMs = 20.0;
     bool m_timeInSeconds = false;
     bool m_dirty = false;

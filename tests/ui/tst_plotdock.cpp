@@ -1218,6 +1218,17 @@ void TestPlotDock::exportPng()
             linePixels += image.pixelColor(x, y) == line ? 1 : 0;
     }
     QCOMPARE_GT(linePixels, 50);
+    // A caption above the chart says what it shows, for a worksheet: dark text in the top strip.
+    dock.setSceneName(QStringLiteral("Pachinko board (preset)"));
+    QCOMPARE(dock.exportCaption(), QStringLiteral("Pachinko board (preset) \u2014 model: book \u2014 frames 1 to 100, 0.02 to 2.00 s"));
+    QCOMPARE(dock.exportPng(path), QString());
+    image.load(path);
+    int ink = 0;
+    for (int y = 0; y < int(16 * dpr); ++y) {
+        for (int x = 0; x < image.width() / 3; ++x)
+            ink += qGray(image.pixel(x, y)) < 100 ? 1 : 0;
+    }
+    QCOMPARE_GT(ink, 30);
 }
 
 QTEST_MAIN(TestPlotDock)
