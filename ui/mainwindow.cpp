@@ -580,14 +580,14 @@ void MainWindow::createDocks()
     // made rather than wiping the run before it.
     connect(m_document, &SceneDocument::timelineEdited, this,
             [this] { m_plotDock->resample(m_document->world(), m_compare->world()); });
-    // Back to a frame: the later samples go. A comparison that cannot step back there (its
-    // kept frames start later, at an edit) starts again from the scene's frame: that frame's
-    // sample gets its values, so that the dashed lines meet the solid ones where the ghosts do
-    // (they stayed apart at the frame the comparison restarted from).
+    // Back to a frame: the later samples go, and that frame's is taken again. A comparison that
+    // cannot step back there (its kept frames start later, at an edit) starts again from the
+    // scene's frame, so that the dashed lines meet the solid ones where the ghosts do (they
+    // stayed apart there); and after a run longer than the plot holds, Home found no sample of
+    // frame 0 left, and the plot was empty.
     connect(m_document, &SceneDocument::timelineRewound, this, [this](std::int64_t frame) {
         m_plotDock->cutAfter(frame);
-        if (m_compare->world())
-            m_plotDock->resample(m_document->world(), m_compare->world());
+        m_plotDock->resample(m_document->world(), m_compare->world());
     });
     // A marble selected after a run is plotted from as far back as Step Back can go.
     m_plotDock->setVelocityLookup(

@@ -119,6 +119,7 @@ private Q_SLOTS:
     void compareOffersOnlyModelsThatCanRun();
     void comparisonStartsWithItsTotals();
     void compareSteppedBackPastAnEditMeetsAtTheRestart();
+    void homeAfterALongRunPlotsFrameZero();
     void longStatusMessageIsElided();
     void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
@@ -834,6 +835,20 @@ void TestMainWindow::compareSteppedBackPastAnEditMeetsAtTheRestart()
     QCOMPARE(plot->sampleFrame(last), std::int64_t(50));
     QCOMPARE(plot->sampleCompareSpeed(last, 0), plot->sampleSpeed(last, 0));
     QVERIFY(plot->sampleCompareSpeed(last - 13, 0) != plot->sampleSpeed(last - 13, 0)); // the earlier comparison
+}
+
+void TestMainWindow::homeAfterALongRunPlotsFrameZero()
+{
+    // A run longer than the plot holds (its oldest samples, frame 0's among them, dropped), then
+    // Home: the plot shows frame 0 (it was left empty, its axes back to 0 to 1).
+    PlotDock *plot = m_window->plotDock();
+    plot->setCapacity(50);
+    m_window->document()->advance(80);
+    QCOMPARE_GT(plot->sampleFrame(0), std::int64_t(0));
+    QTest::keyClick(m_window->stageView(), Qt::Key_Home);
+    QCOMPARE(plot->sampleCount(), 1);
+    QCOMPARE(plot->sampleFrame(0), std::int64_t(0));
+    QCOMPARE(plot->sampleSpeed(0, 0), 0.0);
 }
 
 void TestMainWindow::longStatusMessageIsElided()
