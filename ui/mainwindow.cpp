@@ -837,7 +837,13 @@ bool MainWindow::maybeSave()
 
 void MainWindow::newScene()
 {
-    openPreset(QString::fromStdString(presets().front().id));
+    // An empty table, as New gives in any program (it opened the four marbles, which a teacher
+    // building a scene had first to delete); the presets are under File > Presets.
+    if (!replaceScene(World(), QString(), QString()))
+        return;
+    updateTitle();
+    showStatus(tr("A new, empty scene: place marbles and pins with Add Marble (M) and Add Pin (P), or open a "
+                  "preset from File > Presets."));
 }
 
 bool MainWindow::openPreset(const QString &id)

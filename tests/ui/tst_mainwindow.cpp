@@ -120,6 +120,7 @@ private Q_SLOTS:
     void comparisonStartsWithItsTotals();
     void compareSteppedBackPastAnEditMeetsAtTheRestart();
     void homeAfterALongRunPlotsFrameZero();
+    void newOpensAnEmptyScene();
     void longStatusMessageIsElided();
     void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
@@ -849,6 +850,18 @@ void TestMainWindow::homeAfterALongRunPlotsFrameZero()
     QCOMPARE(plot->sampleCount(), 1);
     QCOMPARE(plot->sampleFrame(0), std::int64_t(0));
     QCOMPARE(plot->sampleSpeed(0, 0), 0.0);
+}
+
+void TestMainWindow::newOpensAnEmptyScene()
+{
+    // File > New: an empty stage with the book's defaults, untitled (it opened the four marbles).
+    m_window->findChild<QAction *>(QStringLiteral("actionNew"))->trigger();
+    const World &world = m_window->document()->world();
+    QCOMPARE(world.marbleCount(), 0);
+    QVERIFY(world.pins.empty() && world.pushes.empty());
+    QCOMPARE(world.params.friction, Params{}.friction);
+    QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Untitled[*]")));
+    QVERIFY(!m_window->document()->isModified());
 }
 
 void TestMainWindow::longStatusMessageIsElided()
