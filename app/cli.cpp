@@ -84,6 +84,23 @@ void writeFileAtomically(const std::string &path, const std::string &text)
 {
     namespace fs = std::filesystem;
     const fs::path target(path);
+    // Not a regular file (a device such as /dev/null or /dev/stdout, a pipe): written to as it
+    // is. A temporary file renamed over it would replace the device itself (as root, /dev/null
+    // and /dev/full became plain files).
+    std::error_code statError;
+    const fs::file_status status = fs::status(target, statError);
+    if (!statError && fs::exists(status) && !fs::is_regular_file(status)) {
+        if (fs::is_directory(status))
+            throw InvalidInput{path + ": cannot write: it is a folder"};
+        std::ofstream out(target, std::ios::binary);
+        if (!out)
+            throw InvalidInput{path + ": cannot write: " + std::strerror(errno)};
+        out << text;
+        out.flush();
+        if (!out)
+            throw InvalidInput{path + ": write failed: " + std::strerror(errno)};
+        return;
+    }
     fs::path temp = target;
     temp += ".tmp-" + std::to_string(::getpid());
     {
@@ -354,19 +371,29 @@ int main(int argc, char **argv)
     }
     const std::string command = all.front();
     const std::vector<std::string> args(all.begin() + 1, all.end());
+    // Standard output that could not be written (a full disk behind a redirection) is a failure,
+    // not a success with the rows cut short.
+    const auto written = [](int code) {
+        std::cout.flush();
+        if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {
+            std::cerr << "marbles-cli: writing to standard output failed: " << std::strerror(errno) << '\n';
+            return code == ExitOk ? ExitInternal : code;
+        }
+        return code;
+    };
     try {
         if (command == "run")
-            return runCommand(args);
+            return written(runCommand(args));
         if (command == "check")
-            return checkCommand(args);
+            return written(checkCommand(args));
         if (command == "preset")
-            return presetCommand(args);
+            return written(presetCommand(args));
         if (command == "gen")
-            return genCommand(args);
+            return written(genCommand(args));
         if (command == "bench")
-            return benchCommand(args);
+            return written(benchCommand(args));
         if (command == "stress")
-            return stressCommand(args);
+            return written(stressCommand(args));
         throw InvalidInput{"unknown command '" + command + "'\n" + usageText};
     } catch (const InvalidInput &e) {
         std::cerr << "marbles-cli: " << e.message << '\n';

@@ -1035,6 +1035,13 @@ std::string saveSceneFile(const World &world, const std::string &path)
         return path + ": cannot save: not a file name";
     const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
 
+    // A folder or a device (/dev/null) is not replaced by a scene file: the rename below would
+    // put a plain file in its place.
+    struct stat existing {};
+    const bool exists = ::stat(path.c_str(), &existing) == 0;
+    if (exists && !S_ISREG(existing.st_mode))
+        return path + ": cannot save: not a regular file (a folder or a device)";
+
     // The temporary file sits beside the target, so the final rename stays within one file
     // system and is atomic: readers see the old file or the new one, never a mixture.
     static std::atomic<unsigned> counter{0};
@@ -1058,8 +1065,7 @@ std::string saveSceneFile(const World &world, const std::string &path)
     };
 
     // Replacing a file keeps its permissions; a new file gets the usual ones (0666 less umask).
-    struct stat existing {};
-    if (::stat(path.c_str(), &existing) == 0 && S_ISREG(existing.st_mode))
+    if (exists)
         ::fchmod(fd, existing.st_mode & 07777);
 
     std::size_t written = 0;

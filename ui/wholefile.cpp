@@ -1,6 +1,7 @@
 #include "ui/wholefile.h"
 
 #include <QCoreApplication>
+#include <QFileInfo>
 #include <QSaveFile>
 
 #include <algorithm>
@@ -9,6 +10,11 @@ namespace marbles {
 
 QString writeWholeFile(const QString &path, const QByteArray &data)
 {
+    // QSaveFile renames its temporary file over whatever is there: a device such as /dev/null
+    // would become a plain file (seen as root). Only regular files, or none yet, are written.
+    const QFileInfo target(path);
+    if (target.exists() && !target.isFile())
+        return QCoreApplication::translate("marbles", "cannot write: not a regular file (a folder or a device)");
     QSaveFile file(path);
     if (!file.open(QIODevice::WriteOnly | QIODevice::Unbuffered))
         return QCoreApplication::translate("marbles", "cannot write: %1").arg(file.errorString());

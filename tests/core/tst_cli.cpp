@@ -9,6 +9,10 @@
 #include <QProcess>
 #include <QTemporaryDir>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 using namespace marbles;
 
 namespace {
@@ -104,6 +108,7 @@ private slots:
     void setChangesParameters();
     void invalidInputExitsTwo_data();
     void invalidInputExitsTwo();
+    void outputThatCannotBeWrittenFails();
     void nonFiniteExitsThree();
     void checkPrintsSummary();
     void presetsRoundTripThroughFiles();
@@ -274,6 +279,37 @@ void TestCli::invalidInputExitsTwo()
     QVERIFY2(QString::fromUtf8(r.err).contains(expected), r.err.constData());
     if (!args.isEmpty() && args.front() != "fly")
         QCOMPARE(r.err.trimmed().count('\n'), 0); // one message, one line
+}
+
+void TestCli::outputThatCannotBeWrittenFails()
+{
+    // A full disk behind standard output: exit 1 and a message (it exited 0, the rows cut off).
+    QProcess full;
+    full.setStandardOutputFile(QStringLiteral("/dev/full"));
+    full.start(QStringLiteral(MARBLES_CLI_PATH), {"run", "preset:pachinko", "--frames", "50"});
+    QVERIFY(full.waitForFinished(60000));
+    QCOMPARE(full.exitCode(), 1);
+    QVERIFY(full.readAllStandardError().contains("writing to standard output failed"));
+
+    // --out naming what is not a regular file is written to as it is: a named pipe stays a
+    // pipe (a temporary file renamed over it replaced it, as it replaced /dev/null as root).
+    QTemporaryDir dir;
+    const QByteArray pipe = QFile::encodeName(dir.filePath("rows.csv"));
+    QVERIFY(::mkfifo(pipe.constData(), 0600) == 0);
+    const int reader = ::open(pipe.constData(), O_RDONLY | O_NONBLOCK);
+    QVERIFY(reader >= 0);
+    const CliResult r = runCli({"run", "preset:pins", "--frames", "2", "--out", QString::fromLocal8Bit(pipe)});
+    QByteArray rows(4096, '\0');
+    const ssize_t n = ::read(reader, rows.data(), static_cast<std::size_t>(rows.size()));
+    ::close(reader);
+    QCOMPARE(r.exitCode, 0);
+    QVERIFY(n > 0);
+    QVERIFY(rows.startsWith("frame,marble,x,y,vx,vy\n0,0,"));
+    struct stat info {};
+    QVERIFY(::stat(pipe.constData(), &info) == 0 && S_ISFIFO(info.st_mode));
+    const CliResult folder = runCli({"preset", "pins", "--out", dir.path()});
+    QCOMPARE(folder.exitCode, 2);
+    QVERIFY(folder.err.contains("it is a folder"));
 }
 
 void TestCli::nonFiniteExitsThree()

@@ -20,6 +20,7 @@
 #include <QValueAxis>
 
 #include <cmath>
+#include <sys/stat.h>
 #include <deque>
 #include <limits>
 #include <map>
@@ -1189,6 +1190,15 @@ void TestPlotDock::exportCsvError()
     }
     QCOMPARE(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden),
              (QStringList{QStringLiteral("plot.csv"), QStringLiteral("plot.png")}));
+
+    // Not a regular file (a named pipe here; /dev/null as root): refused, and left as it is
+    // (QSaveFile renames its temporary file over whatever is there).
+    const QByteArray pipe = QFile::encodeName(dir.filePath(QStringLiteral("pipe.csv")));
+    QVERIFY(::mkfifo(pipe.constData(), 0600) == 0);
+    const QString refused = dock.exportCsv(QString::fromLocal8Bit(pipe));
+    QVERIFY2(refused.endsWith(QStringLiteral("cannot write: not a regular file (a folder or a device)")), qPrintable(refused));
+    struct stat info {};
+    QVERIFY(::stat(pipe.constData(), &info) == 0 && S_ISFIFO(info.st_mode));
 }
 
 void TestPlotDock::exportPng()
