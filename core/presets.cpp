@@ -37,9 +37,9 @@ void fourMarbles(World &w)
     named(w, w.addMarble({600, 430}, 30), "medium");
     // Click on the left edge of the large marble: force (35, 0) * 10 / 50 = 7 px/frame^2,
     // enough to roll it into the small one.
-    w.pushes.push_back({0, 0, {145, 300}});
+    w.pushes.push_back({0, 0, {145, 300}, {}});
     // Later, a click below-right of the medium marble sends it up into the largest one.
-    w.pushes.push_back({150, 3, {608.2, 456.8}});
+    w.pushes.push_back({150, 3, {608.2, 456.8}, {}});
 }
 
 // Example 2: marbles among pins. The pins stand in a staggered field; the marbles start moving.

@@ -416,11 +416,11 @@ void readPin(Json &j, const std::string &place, World &world)
     world.pinExtraJson[k] = extraText(extras);
 }
 
-// Pushes have no slot for unknown keys in World, so those are read and dropped.
 void readPush(Json &j, const std::string &place, World &world)
 {
     requireObject(j, place);
     Push push;
+    Json extras = Json::object();
     for (auto &&[key, value] : j.items()) {
         const std::string at = member(place, key);
         if (key == "frame") {
@@ -439,8 +439,11 @@ void readPush(Json &j, const std::string &place, World &world)
             push.at.x = readNumber(value, at);
         } else if (key == "y") {
             push.at.y = readNumber(value, at);
+        } else {
+            extras[key] = std::move(value);
         }
     }
+    push.extraJson = extraText(extras);
     // A push that leaves out `marble` means marble 0, which must exist as well.
     if (!j.contains("marble") && world.marbleCount() == 0)
         fail(member(place, "marble"), "must name an existing marble, but the scene has none, got 0 (the default)");
@@ -997,6 +1000,7 @@ std::string sceneToJson(const World &world)
         e["marble"] = push.marble;
         e["x"] = number(push.at.x);
         e["y"] = number(push.at.y);
+        appendExtras(e, push.extraJson);
         pushes.push_back(std::move(e));
     }
 

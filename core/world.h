@@ -48,6 +48,7 @@ struct Push {
     std::int64_t frame = 0;
     int marble = 0;
     Vec2 at; ///< the click point, px
+    std::string extraJson; ///< unknown keys of the push in its file ("" when none), kept when saved
 
     friend bool operator==(const Push &, const Push &) = default;
 };

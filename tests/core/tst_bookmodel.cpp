@@ -195,7 +195,7 @@ void TestBookModel::scriptedPushActsOnItsFrame()
 {
     World w = bareWorld();
     w.addMarble({100, 100}, 20);         // m = 25
-    w.pushes.push_back({2, 0, {90, 100}}); // a = 10 * 10 / 25 = 4 on the update 2 -> 3
+    w.pushes.push_back({2, 0, {90, 100}, {}}); // a = 10 * 10 / 25 = 4 on the update 2 -> 3
     w.step();
     w.step();
     QCOMPARE(w.velocity[0].x, 0.0);

@@ -552,7 +552,7 @@ void TestExactModel::freshAndReusedModelsAgree()
             w.addPin(q);
     }
     QCOMPARE_GE(w.pins.size(), std::size_t(20));
-    w.pushes.push_back({5, 3, {w.position[3].x - 2, w.position[3].y}});
+    w.pushes.push_back({5, 3, {w.position[3].x - 2, w.position[3].y}, {}});
 
     ExactModel reused;
     {

@@ -175,7 +175,7 @@ QString difference(const World &a, const World &b)
     for (std::size_t i = 0; i < a.pushes.size(); ++i) {
         const Push &u = a.pushes[i];
         const Push &v = b.pushes[i];
-        if (u.frame != v.frame || u.marble != v.marble || !sameBits(u.at.x, v.at.x) || !sameBits(u.at.y, v.at.y))
+        if (u.frame != v.frame || u.marble != v.marble || !sameBits(u.at.x, v.at.x) || !sameBits(u.at.y, v.at.y) || u.extraJson != v.extraJson)
             return "pushes";
     }
     if (a.paramsExtraJson != b.paramsExtraJson || a.stageExtraJson != b.stageExtraJson
@@ -595,8 +595,8 @@ void TestSceneIo::interfacesExample()
     QCOMPARE(w.pins[0], (Vec2{300, 220}));
     QCOMPARE(w.pinExtraJson.size(), std::size_t(1));
     QCOMPARE(w.pushes.size(), std::size_t(2));
-    QCOMPARE(w.pushes[0], (Push{0, 0, {110, 195}}));
-    QCOMPARE(w.pushes[1], (Push{4, 0, {0, 0}}));
+    QCOMPARE(w.pushes[0], (Push{0, 0, {110, 195}, {}}));
+    QCOMPARE(w.pushes[1], (Push{4, 0, {0, 0}, {}}));
 }
 
 void TestSceneIo::frictionByModel_data()
@@ -690,7 +690,7 @@ void TestSceneIo::roundTripWorld()
     w.addMarble({v, -v}, a > 0 ? a : 1.0, {-v, v});
     w.addMarble({v, v}, 2.0, {v, v}, a > 0 ? a : 3.0);
     w.addPin({v, -v});
-    w.pushes.push_back({7, 1, {v, v}});
+    w.pushes.push_back({7, 1, {v, v}, {}});
 
     const std::string saved = sceneToJson(w);
     const SceneLoad load = parseScene(saved, kSource);
@@ -750,6 +750,9 @@ void TestSceneIo::unknownKeysSurvive_data()
     QTest::addRow("marble") << "/marbles/0/tag";
     QTest::addRow("second marble") << "/marbles/1/selected";
     QTest::addRow("pin") << "/pins/1/label";
+    // A push's were read and dropped (a tester's "why": "start" was gone after a save).
+    QTest::addRow("push") << "/pushes/0/why";
+    QTest::addRow("push, nested") << "/pushes/0/by";
 }
 
 void TestSceneIo::unknownKeysSurvive()
@@ -763,7 +766,7 @@ void TestSceneIo::unknownKeysSurvive()
         "params": {"model": "exact", "friction": 0.05, "note": "line 1\nline 2 \"quoted\"", "ui": {"zoom": [1.5, -0.0]}},
         "marbles": [{"x": 1, "y": 2, "tag": [1, 2.5, {"deep": [[[]]]}]}, {"x": 3, "selected": false}],
         "pins": [{"x": 0, "y": 0}, {"x": 5, "y": 6, "label": "P2"}],
-        "pushes": []
+        "pushes": [{"frame": 3, "marble": 1, "x": 2, "y": 2, "why": "start", "by": {"teacher": [1, 2]}}, {"frame": 4}]
     })");
     const Json::json_pointer where(pointer.toStdString());
 
@@ -781,6 +784,7 @@ void TestSceneIo::unknownKeysSurvive()
     QVERIFY(!again.world.sceneExtraJson.empty());
     QCOMPARE(again.world.pinExtraJson[0], std::string());
     QCOMPARE(again.world.info[1].extraJson, std::string(R"({"selected":false})"));
+    QCOMPARE(again.world.pushes[1].extraJson, std::string());
 }
 
 void TestSceneIo::savedLayout()
@@ -791,7 +795,7 @@ void TestSceneIo::savedLayout()
     w.info[0].name = "first";
     w.info[0].color = "#0000ff";
     w.addPin({300, 220});
-    w.pushes.push_back({0, 0, {110, 195}});
+    w.pushes.push_back({0, 0, {110, 195}, {}});
     const QString saved = q(sceneToJson(w));
 
     // Known keys in a stable, readable order, unknown top-level keys after them.

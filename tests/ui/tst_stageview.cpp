@@ -411,7 +411,7 @@ void TestStageView::scriptedPushIsShownWhenDue()
     World scene;
     scene.addMarble({300, 300}, 20);
     scene.addMarble({500, 300}, 20);
-    scene.pushes.push_back({2, 0, {290, 300}}); // from the left: pushes right
+    scene.pushes.push_back({2, 0, {290, 300}, {}}); // from the left: pushes right
     m_document->resetScene(scene);
     QTest::qWait(0);
     const World &w = m_document->world();
