@@ -631,6 +631,10 @@ void MainWindow::createStatusBar()
            "Stepping back, rewinding, any edit or a new scene starts the comparison again from the "
            "scene as it is then."));
     m_compareLabel->setVisible(false);
+    // Its text can be long ("Compare: exact - not running: it needs a friction below 1 ..."):
+    // a label asks for its whole text's width, and on a 1024 x 768 projector that pushed the
+    // window past the screen's edge. It takes the room there is; its tool tip has the whole text.
+    m_compareLabel->setMinimumWidth(1);
     statusBar()->insertPermanentWidget(0, m_compareLabel);
     // The run toolbar shows the frame and the time in large type; the status bar repeats them
     // only while that toolbar is hidden, which leaves room for the comparison's readout.
@@ -1191,6 +1195,10 @@ void MainWindow::updateCompareReadout()
 {
     m_compareLabel->setText(m_compare->summary());
     m_compareLabel->setVisible(m_compare->isActive());
+    if (m_compareToolTip.isEmpty())
+        m_compareToolTip = m_compareLabel->toolTip();
+    m_compareLabel->setToolTip(m_compare->isActive() ? m_compare->summary() + QStringLiteral("\n\n") + m_compareToolTip
+                                                      : m_compareToolTip);
 }
 
 void MainWindow::showBarMessage(const QString &text)

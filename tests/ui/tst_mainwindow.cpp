@@ -788,6 +788,18 @@ void TestMainWindow::compareOffersOnlyModelsThatCanRun()
     QCOMPARE(menuItems, 1);
     QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("0.5")).isEmpty());
     QVERIFY(offered(ModelKind::Exact));
+
+    // Chosen, then the friction raised: the readout says why nothing is compared, in the room
+    // the status bar has (its whole text made the window wider than a 1024 px projector).
+    const int narrowest = m_window->minimumSizeHint().width();
+    box->setCurrentIndex(box->findData(static_cast<int>(ModelKind::Exact)));
+    Q_EMIT box->activated(box->currentIndex());
+    QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("1.2")).isEmpty());
+    auto *readout = m_window->findChild<QLabel *>(QStringLiteral("compareLabel"));
+    QVERIFY(readout->isVisible());
+    QVERIFY(readout->text().contains(QStringLiteral("needs a friction below 1")));
+    QVERIFY(readout->toolTip().startsWith(readout->text()));
+    QCOMPARE_LE(m_window->minimumSizeHint().width(), narrowest + 2);
 }
 
 void TestMainWindow::comparisonStartsWithItsTotals()
