@@ -45,6 +45,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace marbles {
 
@@ -673,7 +674,10 @@ void MainWindow::readSettings()
     const QByteArray geometry = settings.value(QStringLiteral("window/geometry")).toByteArray();
     if (smallerScreen || geometry.isEmpty() || !restoreGeometry(geometry))
         fitFirstWindow();
-    if (smallerScreen || !restoreState(settings.value(QStringLiteral("window/state")).toByteArray()))
+    // The docks and toolbars are laid out when the window is first shown, at its size: restored
+    // before, the Parameters dock came back about 310 px wide whatever width it had been given.
+    m_stateToRestore = smallerScreen ? QByteArray() : settings.value(QStringLiteral("window/state")).toByteArray();
+    if (m_stateToRestore.isEmpty())
         m_firstLayout = true;
     updateFrameLabelsShown();
     m_vectorsAction->setChecked(settings.value(QStringLiteral("view/vectors"), true).toBool());
@@ -978,6 +982,9 @@ void MainWindow::showEvent(QShowEvent *event)
     if (m_shownOnce)
         return;
     m_shownOnce = true;
+    if (!m_stateToRestore.isEmpty() && !restoreState(std::exchange(m_stateToRestore, QByteArray())))
+        m_firstLayout = true;
+    updateFrameLabelsShown();
     fitToolBars();
     if (!m_firstLayout) {
         // A kept layout: the Parameters dock gets back the width its fields need (restored

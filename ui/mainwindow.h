@@ -175,6 +175,7 @@ private:
     QString m_presetTitle;
     bool m_firstLayout = false;
     bool m_shownOnce = false;
+    QByteArray m_stateToRestore; // the kept layout, restored when the window is first shown
     bool m_warnedNoAutosave = false;
     /// A toggle a preset set for its lesson (PresetView): the teacher's own setting before it,
     /// given back when another scene opens (and saved in its place) unless changed meanwhile.

@@ -1194,6 +1194,14 @@ void TestMainWindow::layoutFromALargerScreenIsNotRestored()
     makeWindow();
     QVERIFY(!m_window->plotDock()->isVisible()); // kept
     QTRY_COMPARE_GE(m_window->parametersDock()->width(), m_window->parametersDock()->fieldsWidth());
+
+    // A width the teacher gave the dock comes back (it came back at about 310 px, whatever it was).
+    m_window->resizeDocks({m_window->parametersDock()}, {447}, Qt::Horizontal);
+    QTRY_COMPARE(m_window->parametersDock()->width(), 447);
+    QVERIFY(m_window->close());
+    m_window.reset();
+    makeWindow();
+    QTRY_COMPARE(m_window->parametersDock()->width(), 447);
 }
 
 void TestMainWindow::toolbarsFitTheWindow()
