@@ -930,6 +930,8 @@ SceneLoad loadSceneFile(const std::string &path, std::string_view shownAs)
     } catch (const std::bad_alloc &) {
         return refuse("size: not enough memory to read this file");
     }
+    if (text.empty() && S_ISFIFO(info.st_mode))
+        return refuse("cannot read the file: it is a named pipe, and nothing was written to it");
     return parseScene(text, name);
 }
 

@@ -1047,6 +1047,14 @@ void MainWindow::togglePlay()
 void MainWindow::stepForward()
 {
     m_run->pause();
+    // Past a frame that is no longer numbers there is nothing to show (a step went on to NaN,
+    // a marble vanished and the status bar read "KE nan").
+    if (!m_document->allFinite()) {
+        showFrameStatus(tr("Frame %1 is not all finite numbers: there is nothing after it to show. Step back, or "
+                           "lower the friction to 2 or less for the book model.")
+                            .arg(m_document->world().frame));
+        return;
+    }
     m_document->advance(1);
 }
 
@@ -1091,7 +1099,7 @@ void MainWindow::onRunningChanged(bool running)
 void MainWindow::onSimulationFailed(const QString &message)
 {
     showBarMessage(message);
-    showStatus(message);
+    showFrameStatus(message); // about this frame: stepping back leaves it
 }
 
 void MainWindow::onParamEdited(const QString &key, const QString &value)

@@ -71,10 +71,13 @@ const QColor kMomentumColour(0x8c, 0x1c, 0x8c);
 /// shades of blue, which the lines once were, could not be told apart in class.
 QColor defaultMarbleColor(int marble)
 {
+    // Twelve, as many as lines are plotted at most (kMaxPlottedMarbles): no two lines share one.
     static const QColor hues[] = {
         QColor(0x1f, 0x63, 0xc6), QColor(0xe6, 0x9f, 0x00), QColor(0x00, 0x9e, 0x73), QColor(0xcc, 0x79, 0xa7),
         QColor(0x56, 0xb4, 0xe9), QColor(0xd5, 0x5e, 0x00), QColor(0x6a, 0x5a, 0xd6), QColor(0x99, 0x99, 0x33),
+        QColor(0x88, 0x22, 0x55), QColor(0x44, 0xaa, 0x99), QColor(0x33, 0x22, 0x88), QColor(0xdd, 0xcc, 0x77),
     };
+    static_assert(sizeof(hues) / sizeof(hues[0]) >= PlotDock::kMaxPlottedMarbles);
     constexpr int count = sizeof(hues) / sizeof(hues[0]);
     return hues[marble % count];
 }

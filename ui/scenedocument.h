@@ -63,6 +63,8 @@ public:
     /// Restores the first frame of the timeline (frame 0 unless marbles were added or removed
     /// since), with the edits made while it was shown; an edit at a later frame does not change it.
     bool rewind();
+    /// Whether every marble's position and velocity are finite numbers.
+    bool allFinite() const;
     /// Frame number that rewind() returns to.
     std::int64_t startFrame() const { return m_history.startFrame(); }
     /// For the commands that add or remove marbles, after they did it to the world: marble i

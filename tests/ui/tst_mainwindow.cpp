@@ -967,6 +967,17 @@ void TestMainWindow::runKeepsRealTimeAndStopsOnNonFinite()
     const QString message = m_window->barMessage();
     QVERIFY2(message.contains(QStringLiteral("frame %1").arg(doc->world().frame)), qPrintable(message));
     QVERIFY2(message.contains(QStringLiteral("marble %1").arg(bad)), qPrintable(message));
+    QCOMPARE(m_window->statusBar()->currentMessage(), message);
+
+    // Right there has nothing to show (it stepped on to NaN, a marble vanished): it says so.
+    const std::int64_t stopped = doc->world().frame;
+    QTest::keyClick(m_window->stageView(), Qt::Key_Right);
+    QCOMPARE(doc->world().frame, stopped);
+    QVERIFY(m_window->statusBar()->currentMessage().startsWith(QStringLiteral("Frame %1 is not all finite numbers").arg(stopped)));
+    // Back a frame: the message about the stop goes with it.
+    QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+    QCOMPARE(doc->world().frame, stopped - 1);
+    QCOMPARE(m_window->statusBar()->currentMessage(), QString());
 }
 
 void TestMainWindow::tickRunsWhatFitsItsBudget_data()

@@ -686,6 +686,17 @@ void TestPlotDock::lineColours()
     QVERIFY2(c0.hslHue() >= 180 && c0.hslHue() <= 260, qPrintable(c0.name()));
     QVERIFY(dock.speedSeries(2)->name().contains(QStringLiteral("red giant")));
     QCOMPARE(dock.speedSeries(0)->name(), QStringLiteral("marble 0"));
+    // As many colours as lines at most: none shared (marbles 0 and 8 were both blue).
+    World twelve = worldWith(PlotDock::kMaxPlottedMarbles);
+    dock.reset(twelve);
+    QList<int> all;
+    for (int i = 0; i < PlotDock::kMaxPlottedMarbles; ++i)
+        all << i;
+    dock.setSelectedMarbles(all);
+    QSet<QRgb> colours;
+    for (int i = 0; i < PlotDock::kMaxPlottedMarbles; ++i)
+        colours.insert(dock.speedSeries(i)->pen().color().rgb());
+    QCOMPARE(colours.size(), PlotDock::kMaxPlottedMarbles);
 }
 
 void TestPlotDock::chartGetsSamples()

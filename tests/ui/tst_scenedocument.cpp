@@ -817,7 +817,7 @@ void TestSceneDocument::invalidFileLeavesSceneUntouched_data()
     // Read up to the size limit (the window's reader once read on, gigabytes a second); and a
     // named pipe nothing writes to (it once froze the window, waiting for a writer).
     QTest::addRow("endless device") << QByteArray("link:/dev/zero") << QStringLiteral("at most 268435456 bytes");
-    QTest::addRow("named pipe") << QByteArray("fifo") << QStringLiteral("the text is empty");
+    QTest::addRow("named pipe") << QByteArray("fifo") << QStringLiteral("a named pipe, and nothing was written to it");
 }
 
 void TestSceneDocument::invalidFileLeavesSceneUntouched()
