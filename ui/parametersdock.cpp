@@ -237,6 +237,7 @@ void ParametersDock::buildUi()
     scroll->setFrameShape(QFrame::NoFrame);
     scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAsNeeded);
     scroll->setWidget(page);
+    page->installEventFilter(this);
     setWidget(scroll);
 
     connect(m_massScale, &QDoubleSpinBox::valueChanged, this,
@@ -373,6 +374,44 @@ void ParametersDock::updateFrictionWarning()
     m_frictionWarning->setStyleSheet(
         text.isEmpty() ? QString() : QStringLiteral("QLabel { color: %1; font-weight: bold; }").arg(colour.name()));
     m_frictionWarning->setVisible(!text.isEmpty());
+    fitPageHeight();
+}
+
+void ParametersDock::fitPageHeight()
+{
+    // Each wrapped help text must be as tall as its lines at the width it has. The form works
+    // its height out for a width the text does not get (the row's, less the text's own
+    // margins), and the scroll area not again when a warning comes or goes: the texts were
+    // squeezed, their first and last lines cut off, a blank left under the friction field after
+    // the warning went. Each text's smallest height is set from its width whenever the page's
+    // changes, and the page grows to hold them (the scroll area scrolls it).
+    auto *scroll = qobject_cast<QScrollArea *>(widget());
+    QWidget *page = scroll ? scroll->widget() : nullptr;
+    if (!page || !page->layout())
+        return;
+    page->layout()->activate(); // every text at the width the page gives it now
+    bool changed = false;
+    for (QLabel *text : page->findChildren<QLabel *>()) {
+        if (!text->wordWrap() || text->text().isEmpty() || !text->isVisibleTo(page))
+            continue;
+        const int needed = text->heightForWidth(text->width());
+        if (needed > 0 && text->minimumHeight() != needed) {
+            text->setMinimumHeight(needed);
+            changed = true;
+        }
+    }
+    if (changed) {
+        page->layout()->activate();
+        scroll->setWidgetResizable(true); // lays the page out again, at its new smallest height
+    }
+}
+
+bool ParametersDock::eventFilter(QObject *watched, QEvent *event)
+{
+    const auto *scroll = qobject_cast<const QScrollArea *>(widget());
+    if (scroll && watched == scroll->widget() && event->type() == QEvent::Resize)
+        fitPageHeight();
+    return QDockWidget::eventFilter(watched, event);
 }
 
 int ParametersDock::fieldsWidth() const

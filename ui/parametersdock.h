@@ -44,7 +44,12 @@ signals:
     /// (e.g. "friction", "0.2"; "gravity", "0,0.5"; "shortCircuit", "true").
     void paramEdited(const QString &key, const QString &value);
 
+protected:
+    bool eventFilter(QObject *watched, QEvent *event) override;
+
 private:
+    /// Gives the scrolled page the height its wrapped help texts need at its width.
+    void fitPageHeight();
     void buildUi();
     /// Enables the fields the model uses, sets the friction range and the warning.
     void updateForModel(ModelKind model);

@@ -397,12 +397,24 @@ void TestParametersDock::typedFrictionWarns()
 {
     ParametersDock dock;
     dock.setParams(Params{});
+    dock.resize(360, 500); // shorter than its fields: the page scrolls
     dock.show();
     QVERIFY(QTest::qWaitForWindowExposed(&dock));
     auto *spin = dock.findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit"));
     auto *label = dock.findChild<QLabel *>(QStringLiteral("frictionWarning"));
     QVERIFY(spin && label);
     QVERIFY(!label->isVisible());
+    // Every help text keeps the height its wrapped lines need (the warning's coming and going
+    // squeezed them: first and last lines cut off).
+    const auto helpTextsWhole = [&] {
+        QCoreApplication::processEvents();
+        for (const QLabel *help : dock.findChildren<QLabel *>()) {
+            if (help->isVisible() && help->wordWrap() && help->height() < help->heightForWidth(help->width()))
+                return false;
+        }
+        return true;
+    };
+    QVERIFY(helpTextsWhole());
 
     typeInto(spin, QStringLiteral("1.5"));
     QVERIFY(label->isVisible());
@@ -410,8 +422,10 @@ void TestParametersDock::typedFrictionWarns()
     typeInto(spin, QStringLiteral("2.5"));
     QVERIFY(label->isVisible());
     QVERIFY(label->text().contains(QStringLiteral("grow without bound")));
+    QVERIFY(helpTextsWhole());
     typeInto(spin, QStringLiteral("0.2"));
     QVERIFY(!label->isVisible());
+    QVERIFY(helpTextsWhole());
 }
 
 void TestParametersDock::fieldsFollowModel_data()
