@@ -104,6 +104,7 @@ bool SetMarbleCommand::mergeWith(const QUndoCommand *other)
         return false;
     m_after = next->m_after;
     m_pushesAfter = next->m_pushesAfter;
+    setText(next->text()); // the value the edits ended on
     return true;
 }
 

@@ -333,7 +333,7 @@ QString SceneDocument::setMarblePosition(int i, Vec2 p)
     const MarbleState before = MarbleState::of(m_world, i);
     MarbleState after = before;
     after.position = p;
-    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble position"),
+    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble %1's position to (%2, %3)").arg(i).arg(p.x, 0, 'g', 6).arg(p.y, 0, 'g', 6),
                                           CommandId::EditMarblePosition));
     return {};
 }
@@ -347,7 +347,7 @@ QString SceneDocument::setMarbleVelocity(int i, Vec2 v)
     const MarbleState before = MarbleState::of(m_world, i);
     MarbleState after = before;
     after.velocity = v;
-    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble velocity"),
+    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble %1's velocity to (%2, %3) px/frame").arg(i).arg(v.x, 0, 'g', 6).arg(v.y, 0, 'g', 6),
                                           CommandId::EditMarbleVelocity));
     return {};
 }
@@ -363,7 +363,7 @@ QString SceneDocument::setMarbleRadius(int i, double r)
     after.radius = r;
     if (!after.hasMass)
         after.mass = m_world.params.massScale * r;
-    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble radius"),
+    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble %1's radius to %2 px").arg(i).arg(r, 0, 'g', 6),
                                           CommandId::EditMarbleRadius));
     return {};
 }
@@ -379,7 +379,9 @@ QString SceneDocument::setMarbleMass(int i, double m)
     after.hasMass = m > 0.0;
     after.mass = after.hasMass ? m : m_world.params.massScale * before.radius;
     m_undoStack.push(
-        new SetMarbleCommand(this, i, before, after, tr("Set marble mass"), CommandId::EditMarbleMass));
+        new SetMarbleCommand(this, i, before, after, after.hasMass ? tr("Set marble %1's mass to %2").arg(i).arg(m, 0, 'g', 6)
+                                                     : tr("Set marble %1's mass to massScale \u00d7 radius").arg(i),
+                             CommandId::EditMarbleMass));
     return {};
 }
 

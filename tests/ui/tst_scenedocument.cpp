@@ -745,6 +745,11 @@ void TestSceneDocument::paramEditsAreNamedAsTheDockNamesThem()
     QCOMPARE(doc.undoStack()->text(1), QStringLiteral("Set frame interval to 25"));
     QVERIFY(doc.setParam(QStringLiteral("model"), QStringLiteral("exact")).isEmpty());
     QCOMPARE(doc.undoStack()->text(2), QStringLiteral("Set model to exact"));
+    // A marble's edits name the marble and the value ("Set marble radius" told neither).
+    QVERIFY(doc.setMarbleRadius(1, 22.5).isEmpty());
+    QCOMPARE(doc.undoStack()->text(3), QStringLiteral("Set marble 1's radius to 22.5 px"));
+    QVERIFY(doc.setMarbleVelocity(1, {3, -0.25}).isEmpty());
+    QCOMPARE(doc.undoStack()->text(4), QStringLiteral("Set marble 1's velocity to (3, -0.25) px/frame"));
 }
 
 void TestSceneDocument::saveThenOpenRoundTrips()
