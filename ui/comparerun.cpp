@@ -19,7 +19,7 @@ CompareRun::CompareRun(SceneDocument *document, QObject *parent)
     // simulated its frame by the time the plot samples both worlds.
     connect(m_document, &SceneDocument::frameAdvanced, this, &CompareRun::onFrameAdvanced);
     connect(m_document, &SceneDocument::stepped, this, &CompareRun::onStepped);
-    connect(m_document, &SceneDocument::sceneChanged, this, &CompareRun::restart);
+    connect(m_document, &SceneDocument::sceneChanged, this, &CompareRun::onSceneChanged);
     connect(m_document, &SceneDocument::timelineReset, this, &CompareRun::restart);
     connect(m_document, &SceneDocument::timelineRewound, this, &CompareRun::rewindTo);
 }
@@ -63,6 +63,7 @@ void CompareRun::restart()
     *m_world = source;
     m_world->params.model = *m_model;
     m_startFrame = source.frame;
+    m_earlierStarts.clear();
     resetGaps(source.frame);
     clearGapList(source.frame);
     m_history.reset(*m_world);
@@ -75,6 +76,32 @@ void CompareRun::restart()
     Q_EMIT restarted();
 }
 
+void CompareRun::onSceneChanged(SceneDocument::Change change)
+{
+    const World &source = m_document->world();
+    const bool keepsMarbles = change == SceneDocument::Change::Params || change == SceneDocument::Change::Marbles;
+    World next = source;
+    next.params.model = m_model.value_or(ModelKind::Book);
+    // Anything but an edit of this frame's marbles or parameters, or one the model cannot run
+    // with, starts the comparison over.
+    if (!keepsMarbles || !isTracking() || m_world->frame != source.frame || m_world->marbleCount() != source.marbleCount()
+        || !validateParams(next.params).empty()) {
+        restart();
+        return;
+    }
+    // The comparison starts again from the scene as edited (the gap is 0 at this frame), and
+    // keeps the frames it ran before: stepping back past the edit shows them as they were (a
+    // tester's ghosts sat on the marbles at a frame where the models had been 241 px apart).
+    m_earlierStarts.push_back(m_startFrame);
+    *m_world = std::move(next);
+    m_startFrame = source.frame;
+    if (!m_gaps.empty() && m_firstGapFrame + static_cast<std::int64_t>(m_gaps.size()) - 1 == source.frame)
+        m_gaps.back() = Gap{};
+    resetGaps(source.frame);
+    updateGhost();
+    Q_EMIT restarted();
+}
+
 const std::vector<Vec2> *CompareRun::velocitiesAt(std::int64_t frame) const
 {
     return isTracking() ? m_history.velocitiesAt(frame, *m_world) : nullptr;
@@ -82,8 +109,15 @@ const std::vector<Vec2> *CompareRun::velocitiesAt(std::int64_t frame) const
 
 void CompareRun::rewindTo(std::int64_t frame)
 {
-    // Back to the start, or to a frame before it: a restart there gives the same state.
-    if (!isTracking() || frame <= m_startFrame || m_world->marbleCount() != m_document->world().marbleCount()) {
+    // Back past the edits that started the comparison again: the comparison before them.
+    while (frame < m_startFrame && !m_earlierStarts.empty()) {
+        m_startFrame = m_earlierStarts.back();
+        m_earlierStarts.pop_back();
+    }
+    // Back to the first start, or to a frame before it: a restart there gives the same state.
+    // (At a later start the frames before it are kept: its own state there is stepped back to.)
+    if (!isTracking() || frame < m_startFrame || (frame == m_startFrame && m_earlierStarts.empty())
+        || m_world->marbleCount() != m_document->world().marbleCount()) {
         restart();
         return;
     }
@@ -99,10 +133,13 @@ void CompareRun::rewindTo(std::int64_t frame)
     // they were measured then, taken again in order.
     m_gaps.resize(static_cast<std::size_t>(kept));
     resetGaps(m_startFrame);
-    if (m_earlierLargest.px > 0.0)
+    if (m_earlierLargest.px > 0.0 && m_earlierLargestFrame > m_startFrame)
         takeGap(m_earlierLargest, m_earlierLargestFrame);
-    for (std::size_t k = 0; k < m_gaps.size(); ++k)
-        takeGap(m_gaps[k], m_firstGapFrame + static_cast<std::int64_t>(k));
+    for (std::size_t k = 0; k < m_gaps.size(); ++k) {
+        const std::int64_t at = m_firstGapFrame + static_cast<std::int64_t>(k);
+        if (at > m_startFrame) // since the start this frame belongs to
+            takeGap(m_gaps[k], at);
+    }
     if (m_ghost)
         m_ghost->syncFromWorld();
 }

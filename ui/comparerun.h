@@ -2,6 +2,7 @@
 
 #include "core/world.h"
 #include "ui/history.h"
+#include "ui/scenedocument.h"
 
 #include <QObject>
 #include <QPointer>
@@ -18,7 +19,6 @@ class QGraphicsScene;
 namespace marbles {
 
 class MarbleFieldItem;
-class SceneDocument;
 
 /// "Compare in the app": a second model run beside the document's own, on the same scene, so
 /// that a class can watch two models drift apart (the book's approximation against the exact
@@ -39,8 +39,11 @@ class SceneDocument;
 /// - **Restart on anything else.** Opening a file or a preset, and any edit (moving, adding or
 ///   removing a marble or pin, changing a parameter, undo, redo) restart the comparison from the
 ///   document's state at that moment: the gap goes back to 0, and "largest gap" counts from that
-///   frame (startFrame()). While a marble is held with the mouse the comparison follows the
-///   document every frame, as the hand moves that marble outside either model's physics.
+///   frame (startFrame()). An edit that keeps the marbles (a parameter, a marble's place, speed
+///   or size) keeps the comparison's earlier frames: Step Back past it returns to the comparison
+///   as it was before it, its gaps and its start with it. While a marble is held with the mouse
+///   the comparison follows the document every frame, as the hand moves that marble outside
+///   either model's physics.
 /// - **When the comparison model cannot run.** If the scene's parameters are invalid for the
 ///   comparison model (friction >= 1 is valid for the book model only), the comparison waits,
 ///   with the reason in problem(), and starts again at the next restart once they are valid. If
@@ -124,6 +127,9 @@ private:
     };
 
     void restart();
+    /// An edit that keeps the marbles, at the current frame: the comparison starts again from
+    /// the scene as it is, but keeps its frames before it (restart() otherwise).
+    void onSceneChanged(SceneDocument::Change change);
     void rewindTo(std::int64_t frame);
     void onFrameAdvanced();
     void onStepped();
@@ -150,6 +156,9 @@ private:
     QString m_problem;
 
     std::int64_t m_startFrame = 0;
+    /// The frames earlier starts were made at, oldest first: after an edit the comparison starts
+    /// again, and stepping back past it goes back to the comparison before it, as it was.
+    std::vector<std::int64_t> m_earlierStarts;
     double m_currentGap = 0.0;
     int m_currentGapMarble = -1;
     double m_largestGap = 0.0;

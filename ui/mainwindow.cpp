@@ -629,8 +629,8 @@ void MainWindow::createStatusBar()
     m_compareLabel->setToolTip(
         tr("Largest distance between a marble and its dashed ghost since the comparison started.\n"
            "Both models start from the same state and run the same frames; a click pushes both.\n"
-           "Stepping back, rewinding, any edit or a new scene starts the comparison again from the "
-           "scene as it is then."));
+           "An edit starts the comparison again from the scene as it is then (Step Back past the edit\n"
+           "returns to the comparison before it); Back to Start or a new scene starts it over."));
     m_compareLabel->setVisible(false);
     // Its text can be long ("Compare: exact - not running: it needs a friction below 1 ..."):
     // a label asks for its whole text's width, and on a 1024 x 768 projector that pushed the

@@ -4,6 +4,7 @@
 #include "core/presets.h"
 #include "core/sceneio.h"
 #include "ui/autosaver.h"
+#include "ui/comparerun.h"
 #include "ui/elidingstatusbar.h"
 #include "ui/history.h"
 #include "ui/mainwindow.h"
@@ -825,9 +826,9 @@ void TestMainWindow::comparisonStartsWithItsTotals()
 void TestMainWindow::compareSteppedBackPastAnEditMeetsAtTheRestart()
 {
     // Comparing, an edit at frame 60 starts the comparison again from there; stepped back to
-    // frame 50, it starts again from frame 50 (its kept frames begin at 60): the ghosts sit on
-    // the marbles, and the plot's comparison sample at frame 50 says the same (it kept the
-    // earlier comparison's, 100 px and more apart).
+    // frame 50, the comparison is the one before the edit, as it was at frame 50 (it started
+    // again from frame 50 with its ghosts on the marbles, where the models had been 100 px and
+    // more apart), and the plot and the readout say the same.
     QVERIFY(m_window->openPreset(QStringLiteral("masses")));
     SceneDocument *doc = m_window->document();
     PlotDock *plot = m_window->plotDock();
@@ -838,16 +839,26 @@ void TestMainWindow::compareSteppedBackPastAnEditMeetsAtTheRestart()
             action->trigger();
     }
     QVERIFY(m_window->findChild<QLabel *>(QStringLiteral("compareLabel"))->isVisible());
-    doc->advance(60);
+    doc->advance(50);
+    const World comparedAt50 = *m_window->findChild<CompareRun *>()->world();
+    const double speedAt50 = plot->sampleCompareSpeed(plot->sampleCount() - 1, 0);
+    const double largestAt50 = m_window->findChild<CompareRun *>()->largestGapPx();
+    QCOMPARE_GT(largestAt50, 0.0);
+    doc->advance(10);
     QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
     doc->advance(40);
     for (int k = 0; k < 50; ++k)
         QTest::keyClick(m_window->stageView(), Qt::Key_Left);
     QCOMPARE(doc->world().frame, 50);
+    const CompareRun *compare = m_window->findChild<CompareRun *>();
+    QCOMPARE(compare->world()->position, comparedAt50.position);
+    QCOMPARE(compare->world()->velocity, comparedAt50.velocity);
+    QCOMPARE(compare->startFrame(), std::int64_t(0));
+    QCOMPARE(compare->largestGapPx(), largestAt50);
     const qsizetype last = plot->sampleCount() - 1;
     QCOMPARE(plot->sampleFrame(last), std::int64_t(50));
-    QCOMPARE(plot->sampleCompareSpeed(last, 0), plot->sampleSpeed(last, 0));
-    QVERIFY(plot->sampleCompareSpeed(last - 13, 0) != plot->sampleSpeed(last - 13, 0)); // the earlier comparison
+    QCOMPARE(plot->sampleCompareSpeed(last, 0), speedAt50);
+    QVERIFY(plot->sampleCompareSpeed(last, 0) != plot->sampleSpeed(last, 0));
 }
 
 void TestMainWindow::homeAfterALongRunPlotsFrameZero()
