@@ -145,6 +145,13 @@ private:
     void makeWindow();
     /// The toolbar actions that are not shown on their toolbar (in its overflow menu), or empty.
     QString toolbarActionsHidden() const;
+    /// Simulation > Compare With > Exact.
+    QAction *compareExact() const
+    {
+        auto *action = m_window->findChild<QAction *>(QStringLiteral("actionCompareExact"));
+        Q_ASSERT(action);
+        return action;
+    }
     QPoint viewportPoint(Vec2 p) const { return m_window->stageView()->viewportPoint(p); }
     QWidget *viewport() const { return m_window->stageView()->viewport(); }
 
@@ -778,15 +785,7 @@ void TestMainWindow::compareOffersOnlyModelsThatCanRun()
     QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("1.5")).isEmpty());
     QVERIFY(!offered(ModelKind::Exact));
     QVERIFY(!offered(ModelKind::Impulse));
-    int menuItems = 0; // Simulation > Compare With > Exact
-    for (QAction *action : m_window->findChildren<QAction *>()) {
-        if (action->data().toInt() == static_cast<int>(ModelKind::Exact) && action->actionGroup()
-            && action->text().contains(QStringLiteral("xact"))) {
-            QVERIFY(!action->isEnabled());
-            ++menuItems;
-        }
-    }
-    QCOMPARE(menuItems, 1);
+    QVERIFY(!compareExact()->isEnabled()); // Simulation > Compare With > Exact
     QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("0.5")).isEmpty());
     QVERIFY(offered(ModelKind::Exact));
 
@@ -808,14 +807,7 @@ void TestMainWindow::comparisonStartsWithItsTotals()
     // Compare With > Exact at frame 0: the comparison's totals begin at frame 0, where both
     // models hold the same marbles (the CSV's frame 0 row had its comparison columns empty).
     PlotDock *plot = m_window->plotDock();
-    QAction *exact = nullptr;
-    for (QAction *action : m_window->findChildren<QAction *>()) {
-        if (action->actionGroup() && action->data().toInt() == static_cast<int>(ModelKind::Exact)
-            && action->text().contains(QStringLiteral("xact")))
-            exact = action;
-    }
-    QVERIFY(exact);
-    exact->trigger();
+    compareExact()->trigger();
     QCOMPARE(plot->sampleCount(), 1);
     QCOMPARE(plot->sampleCompareKineticEnergy(0), plot->sampleKineticEnergy(0));
     QTest::keyClick(m_window->stageView(), Qt::Key_Right);
@@ -833,11 +825,7 @@ void TestMainWindow::compareSteppedBackPastAnEditMeetsAtTheRestart()
     SceneDocument *doc = m_window->document();
     PlotDock *plot = m_window->plotDock();
     plot->setSelectedMarbles({0});
-    for (QAction *action : m_window->findChildren<QAction *>()) {
-        if (action->actionGroup() && action->data().toInt() == static_cast<int>(ModelKind::Exact)
-            && action->text().contains(QStringLiteral("xact")))
-            action->trigger();
-    }
+    compareExact()->trigger();
     QVERIFY(m_window->findChild<QLabel *>(QStringLiteral("compareLabel"))->isVisible());
     doc->advance(50);
     const World comparedAt50 = *m_window->findChild<CompareRun *>()->world();
