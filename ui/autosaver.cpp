@@ -87,7 +87,10 @@ bool AutoSaver::saveNow()
         discard();
         return true;
     }
-    return writeFiles(scenePath(), sceneToJson(m_document->worldAtStart()), sourcePath(), sourceRecord());
+    const bool written = writeFiles(scenePath(), sceneToJson(m_document->worldAtStart()), sourcePath(), sourceRecord());
+    if (!written)
+        Q_EMIT failed();
+    return written;
 }
 
 bool AutoSaver::saveInBackground()
@@ -118,7 +121,10 @@ bool AutoSaver::waitForBackgroundSave()
 {
     if (!m_background.valid())
         return true;
-    return m_background.get();
+    const bool written = m_background.get();
+    if (!written)
+        Q_EMIT failed();
+    return written;
 }
 
 bool AutoSaver::hasRecovery() const

@@ -62,6 +62,10 @@ public:
     /// Path of the autosaved scene.
     QString scenePath() const;
 
+Q_SIGNALS:
+    /// An autosave could not be written (a full disk): the changes are not protected.
+    void failed();
+
 private:
     QString sourcePath() const;
     /// What the source file holds: the scene's file name, then a NUL (which no path holds) and

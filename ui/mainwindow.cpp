@@ -130,6 +130,9 @@ MainWindow::MainWindow(QWidget *parent)
 
     m_autoSaver = new AutoSaver(m_document, QString(), this);
     m_autoSaver->start();
+    connect(m_autoSaver, &AutoSaver::failed, this, [this] {
+        showStatus(tr("The autosave could not be written (is the disk full?): save your changes with Ctrl+S."));
+    });
     // A second window cannot keep an autosave (the first one holds it): its first unsaved change
     // says so, rather than a crash losing it unannounced.
     if (!m_autoSaver->isActive()) {

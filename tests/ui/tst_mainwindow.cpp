@@ -15,6 +15,7 @@
 #include "ui/scenedocument.h"
 #include "ui/stageview.h"
 #include "ui/trailitem.h"
+#include "tests/ui/filesizelimit.h"
 
 #include <QAction>
 #include <QToolButton>
@@ -129,6 +130,7 @@ private Q_SLOTS:
     void tickRunsWhatFitsItsBudget();
     void runThatCannotKeepUpSlowsDownAndSaysSo();
     void autosaveIsRecoveredAfterCrash();
+    void failedAutosaveIsSaid();
     void secondWindowSaysItIsNotAutosaved();
     void autosaveWritesInTheBackground();
     void layoutIsRestored();
@@ -1111,6 +1113,21 @@ void TestMainWindow::autosaveIsRecoveredAfterCrash()
     makeWindow();
     m_window->offerRecovery();
     QCOMPARE(m_prompts->recoverQuestions, 0);
+}
+
+void TestMainWindow::failedAutosaveIsSaid()
+{
+    // A full disk: the autosave cannot be written, and the window says so (it was silent).
+    QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
+    {
+        test::FileSizeLimit limit(100);
+        QVERIFY(limit.ok());
+        QVERIFY(!m_window->autoSaver()->saveNow());
+    }
+    QVERIFY2(m_window->statusBar()->currentMessage().startsWith(QStringLiteral("The autosave could not be written")),
+             qPrintable(m_window->statusBar()->currentMessage()));
+    QVERIFY(m_window->autoSaver()->saveNow());
+    m_window->document()->undoStack()->undo();
 }
 
 void TestMainWindow::secondWindowSaysItIsNotAutosaved()
