@@ -990,9 +990,9 @@ void MainWindow::showEvent(QShowEvent *event)
     updateFrameLabelsShown();
     fitToolBars();
     if (!m_firstLayout) {
-        // A kept layout: the Parameters dock gets back the width its fields need (restored
-        // before the window had its size, it came back 55 px narrower, its fields cut off behind
-        // a sideways scroll bar), as far as the stage keeps its own.
+        // A kept layout: a Parameters dock narrower than its fields (kept from a narrower window,
+        // its fields cut off behind a sideways scroll bar) gets the width they need, as far as
+        // the stage keeps its own.
         const int wanted = m_parametersDock->fieldsWidth();
         if (m_parametersDock->isVisible() && !m_parametersDock->isFloating() && m_parametersDock->width() < wanted)
             resizeDocks({m_parametersDock}, {wanted}, Qt::Horizontal);
