@@ -204,14 +204,18 @@ StepResult World::step()
     ++frame;
 
     StepResult result;
-    for (int i = 0; i < marbleCount(); ++i) {
-        if (!isFinite(position[i]) || !isFinite(velocity[i])) {
-            result.finite = false;
-            result.badMarble = i;
-            break;
-        }
-    }
+    result.badMarble = firstNonFiniteMarble();
+    result.finite = result.badMarble < 0;
     return result;
+}
+
+int World::firstNonFiniteMarble() const
+{
+    for (int i = 0; i < marbleCount(); ++i) {
+        if (!isFinite(position[i]) || !isFinite(velocity[i]))
+            return i;
+    }
+    return -1;
 }
 
 double World::kineticEnergy() const

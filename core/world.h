@@ -178,6 +178,8 @@ public:
     /// Advances one frame with params.model: scripted pushes for this frame, then the model.
     /// Returns whether every marble is still finite.
     StepResult step();
+    /// The first marble, in scene order, whose position or velocity is not finite; -1 when none.
+    int firstNonFiniteMarble() const;
 
     /// Kinetic energy, sum of m v^2 / 2 (mass px^2/frame^2).
     double kineticEnergy() const;

@@ -166,15 +166,6 @@ int SceneDocument::advance(int frames)
     return done;
 }
 
-bool SceneDocument::allFinite() const
-{
-    for (int i = 0; i < m_world.marbleCount(); ++i) {
-        if (!marbles::isFinite(m_world.position[i]) || !marbles::isFinite(m_world.velocity[i]))
-            return false;
-    }
-    return true;
-}
-
 bool SceneDocument::stepBack()
 {
     if (!m_history.stepBack(m_world))

@@ -64,7 +64,7 @@ public:
     /// since), with the edits made while it was shown; an edit at a later frame does not change it.
     bool rewind();
     /// Whether every marble's position and velocity are finite numbers.
-    bool allFinite() const;
+    bool allFinite() const { return m_world.firstNonFiniteMarble() < 0; }
     /// Frame number that rewind() returns to.
     std::int64_t startFrame() const { return m_history.startFrame(); }
     /// For the commands that add or remove marbles, after they did it to the world: marble i
