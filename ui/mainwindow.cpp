@@ -629,11 +629,12 @@ void MainWindow::createStatusBar()
     m_compareLabel = new QLabel(this);
     m_compareLabel->setObjectName(QStringLiteral("compareLabel"));
     m_compareLabel->setContentsMargins(0, 0, 12, 0);
-    m_compareLabel->setToolTip(
+    m_compareToolTip =
         tr("Largest distance between a marble and its dashed ghost since the comparison started.\n"
            "Both models start from the same state and run the same frames; a click pushes both.\n"
            "An edit starts the comparison again from the scene as it is then (Step Back past the edit\n"
-           "returns to the comparison before it); Back to Start or a new scene starts it over."));
+           "returns to the comparison before it); Back to Start or a new scene starts it over.");
+    m_compareLabel->setToolTip(m_compareToolTip);
     m_compareLabel->setVisible(false);
     // Its text can be long ("Compare: exact - not running: it needs a friction below 1 ..."):
     // a label asks for its whole text's width, and on a 1024 x 768 projector that pushed the
@@ -1201,11 +1202,14 @@ void MainWindow::updateCompareControls()
         const std::string_view name = modelName(m_compare->model());
         plotted = QString::fromUtf8(name.data(), static_cast<qsizetype>(name.size()));
     }
-    m_plotDock->setCompareModel(plotted);
-    // A comparison starts from the scene's current frame: that sample gets its totals (its
-    // speeds come from the comparison's kept frames); the CSV's first row had none.
-    if (m_compare->world())
-        m_plotDock->resample(m_document->world(), m_compare->world());
+    // A comparison chosen starts from the scene's current frame: that sample gets its totals
+    // (its speeds come from the comparison's kept frames); the CSV's first row had none. Only
+    // then: an edit takes the sample again itself (timelineEdited).
+    if (plotted != m_plotDock->compareModel()) {
+        m_plotDock->setCompareModel(plotted);
+        if (m_compare->world())
+            m_plotDock->resample(m_document->world(), m_compare->world());
+    }
     updateCompareReadout();
 }
 
@@ -1213,8 +1217,6 @@ void MainWindow::updateCompareReadout()
 {
     m_compareLabel->setText(m_compare->summary());
     m_compareLabel->setVisible(m_compare->isActive());
-    if (m_compareToolTip.isEmpty())
-        m_compareToolTip = m_compareLabel->toolTip();
     m_compareLabel->setToolTip(m_compare->isActive() ? m_compare->summary() + QStringLiteral("\n\n") + m_compareToolTip
                                                       : m_compareToolTip);
 }

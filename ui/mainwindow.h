@@ -223,7 +223,7 @@ private:
     QMenu *m_compareMenu = nullptr;
     QComboBox *m_compareBox = nullptr;
     QLabel *m_compareLabel = nullptr;
-    QString m_compareToolTip; // what the readout means, under its text in its tool tip
+    QString m_compareToolTip; // what the readout means (its tool tip, under the readout's text)
     QString m_frameStatus;            // the showFrameStatus() message on show (empty: none)
     std::int64_t m_frameStatusAt = 0; // the frame it is about
 
