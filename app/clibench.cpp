@@ -559,10 +559,18 @@ int benchCommand(const std::vector<std::string> &args)
     if (scale && !plotPath.empty())
         throw InvalidInput{"--plot: draws the work-precision diagram, not --scale"};
 
-    std::vector<Row> rows;
+    // The files are written before anything is printed: one that cannot be written ends the
+    // command with exit code 2, its message on stderr and nothing on stdout (progress goes to
+    // stderr while the scenes run).
+    const std::vector<Row> rows = scale ? scaleBench(frames, repeats, maxN) : precisionBench(repeats, crowd);
+    if (!csvPath.empty())
+        writeFileAtomically(csvPath, rowsToCsv(rows));
+    if (!plotPath.empty()) {
+        if (const std::string error = plot::writePng(precisionChart(rows), plotPath); !error.empty())
+            throw InvalidInput{error};
+    }
     if (scale) {
         std::printf("marbles-cli bench --scale: crowd scene, %d frames, one core\n", frames);
-        rows = scaleBench(frames, repeats, maxN);
         printTable(rows, true);
         printScaleSummary(rows, maxN);
         printScaleTargets(rows, frames, maxN);
@@ -570,14 +578,7 @@ int benchCommand(const std::vector<std::string> &args)
         std::printf("marbles-cli bench: run time against error (median of %d runs; errors against the closed form, "
                     "else against exact)\n",
                     repeats);
-        rows = precisionBench(repeats, crowd);
         printTable(rows, false);
-    }
-    if (!csvPath.empty())
-        writeFileAtomically(csvPath, rowsToCsv(rows));
-    if (!plotPath.empty()) {
-        if (const std::string error = plot::writePng(precisionChart(rows), plotPath); !error.empty())
-            throw InvalidInput{error};
     }
     return ExitOk;
 }

@@ -109,6 +109,7 @@ private slots:
     void invalidInputExitsTwo_data();
     void invalidInputExitsTwo();
     void outputThatCannotBeWrittenFails();
+    void benchFileThatCannotBeWrittenPrintsNothing();
     void nonFiniteExitsThree();
     void checkPrintsSummary();
     void presetsRoundTripThroughFiles();
@@ -310,6 +311,23 @@ void TestCli::outputThatCannotBeWrittenFails()
     const CliResult folder = runCli({"preset", "pins", "--out", dir.path()});
     QCOMPARE(folder.exitCode, 2);
     QVERIFY(folder.err.contains("it is a folder"));
+}
+
+void TestCli::benchFileThatCannotBeWrittenPrintsNothing()
+{
+    // Exit code 2 means a message on stderr and nothing on stdout: bench printed its whole table
+    // and then failed on --csv or --plot. It writes its files first now.
+    QTemporaryDir dir;
+    const CliResult csv = runCli({"bench", "--scale", "--frames", "2", "--repeat", "1", "--max-n", "1000", "--csv",
+                                  dir.path()});
+    QCOMPARE(csv.exitCode, 2);
+    QVERIFY2(csv.out.isEmpty(), csv.out.constData());
+    QVERIFY2(csv.err.contains("it is a folder"), csv.err.constData());
+
+    const CliResult plot = runCli({"bench", "--repeat", "1", "--crowd", "100", "--plot", dir.path()});
+    QCOMPARE(plot.exitCode, 2);
+    QVERIFY2(plot.out.isEmpty(), plot.out.constData());
+    QVERIFY2(plot.err.contains(dir.path().toUtf8()), plot.err.constData());
 }
 
 void TestCli::nonFiniteExitsThree()
