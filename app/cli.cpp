@@ -1,6 +1,7 @@
 // marbles-cli: the headless face of Marbles (INTERFACES.md). Links no Qt.
 
 #include "app/clicommon.h"
+#include "core/filewrite.h"
 #include "core/presets.h"
 #include "core/sceneio.h"
 
@@ -11,12 +12,9 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <iterator>
 #include <sstream>
-#include <unistd.h>
 
 namespace marbles::cli {
 
@@ -82,46 +80,8 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
 
 void writeFileAtomically(const std::string &path, const std::string &text)
 {
-    namespace fs = std::filesystem;
-    const fs::path target(path);
-    // Not a regular file (a device such as /dev/null or /dev/stdout, a pipe): written to as it
-    // is. A temporary file renamed over it would replace the device itself (as root, /dev/null
-    // and /dev/full became plain files).
-    std::error_code statError;
-    const fs::file_status status = fs::status(target, statError);
-    if (!statError && fs::exists(status) && !fs::is_regular_file(status)) {
-        if (fs::is_directory(status))
-            throw InvalidInput{path + ": cannot write: it is a folder"};
-        std::ofstream out(target, std::ios::binary);
-        if (!out)
-            throw InvalidInput{path + ": cannot write: " + std::strerror(errno)};
-        out << text;
-        out.flush();
-        if (!out)
-            throw InvalidInput{path + ": write failed: " + std::strerror(errno)};
-        return;
-    }
-    fs::path temp = target;
-    temp += ".tmp-" + std::to_string(::getpid());
-    {
-        std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-        if (!out)
-            throw InvalidInput{path + ": cannot write: " + std::strerror(errno)};
-        out << text;
-        out.flush();
-        if (!out) {
-            std::error_code ignored;
-            fs::remove(temp, ignored);
-            throw InvalidInput{path + ": write failed: " + std::strerror(errno)};
-        }
-    }
-    std::error_code ec;
-    fs::rename(temp, target, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(temp, ignored);
-        throw InvalidInput{path + ": cannot write: " + ec.message()};
-    }
+    if (const std::string error = writeFileWhole(path, text, SpecialFiles::WriteInPlace); !error.empty())
+        throw InvalidInput{path + ": cannot write: " + error};
 }
 
 std::string formatNumber(double x, const char *spec, const char *missing)

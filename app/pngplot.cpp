@@ -1,17 +1,13 @@
 #include "app/pngplot.h"
 
 #include "app/plotfont.h"
+#include "core/filewrite.h"
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <limits>
 #include <sstream>
-
-#include <sys/stat.h>
 
 namespace marbles::plot {
 
@@ -365,31 +361,9 @@ Image render(const Chart &chart)
 std::string writePng(const Chart &chart, const std::string &path)
 {
     const std::vector<std::uint8_t> png = encodePng(render(chart));
-    // Not a regular file (a device, a pipe): written to as it is; a temporary file renamed over
-    // it would replace it (as root, a device node becomes a plain file).
-    struct stat existing {};
-    const bool special = ::stat(path.c_str(), &existing) == 0 && !S_ISREG(existing.st_mode);
-    if (special && S_ISDIR(existing.st_mode))
-        return path + ": cannot write: it is a folder";
-    const std::string temporary = special ? path : path + ".tmp";
-    std::FILE *file = std::fopen(temporary.c_str(), "wb");
-    if (!file)
-        return path + ": cannot write: " + std::strerror(errno);
-    const bool written = std::fwrite(png.data(), 1, png.size(), file) == png.size();
-    const bool closed = std::fclose(file) == 0;
-    if (!written || !closed) {
-        if (!special)
-            std::remove(temporary.c_str());
-        return path + ": cannot write: disk full or I/O error";
-    }
-    if (special)
-        return {};
-    if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-        const std::string reason = std::strerror(errno);
-        std::remove(temporary.c_str());
-        return path + ": cannot write: " + reason;
-    }
-    return {};
+    const std::string error = writeFileWhole(
+        path, std::string_view(reinterpret_cast<const char *>(png.data()), png.size()), SpecialFiles::WriteInPlace);
+    return error.empty() ? error : path + ": cannot write: " + error;
 }
 
 } // namespace marbles::plot

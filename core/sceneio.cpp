@@ -1,14 +1,14 @@
 #include "core/sceneio.h"
 
+#include "core/filewrite.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <filesystem>
 #include <limits>
 #include <new>
 #include <system_error>
@@ -1034,73 +1034,8 @@ std::string saveSceneFile(const World &world, const std::string &path)
             return path + ": not saved, the scene would not load back: " + error;
     }
 
-    namespace fs = std::filesystem;
-    const fs::path target(path);
-    const std::string base = target.filename().string();
-    if (base.empty() || base == "." || base == "..")
-        return path + ": cannot save: not a file name";
-    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-
-    // A folder or a device (/dev/null) is not replaced by a scene file: the rename below would
-    // put a plain file in its place.
-    struct stat existing {};
-    const bool exists = ::stat(path.c_str(), &existing) == 0;
-    if (exists && !S_ISREG(existing.st_mode))
-        return path + ": cannot save: not a regular file (a folder or a device)";
-
-    // The temporary file sits beside the target, so the final rename stays within one file
-    // system and is atomic: readers see the old file or the new one, never a mixture.
-    static std::atomic<unsigned> counter{0};
-    std::string temporary;
-    int fd = -1;
-    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-        temporary = (folder / ("." + base + ".tmp-" + std::to_string(::getpid()) + "-"
-                               + std::to_string(counter.fetch_add(1))))
-                        .string();
-        fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd < 0 && errno != EEXIST)
-            return path + ": cannot save: cannot create a temporary file in " + folder.string() + ": " + osError(errno);
-    }
-    if (fd < 0)
-        return path + ": cannot save: cannot create a temporary file in " + folder.string();
-
-    auto abandon = [&](const std::string &what, int error) {
-        ::close(fd);
-        ::unlink(temporary.c_str());
-        return path + ": cannot save: " + what + ": " + osError(error);
-    };
-
-    // Replacing a file keeps its permissions; a new file gets the usual ones (0666 less umask).
-    if (exists)
-        ::fchmod(fd, existing.st_mode & 07777);
-
-    std::size_t written = 0;
-    while (written < text.size()) {
-        const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-        if (n < 0) {
-            if (errno == EINTR)
-                continue;
-            return abandon("writing failed", errno);
-        }
-        written += static_cast<std::size_t>(n);
-    }
-    if (::fsync(fd) != 0)
-        return abandon("flushing to disk failed", errno);
-    if (::close(fd) != 0) {
-        const int error = errno;
-        ::unlink(temporary.c_str());
-        return path + ": cannot save: closing failed: " + osError(error);
-    }
-    if (::rename(temporary.c_str(), path.c_str()) != 0) {
-        const int error = errno;
-        ::unlink(temporary.c_str());
-        return path + ": cannot save: " + osError(error);
-    }
-    // Make the rename itself durable; a failure here cannot undo it, so it is not reported.
-    if (const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dir >= 0) {
-        ::fsync(dir);
-        ::close(dir);
-    }
+    if (std::string error = writeFileWhole(path, text, SpecialFiles::Refuse); !error.empty())
+        return path + ": cannot save: " + error;
     return {};
 }
 
