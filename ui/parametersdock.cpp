@@ -266,7 +266,7 @@ QString ParametersDock::refusalText(const QAbstractSpinBox *spin, const Refusing
 {
     if (spin == m_friction && shownModel() != ModelKind::Book && refused >= 1.0)
         return tr("Exact and impulse need friction below 1: %1 was refused, it stays %2 (book: up to %3).")
-            .arg(refusedNumber(refused, spin->locale()), box.shown(box.current()), box.shown(kBookFrictionMax));
+            .arg(refusedNumber(box, refused, spin->locale()), box.shown(box.current()), box.shown(kBookFrictionMax));
     return refusalMessage(box, refused, spin->locale());
 }
 

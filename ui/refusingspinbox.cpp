@@ -2,10 +2,14 @@
 
 #include <QCoreApplication>
 
+#include <cmath>
+
 namespace marbles {
 
-QString refusedNumber(double refused, const QLocale &locale)
+QString refusedNumber(const Refusing &box, double refused, const QLocale &locale)
 {
+    if (std::isinf(refused) && !box.refusedText().isEmpty())
+        return box.refusedText(); // "inf" would not be what was typed
     QLocale loc = locale;
     loc.setNumberOptions(loc.numberOptions() | QLocale::OmitGroupSeparator);
     return loc.toString(refused, 'g', 12);
@@ -13,7 +17,7 @@ QString refusedNumber(double refused, const QLocale &locale)
 
 QString refusalMessage(const Refusing &box, double refused, const QLocale &locale)
 {
-    const QString typed = refusedNumber(refused, locale);
+    const QString typed = refusedNumber(box, refused, locale);
     const QString kept = box.shown(box.current());
     if (refused > box.high())
         return QCoreApplication::translate("marbles", "%1 is above this field's most (%2): it stays %3.")

@@ -19,8 +19,11 @@ namespace marbles {
 class Refusing {
 public:
     virtual ~Refusing() = default;
-    /// The number last refused (the box kept its value), if any; reading it clears it.
+    /// The number last refused (the box kept its value), if any; reading it clears it. A number
+    /// beyond the doubles' range ("1e400") is refused as an infinity.
     std::optional<double> takeRefused() { return std::exchange(m_refused, std::nullopt); }
+    /// The last refused number as it was typed ("1e400", "1.50").
+    QString refusedText() const { return m_refusedText; }
     /// The box's range and value, and a value as the box shows it (suffix included).
     virtual double low() const = 0;
     virtual double high() const = 0;
@@ -31,6 +34,7 @@ public:
 
 protected:
     mutable std::optional<double> m_refused;
+    mutable QString m_refusedText;
 };
 
 /// A spin box that keeps a number typed beyond its range as typed, instead of dropping the
@@ -57,7 +61,8 @@ public:
         const QString bare = bareText(text);
         bool number = false;
         const double value = this->locale().toDouble(bare, &number);
-        if ((number && outside(value)) || (bare == this->locale().negativeSign() && low() >= 0.0))
+        if ((number && outside(value)) || beyondDoubles(number, value)
+            || (bare == this->locale().negativeSign() && low() >= 0.0))
             return QValidator::Intermediate;
         if constexpr (kDecimal) {
             // A number in powers of ten ("2e1", "1.5E-3"), which QDoubleSpinBox drops the 'e' of
@@ -77,9 +82,12 @@ public:
         // Called when an edit ends on text that is not a value of the box.
         Base::fixup(input);
         bool number = false;
-        const double value = this->locale().toDouble(bareText(input), &number);
-        if (number && outside(value))
+        const QString bare = bareText(input);
+        const double value = this->locale().toDouble(bare, &number);
+        if ((number && outside(value)) || beyondDoubles(number, value)) {
             m_refused = value;
+            m_refusedText = bare;
+        }
     }
 
     double low() const override { return static_cast<double>(this->minimum()); }
@@ -123,6 +131,10 @@ protected:
 
 private:
     static constexpr bool kDecimal = std::is_same_v<Base, QDoubleSpinBox>;
+
+    // A number too large for a double: QLocale gives an infinity and says it is no number. Left
+    // Invalid, its last keystroke was dropped ("1e400" stayed "1e40", refused as 1e+40).
+    static bool beyondDoubles(bool number, double value) { return !number && std::isinf(value); }
 
     static bool isPlainSpace(const QKeyEvent *event)
     {
@@ -174,8 +186,9 @@ public:
     QString shown(double value) const override { return textFromValue(static_cast<int>(value)) + suffix(); }
 };
 
-/// A refused number as the messages write it: as typed, without group separators ("5000").
-QString refusedNumber(double refused, const QLocale &locale);
+/// A refused number as the messages write it: without group separators ("5000"), or as typed
+/// where it is beyond the doubles ("1e400").
+QString refusedNumber(const Refusing &box, double refused, const QLocale &locale);
 
 /// Why `refused` was not taken by `box`, short enough for two lines of a dock: "5000 is above
 /// this field's most (1000 per px): it stays 1.25 per px."

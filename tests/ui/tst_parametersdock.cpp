@@ -255,6 +255,9 @@ void TestParametersDock::invalidValuesRefused_data()
     QTest::addRow("substeps zero") << "impulse" << "substepsEdit" << "0";
     QTest::addRow("substeps negative") << "impulse" << "substepsEdit" << "-3";
     QTest::addRow("letters") << "book" << "frictionEdit" << "abc";
+    // Beyond the doubles: refused as typed (its last keystroke was dropped, "1e40" refused).
+    QTest::addRow("massScale 1e400") << "book" << "massScaleEdit" << "1e400";
+    QTest::addRow("friction -1e400") << "book" << "frictionEdit" << "-1e400";
 }
 
 void TestParametersDock::invalidValuesRefused()
@@ -298,8 +301,8 @@ void TestParametersDock::invalidValuesRefused()
         QFAIL("not a spin box");
     }
     bool isNumber = false;
-    typed.toDouble(&isNumber);
-    if (isNumber) {
+    const double typedValue = typed.toDouble(&isNumber);
+    if (isNumber || std::isinf(typedValue)) {
         QCOMPARE(spy.count(), 0);
         QCOMPARE(fieldValue, valueBefore);
         const QString help = dock.findChild<QLabel *>(field + QStringLiteral("Help"))->text();
