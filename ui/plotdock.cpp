@@ -757,12 +757,17 @@ QString PlotDock::exportCsv(const QString &path) const
     return QString();
 }
 
+QString PlotDock::solidModels() const
+{
+    return m_models.join(tr(", then "));
+}
+
 QString PlotDock::exportCaption() const
 {
     QStringList parts;
     if (!m_sceneName.isEmpty())
         parts << m_sceneName;
-    const QString models = m_models.join(tr(", then "));
+    const QString models = solidModels();
     parts << (m_compareModel.isEmpty() ? tr("model: %1").arg(models)
                                        : tr("model: %1 (solid), %2 (dashed)").arg(models, m_compareModel));
     if (!m_frames.isEmpty()) {
@@ -981,7 +986,7 @@ void PlotDock::styleSeries()
         }
     }
     if (m_modelKey && m_compareKey) {
-        m_modelKey->setName(tr("%1 (solid)").arg(m_models.join(tr(", then "))));
+        m_modelKey->setName(tr("%1 (solid)").arg(solidModels()));
         m_compareKey->setName(tr("%1 (dashed)").arg(m_compareModel));
     }
 

@@ -190,6 +190,8 @@ private:
     template<typename Apply>
     void forEachValueBuffer(Apply &&apply);
     void rebuildTracks();
+    /// The models the solid lines ran in, in order ("book, then impulse").
+    QString solidModels() const;
     QLineSeries *addSpeedSeries();
     void startFrom(RingBuffer<double> &values, int marble, const VelocityLookup &lookup) const;
     void startWithGaps(RingBuffer<double> &values) const { startFrom(values, 0, {}); }
