@@ -14,6 +14,7 @@
 #include <exception>
 #include <iostream>
 #include <iterator>
+#include <optional>
 #include <sstream>
 
 namespace marbles::cli {
@@ -78,10 +79,22 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
     return world;
 }
 
+void throwIfFailed(const WholeFileWriter &writer, const std::string &path)
+{
+    if (writer.error().empty())
+        return;
+    const std::string message = path + ": cannot write: " + writer.error();
+    if (writer.failedWhileWriting())
+        throw WriteFailed{message};
+    throw InvalidInput{message};
+}
+
 void writeFileAtomically(const std::string &path, const std::string &text)
 {
-    if (const std::string error = writeFileWhole(path, text, SpecialFiles::WriteInPlace); !error.empty())
-        throw InvalidInput{path + ": cannot write: " + error};
+    WholeFileWriter writer(path, SpecialFiles::WriteInPlace);
+    writer.write(text);
+    writer.commit();
+    throwIfFailed(writer, path);
 }
 
 std::string formatNumber(double x, const char *spec, const char *missing)
@@ -203,11 +216,22 @@ int runCommand(const std::vector<std::string> &args)
     const std::string *outPath = o.last("--out");
     World world = loadWorld(o.positional.front(), o.all("--set"));
 
+    // The rows go out a megabyte at a time, to --out as to standard output: a long run's CSV is
+    // never held whole in memory. --out is replaced only once the run is over.
+    std::optional<WholeFileWriter> file;
+    if (outPath) {
+        file.emplace(*outPath, SpecialFiles::WriteInPlace);
+        throwIfFailed(*file, *outPath);
+    }
     std::string csv = "frame,marble,x,y,vx,vy\n";
-    std::FILE *stream = outPath ? nullptr : stdout;
     auto flush = [&](bool force) {
-        if (stream && (force || csv.size() > (1 << 20))) {
-            std::fwrite(csv.data(), 1, csv.size(), stream);
+        if (force || csv.size() > (1 << 20)) {
+            if (file) {
+                file->write(csv);
+                throwIfFailed(*file, *outPath);
+            } else {
+                std::fwrite(csv.data(), 1, csv.size(), stdout);
+            }
             csv.clear();
         }
     };
@@ -230,10 +254,11 @@ int runCommand(const std::vector<std::string> &args)
             appendRows(csv, world);
         flush(false);
     }
-    if (outPath)
-        writeFileAtomically(*outPath, csv);
-    else
-        flush(true);
+    flush(true);
+    if (file) {
+        file->commit();
+        throwIfFailed(*file, *outPath);
+    }
     std::fflush(stdout);
     if (status != ExitOk)
         std::cerr << "marbles-cli: " << o.positional.front() << ": " << failure << '\n';
@@ -358,6 +383,9 @@ int main(int argc, char **argv)
     } catch (const InvalidInput &e) {
         std::cerr << "marbles-cli: " << e.message << '\n';
         return ExitInvalid;
+    } catch (const WriteFailed &e) {
+        std::cerr << "marbles-cli: " << e.message << '\n';
+        return ExitInternal;
     } catch (const std::exception &e) {
         std::cerr << "marbles-cli: internal error: " << e.what() << '\n';
         return ExitInternal;

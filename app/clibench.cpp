@@ -566,8 +566,8 @@ int benchCommand(const std::vector<std::string> &args)
     if (!csvPath.empty())
         writeFileAtomically(csvPath, rowsToCsv(rows));
     if (!plotPath.empty()) {
-        if (const std::string error = plot::writePng(precisionChart(rows), plotPath); !error.empty())
-            throw InvalidInput{error};
+        const std::vector<std::uint8_t> png = plot::encodePng(plot::render(precisionChart(rows)));
+        writeFileAtomically(plotPath, std::string(png.begin(), png.end()));
     }
     if (scale) {
         std::printf("marbles-cli bench --scale: crowd scene, %d frames, one core\n", frames);

@@ -24,6 +24,12 @@ struct InvalidInput {
     std::string message;
 };
 
+/// Thrown when an output file could not be written once it was open (a full disk, an I/O
+/// error): main() prints the message and exits 1, as for standard output that cannot be written.
+struct WriteFailed {
+    std::string message;
+};
+
 /// Parses a whole non-negative or positive integer option value; throws InvalidInput naming the option.
 long long parseInteger(std::string_view option, std::string_view text, long long minimum);
 /// Parses a finite double option value; throws InvalidInput naming the option.
@@ -33,7 +39,8 @@ double parseNumber(std::string_view option, std::string_view text);
 /// KEY=VALUE settings in order and validates the result; throws InvalidInput with one message.
 World loadWorld(const std::string &scene, const std::vector<std::string> &settings);
 
-/// Writes `text` to `path` atomically (temporary file, then rename); throws InvalidInput on failure.
+/// Writes `text` to `path` atomically (WholeFileWriter); throws InvalidInput where the path cannot
+/// be written (a missing folder, a read-only file, a folder) and WriteFailed where writing failed.
 void writeFileAtomically(const std::string &path, const std::string &text);
 /// `x` printed with the printf `spec`, or `missing` when x is NaN (a figure that does not apply).
 std::string formatNumber(double x, const char *spec = "%.3g", const char *missing = "n/a");

@@ -1,7 +1,6 @@
 #include "app/pngplot.h"
 
 #include "app/plotfont.h"
-#include "core/filewrite.h"
 
 #include <algorithm>
 #include <array>
@@ -356,14 +355,6 @@ Image render(const Chart &chart)
         }
     }
     return image;
-}
-
-std::string writePng(const Chart &chart, const std::string &path)
-{
-    const std::vector<std::uint8_t> png = encodePng(render(chart));
-    const std::string error = writeFileWhole(
-        path, std::string_view(reinterpret_cast<const char *>(png.data()), png.size()), SpecialFiles::WriteInPlace);
-    return error.empty() ? error : path + ": cannot write: " + error;
 }
 
 } // namespace marbles::plot

@@ -50,8 +50,4 @@ std::vector<std::uint8_t> encodePng(const Image &image);
 /// CRC-32 (ISO 3309, as PNG uses) of `size` bytes.
 std::uint32_t crc32(const std::uint8_t *data, std::size_t size);
 
-/// Renders `chart` and writes it to `path` through a temporary file renamed into place, so a
-/// failed write never leaves a half-written file. Returns "" on success, else the reason.
-std::string writePng(const Chart &chart, const std::string &path);
-
 } // namespace marbles::plot

@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <filesystem>
 #include <system_error>
+#include <utility>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -18,102 +19,166 @@ std::string osError(int error)
     return std::generic_category().message(error);
 }
 
-// Writes all of `bytes` to fd (retrying short and interrupted writes); returns errno or 0.
-int writeAll(int fd, std::string_view bytes)
+// The file a chain of symbolic links ends at (which may not exist yet: writing to a dangling
+// link creates the file it names, as a shell's > does). Gives up after 40 links (a loop).
+std::filesystem::path followLinks(std::filesystem::path path, std::error_code &error)
 {
-    std::size_t written = 0;
-    while (written < bytes.size()) {
-        const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-        if (n < 0) {
-            if (errno == EINTR)
-                continue;
-            return errno;
-        }
-        written += static_cast<std::size_t>(n);
+    namespace fs = std::filesystem;
+    for (int hops = 0; hops < 40; ++hops) {
+        struct stat link {};
+        if (::lstat(path.c_str(), &link) != 0 || !S_ISLNK(link.st_mode))
+            return path; // not there (yet), or not a link
+        const fs::path target = fs::read_symlink(path, error);
+        if (error)
+            return path;
+        path = target.is_absolute() ? target : path.parent_path() / target;
     }
-    return 0;
-}
-
-std::string writeInPlace(const std::string &path, std::string_view bytes)
-{
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
-    if (fd < 0)
-        return osError(errno);
-    const int error = writeAll(fd, bytes);
-    const bool closed = ::close(fd) == 0;
-    if (error != 0)
-        return "writing failed: " + osError(error);
-    if (!closed)
-        return "closing failed: " + osError(errno);
-    return {};
+    error = std::make_error_code(std::errc::too_many_symbolic_link_levels);
+    return path;
 }
 
 } // namespace
 
-std::string writeFileWhole(const std::string &path, std::string_view bytes, SpecialFiles special)
+WholeFileWriter::WholeFileWriter(const std::string &path, SpecialFiles special)
 {
     namespace fs = std::filesystem;
-    const fs::path target(path);
+    std::error_code linkError;
+    const fs::path target = followLinks(fs::path(path), linkError);
+    if (linkError) {
+        fail(linkError.message(), 0, false);
+        return;
+    }
+    m_path = target.string();
     const std::string base = target.filename().string();
-    if (base.empty() || base == "." || base == "..")
-        return "not a file name";
-    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    if (base.empty() || base == "." || base == "..") {
+        m_error = "not a file name";
+        return;
+    }
+    m_folder = target.parent_path().empty() ? std::string(".") : target.parent_path().string();
 
     struct stat existing {};
-    const bool exists = ::stat(path.c_str(), &existing) == 0;
-    if (exists && S_ISDIR(existing.st_mode))
-        return "it is a folder";
+    const bool exists = ::stat(m_path.c_str(), &existing) == 0;
+    if (exists && S_ISDIR(existing.st_mode)) {
+        m_error = "it is a folder";
+        return;
+    }
     if (exists && !S_ISREG(existing.st_mode)) {
-        if (special == SpecialFiles::Refuse)
-            return "not a regular file (a device or a pipe)";
-        return writeInPlace(path, bytes);
+        if (special == SpecialFiles::Refuse) {
+            m_error = "not a regular file (a device or a pipe)";
+            return;
+        }
+        m_fd = ::open(m_path.c_str(), O_WRONLY | O_CLOEXEC);
+        if (m_fd < 0)
+            fail("cannot open it", errno, false);
+        return;
+    }
+    // A read-only file is not replaced behind its owner's back (the rename would need only the
+    // folder to be writable).
+    if (exists && ::access(m_path.c_str(), W_OK) != 0) {
+        fail("the file cannot be written to", errno, false);
+        return;
     }
 
     // The temporary file sits beside the target, so the final rename stays within one file
     // system and is atomic.
     static std::atomic<unsigned> counter{0};
-    std::string temporary;
-    int fd = -1;
-    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-        temporary = (folder / ("." + base + ".tmp-" + std::to_string(::getpid()) + "-"
-                               + std::to_string(counter.fetch_add(1))))
-                        .string();
-        fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd < 0 && errno != EEXIST)
-            return "cannot create a temporary file in " + folder.string() + ": " + osError(errno);
+    for (int attempt = 0; attempt < 100 && m_fd < 0; ++attempt) {
+        m_temporary = (fs::path(m_folder) / ("." + base + ".tmp-" + std::to_string(::getpid()) + "-"
+                                             + std::to_string(counter.fetch_add(1))))
+                          .string();
+        m_fd = ::open(m_temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (m_fd < 0 && errno != EEXIST) {
+            const int error = errno;
+            m_temporary.clear();
+            fail("cannot create a file in " + m_folder, error, false);
+            return;
+        }
     }
-    if (fd < 0)
-        return "cannot create a temporary file in " + folder.string();
-
-    auto abandon = [&](const std::string &what, int error) {
-        ::close(fd);
-        ::unlink(temporary.c_str());
-        return what + ": " + osError(error);
-    };
-
+    if (m_fd < 0) {
+        m_temporary.clear();
+        m_error = "cannot create a temporary file in " + m_folder;
+        return;
+    }
     // Replacing a file keeps its permissions; a new file gets the usual ones (0666 less umask).
     if (exists)
-        ::fchmod(fd, existing.st_mode & 07777);
-    if (const int error = writeAll(fd, bytes); error != 0)
-        return abandon("writing failed", error);
-    if (::fsync(fd) != 0)
-        return abandon("flushing to disk failed", errno);
+        ::fchmod(m_fd, existing.st_mode & 07777);
+}
+
+WholeFileWriter::~WholeFileWriter()
+{
+    if (m_fd >= 0)
+        ::close(m_fd);
+    if (!m_committed && !m_temporary.empty())
+        ::unlink(m_temporary.c_str());
+}
+
+void WholeFileWriter::fail(const std::string &what, int error, bool whileWriting)
+{
+    if (!m_error.empty())
+        return;
+    m_error = error != 0 ? what + ": " + osError(error) : what;
+    m_failedWhileWriting = whileWriting;
+}
+
+bool WholeFileWriter::write(std::string_view bytes)
+{
+    if (!m_error.empty() || m_committed)
+        return false;
+    std::size_t written = 0;
+    while (written < bytes.size()) {
+        const ssize_t n = ::write(m_fd, bytes.data() + written, bytes.size() - written);
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            fail("writing failed", errno, true);
+            return false;
+        }
+        written += static_cast<std::size_t>(n);
+    }
+    return true;
+}
+
+bool WholeFileWriter::commit()
+{
+    if (!m_error.empty() || m_committed)
+        return m_error.empty();
+    if (m_temporary.empty()) { // written in place
+        const int fd = std::exchange(m_fd, -1);
+        if (::close(fd) != 0) {
+            fail("closing failed", errno, true);
+            return false;
+        }
+        m_committed = true;
+        return true;
+    }
+    if (::fsync(m_fd) != 0) {
+        fail("flushing to disk failed", errno, true);
+        return false;
+    }
+    const int fd = std::exchange(m_fd, -1);
     if (::close(fd) != 0) {
-        const int error = errno;
-        ::unlink(temporary.c_str());
-        return "closing failed: " + osError(error);
+        fail("closing failed", errno, true);
+        return false;
     }
-    if (::rename(temporary.c_str(), path.c_str()) != 0) {
-        const int error = errno;
-        ::unlink(temporary.c_str());
-        return osError(error);
+    if (::rename(m_temporary.c_str(), m_path.c_str()) != 0) {
+        fail("cannot replace the file", errno, true);
+        return false;
     }
+    m_committed = true;
     // Make the rename itself durable; a failure here cannot undo it, so it is not reported.
-    if (const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dir >= 0) {
+    if (const int dir = ::open(m_folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dir >= 0) {
         ::fsync(dir);
         ::close(dir);
     }
-    return {};
+    return true;
+}
+
+std::string writeFileWhole(const std::string &path, std::string_view bytes, SpecialFiles special)
+{
+    WholeFileWriter writer(path, special);
+    writer.write(bytes);
+    writer.commit();
+    return writer.error();
 }
 
 } // namespace marbles

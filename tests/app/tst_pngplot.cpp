@@ -2,14 +2,10 @@
 // blocks that decode back to the raster), and points drawn where the axes say.
 #include "app/pngplot.h"
 
-#include <QDir>
-#include <QFile>
 #include <QTest>
 
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 
 using namespace marbles;
 
@@ -201,24 +197,6 @@ private Q_SLOTS:
             for (int x = 96; x < chart.width - 24; ++x)
                 found += near(image.pixel(x, y), s.rgb, 8) ? 1 : 0;
         QVERIFY(found > 10);
-    }
-
-    void writeReplacesTheFileWhole()
-    {
-        const QString dir = QDir::tempPath() + QStringLiteral("/marbles-tst-pngplot");
-        QDir().mkpath(dir);
-        const std::string path = (dir + QStringLiteral("/chart.png")).toStdString();
-        plot::Chart chart;
-        chart.series.push_back({"a", 0x1f5fbf, {1, 10}, {1, 10}, true});
-        QCOMPARE(QString::fromStdString(plot::writePng(chart, path)), QString());
-        std::ifstream in(path, std::ios::binary);
-        const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), {}};
-        QCOMPARE(bytes, plot::encodePng(plot::render(chart)));
-        QVERIFY(!QFile::exists(QString::fromStdString(path + ".tmp")));
-
-        const std::string error = plot::writePng(chart, (dir + QStringLiteral("/no/such/dir/x.png")).toStdString());
-        QVERIFY(error.find("no/such/dir/x.png") != std::string::npos);
-        QDir(dir).removeRecursively();
     }
 };
 

@@ -3,6 +3,7 @@
 #include "core/presets.h"
 #include "core/sceneio.h"
 #include "core/world.h"
+#include "tests/ui/filesizelimit.h"
 
 #include <QtTest>
 
@@ -311,6 +312,22 @@ void TestCli::outputThatCannotBeWrittenFails()
     const CliResult folder = runCli({"preset", "pins", "--out", dir.path()});
     QCOMPARE(folder.exitCode, 2);
     QVERIFY(folder.err.contains("it is a folder"));
+
+    // A full disk behind --out is what it is behind standard output: exit 1 (it was 2, as for a
+    // bad argument), and no file, not even a temporary one, where the rows were to go. The rows
+    // go to the file as the run goes (a long run's CSV was held whole in memory until the end).
+    const QString bigPath = dir.filePath("rows-big.csv");
+    CliResult big;
+    {
+        test::FileSizeLimit limit(100'000); // inherited by the command
+        QVERIFY(limit.ok());
+        big = runCli({"run", "preset:pins", "--frames", "2000", "--out", bigPath});
+    }
+    QCOMPARE(big.exitCode, 1);
+    QVERIFY2(big.err.contains("rows-big.csv: cannot write: writing failed: "), big.err.constData());
+    QVERIFY(big.out.isEmpty());
+    QVERIFY(!QFileInfo::exists(bigPath));
+    QCOMPARE(QDir(dir.path()).entryList(QStringList{"*rows-big*"}, QDir::Files | QDir::Hidden), QStringList());
 }
 
 void TestCli::benchFileThatCannotBeWrittenPrintsNothing()

@@ -3,6 +3,7 @@
 
 #include <QDir>
 #include <QFile>
+#include <QFileInfo>
 #include <QTemporaryDir>
 #include <QtTest>
 
@@ -65,6 +66,14 @@ private slots:
         QCOMPARE(contents(path), QByteArray("old"));
         QCOMPARE(QDir(dir.path()).entryList(QDir::AllEntries | QDir::Hidden | QDir::NoDotAndDotDot),
                  QStringList{"a.csv"});
+
+        // The writer says the failure came while writing (the command line's exit code 1, as
+        // for a full standard output), not from the path (its exit code 2).
+        test::FileSizeLimit limit(1000);
+        WholeFileWriter writer(path.toStdString(), SpecialFiles::Refuse);
+        QVERIFY(writer.error().empty());
+        QVERIFY(!writer.write(std::string(5000, 'x')));
+        QVERIFY(writer.failedWhileWriting());
     }
 
     void aMissingFolderIsNamed()
@@ -81,6 +90,66 @@ private slots:
             QCOMPARE(writeFileWhole(dir.path().toStdString(), "x", special), std::string("it is a folder"));
         QVERIFY(QFileInfo(dir.path()).isDir());
         QCOMPARE(writeFileWhole(".", "x", SpecialFiles::WriteInPlace), std::string("not a file name"));
+    }
+
+    void aLinkIsFollowedAndStays()
+    {
+        // The file a link names is replaced; the link stays a link (the rename replaced it with
+        // a plain file and left its target as it was). A dangling link creates its target.
+        QTemporaryDir dir;
+        const QString target = dir.filePath("target.csv");
+        const QString link = dir.filePath("link.csv");
+        QCOMPARE(writeFileWhole(target.toStdString(), "old", SpecialFiles::Refuse), std::string());
+        QVERIFY(QFile::link(QStringLiteral("target.csv"), link));
+        QCOMPARE(writeFileWhole(link.toStdString(), "new", SpecialFiles::Refuse), std::string());
+        QVERIFY(QFileInfo(link).isSymLink());
+        QCOMPARE(contents(target), QByteArray("new"));
+
+        const QString dangling = dir.filePath("dangling.csv");
+        QVERIFY(QFile::link(QStringLiteral("made.csv"), dangling));
+        QCOMPARE(writeFileWhole(dangling.toStdString(), "made", SpecialFiles::Refuse), std::string());
+        QVERIFY(QFileInfo(dangling).isSymLink());
+        QCOMPARE(contents(dir.filePath("made.csv")), QByteArray("made"));
+
+        const QString loop = dir.filePath("loop.csv");
+        QVERIFY(QFile::link(QStringLiteral("loop.csv"), loop));
+        QVERIFY(!writeFileWhole(loop.toStdString(), "x", SpecialFiles::Refuse).empty());
+    }
+
+    void aReadOnlyFileIsNotReplaced()
+    {
+        if (::geteuid() == 0)
+            QSKIP("root may write to a read-only file, as a shell's > does");
+        QTemporaryDir dir;
+        const std::string path = dir.filePath("kept.csv").toStdString();
+        QCOMPARE(writeFileWhole(path, "kept", SpecialFiles::Refuse), std::string());
+        QCOMPARE(::chmod(path.c_str(), 0444), 0);
+        const std::string error = writeFileWhole(path, "new", SpecialFiles::Refuse);
+        QVERIFY2(error.find("Permission denied") != std::string::npos, error.c_str());
+        QCOMPARE(contents(QString::fromStdString(path)), QByteArray("kept"));
+    }
+
+    void writtenInPiecesOrNotAtAll()
+    {
+        // A writer destroyed before its commit leaves the old file and no temporary; committed,
+        // the file is every piece in order.
+        QTemporaryDir dir;
+        const QString path = dir.filePath("rows.csv");
+        QCOMPARE(writeFileWhole(path.toStdString(), "old", SpecialFiles::Refuse), std::string());
+        {
+            WholeFileWriter writer(path.toStdString(), SpecialFiles::Refuse);
+            QVERIFY(writer.write("a,"));
+            QVERIFY(writer.write("b\n"));
+        }
+        QCOMPARE(contents(path), QByteArray("old"));
+        QCOMPARE(QDir(dir.path()).entryList(QDir::AllEntries | QDir::Hidden | QDir::NoDotAndDotDot),
+                 QStringList{"rows.csv"});
+        WholeFileWriter writer(path.toStdString(), SpecialFiles::Refuse);
+        QVERIFY(writer.write("a,"));
+        QVERIFY(writer.write("b\n"));
+        QVERIFY(writer.commit());
+        QCOMPARE(contents(path), QByteArray("a,b\n"));
+        QVERIFY(!writer.failedWhileWriting());
     }
 
     void aPipeIsWrittenInPlaceOrRefused()
