@@ -360,6 +360,18 @@ void readParams(Json &j, Params &p, std::string &extraJson)
     extraJson = extraText(extras);
 }
 
+// A mass derived from the radius must be a mass too: massScale * radius can overflow (1e308 x 25
+// is no number) or underflow to 0. Returns "" or the rule it breaks.
+std::string derivedMassRule(const World &world, int i)
+{
+    const double m = world.mass[static_cast<std::size_t>(i)];
+    if (world.info[static_cast<std::size_t>(i)].hasMass || (std::isfinite(m) && m > 0.0))
+        return {};
+    return "its mass massScale x radius = " + formatNumber(world.params.massScale) + " x "
+           + formatNumber(world.radius[static_cast<std::size_t>(i)]) + " is " + (m > 0.0 ? "beyond" : "below")
+           + " what a double can hold: give the marble a mass, or change massScale";
+}
+
 void readMarble(Json &j, const std::string &place, World &world)
 {
     requireObject(j, place);
@@ -394,6 +406,8 @@ void readMarble(Json &j, const std::string &place, World &world)
         }
     }
     const int i = world.addMarble(p, r, v, m);
+    if (std::string broken = derivedMassRule(world, i); !broken.empty())
+        fail(place, broken);
     info.hasMass = world.info[i].hasMass;
     info.extraJson = extraText(extras);
     world.info[i] = std::move(info);
@@ -1141,7 +1155,13 @@ std::string setParam(World &world, std::string_view key, std::string_view value)
         double scale = p.massScale;
         if (std::string error = setNumber(scale, rulePositive); !error.empty())
             return error;
-        world.setMassScale(scale);
+        World scaled = world;
+        scaled.setMassScale(scale);
+        for (int i = 0; i < scaled.marbleCount(); ++i) {
+            if (std::string broken = derivedMassRule(scaled, i); !broken.empty())
+                return head + "marble " + std::to_string(i) + ": " + broken;
+        }
+        world = std::move(scaled);
         return {};
     }
     if (key == "friction")

@@ -232,6 +232,7 @@ private slots:
     void loadFileErrors();
     void loadRefusesHugeFileBeforeReading();
     void loadFileNamesFileAsGiven();
+    void derivedMassUnderflowIsRefused();
     void setParamAccepts_data();
     void setParamAccepts();
     void setParamRejects_data();
@@ -280,6 +281,9 @@ void TestSceneIo::invalidScene_data()
                                 << R"(must be "book", "impulse" or "exact", got string "Book")";
     QTest::addRow("massScale zero") << "/params/massScale" << QByteArray("0") << "params.massScale" << "must be > 0, got 0";
     QTest::addRow("massScale negative") << "/params/massScale" << QByteArray("-1.25") << "params.massScale" << "must be > 0, got -1.25";
+    // A derived mass that is no number (it was taken: infinite masses, lost momentum).
+    QTest::addRow("massScale overflows a mass") << "/params/massScale" << QByteArray("1e308") << "marbles[0]"
+                                                << "its mass massScale x radius = 1e+308 x 20 is beyond what a double can hold: give the marble a mass, or change massScale";
     QTest::addRow("friction negative") << "/params/friction" << QByteArray("-1") << "params.friction" << "must be >= 0, got -1";
     QTest::addRow("friction string") << "/params/friction" << QByteArray(R"("0.1")") << "params.friction" << R"(must be a number, got string "0.1")";
     QTest::addRow("zeroThreshold negative") << "/params/zeroThreshold" << QByteArray("-0.01") << "params.zeroThreshold" << "must be >= 0, got -0.01";
@@ -669,6 +673,22 @@ void TestSceneIo::roundTripWorld_data()
     QTest::addRow("nextafter(1, 2)") << std::nextafter(1.0, 2.0);
 }
 
+void TestSceneIo::derivedMassUnderflowIsRefused()
+{
+    // massScale x radius can also come out 0, a mass no collision can divide by.
+    const SceneLoad load = parseScene(R"({"format": "marbles-scene", "version": 1, "params": {"massScale": 1e-300},
+                                          "marbles": [{"x": 1, "y": 1, "radius": 1e-30}]})",
+                                      kSource);
+    QVERIFY(!load.ok);
+    QCOMPARE(q(load.error), QString(kSource) + ": marbles[0]: its mass massScale x radius = 1e-300 x 1e-30 is below "
+                                               "what a double can hold: give the marble a mass, or change massScale");
+    // With a mass of its own, the marble is fine.
+    QVERIFY(parseScene(R"({"format": "marbles-scene", "version": 1, "params": {"massScale": 1e-300},
+                           "marbles": [{"x": 1, "y": 1, "radius": 1e-30, "mass": 2}]})",
+                       kSource)
+                .ok);
+}
+
 void TestSceneIo::roundTripWorld()
 {
     QFETCH(double, v);
@@ -687,7 +707,11 @@ void TestSceneIo::roundTripWorld()
     w.params.zeroThreshold = a;
     if (a <= 1)
         w.params.restitution = a;
-    w.addMarble({v, -v}, a > 0 ? a : 1.0, {-v, v});
+    // Marble 0's mass is derived (massScale x radius) where that is a mass; where it would be
+    // no number (1e300 x 1e300) or 0 (1e-300 x 1e-300) the loader refuses it, so it is given.
+    const double radius = a > 0 ? a : 1.0;
+    const double derived = w.params.massScale * radius;
+    w.addMarble({v, -v}, radius, {-v, v}, std::isfinite(derived) && derived > 0 ? 0.0 : 5.0);
     w.addMarble({v, v}, 2.0, {v, v}, a > 0 ? a : 3.0);
     w.addPin({v, -v});
     w.pushes.push_back({7, 1, {v, v}, {}});
@@ -1083,6 +1107,8 @@ void TestSceneIo::setParamRejects_data()
     QTest::addRow("friction hexadecimal") << "friction" << "0x10" << "friction=0x10: must be a number";
     QTest::addRow("friction leading space") << "friction" << " 0.1" << "friction= 0.1: must be a number";
     QTest::addRow("massScale zero") << "massScale" << "0" << "massScale=0: must be > 0";
+    QTest::addRow("massScale overflows a mass") << "massScale" << "1e308"
+                                                << "massScale=1e308: marble 0: its mass massScale x radius = 1e+308 x 4 is beyond";
     QTest::addRow("zeroThreshold negative") << "zeroThreshold" << "-0.5" << "zeroThreshold=-0.5: must be >= 0";
     QTest::addRow("pushScale infinite") << "pushScale" << "-inf" << "pushScale=-inf: must be a finite number";
     QTest::addRow("frameMs zero") << "frameMs" << "0" << "frameMs=0: must be > 0";
