@@ -17,6 +17,7 @@
 #include <QApplication>
 #include <QChartView>
 #include <QCloseEvent>
+#include <QAbstractButton>
 #include <QComboBox>
 #include <QDialog>
 #include <QDialogButtonBox>
@@ -75,6 +76,7 @@ MainWindow::MainWindow(QWidget *parent)
     , m_prompts(std::make_unique<Prompts>())
 {
     setObjectName(QStringLiteral("mainWindow"));
+    qApp->installEventFilter(this); // Space for focused buttons (eventFilter())
     m_view = new StageView(m_document, this);
     m_run = new RunController(m_document, this);
     // Made before the docks: its frame slot runs before the plot's, which samples both worlds.
@@ -978,6 +980,23 @@ QString MainWindow::offerRecovery()
     }
     m_autoSaver->discard();
     return QString();
+}
+
+// Space is Play / Pause, except on a control that Space works: a focused button or check box is
+// pressed, a drop-down list opens (the shortcut took Space from them, so a teacher who tabbed to
+// PNG... or Kinetic energy started the run instead). In the Undo History, Space still plays.
+bool MainWindow::eventFilter(QObject *watched, QEvent *event)
+{
+    if (event->type() == QEvent::ShortcutOverride) {
+        const auto *key = static_cast<QKeyEvent *>(event);
+        const bool plainSpace = key->key() == Qt::Key_Space
+            && (key->modifiers() & ~Qt::KeypadModifier) == Qt::NoModifier;
+        if (plainSpace && (qobject_cast<QAbstractButton *>(watched) || qobject_cast<QComboBox *>(watched))) {
+            event->accept(); // the control takes its key
+            return true;
+        }
+    }
+    return QMainWindow::eventFilter(watched, event);
 }
 
 void MainWindow::showEvent(QShowEvent *event)

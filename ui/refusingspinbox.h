@@ -101,10 +101,17 @@ protected:
     // Likewise Undo and Redo once the typing is taken: the field's own undo would only put back
     // text whose number the scene already has, and the teacher's "oops" after Enter is meant for
     // the scene's Undo. While typing, they undo the typing, as in any field.
+    // Space after typing without Enter first takes the typing, as Enter would: the run that
+    // Space starts uses the number the field shows (it ran with the old one, the new one taken
+    // only when the field lost the focus).
     bool event(QEvent *event) override
     {
         if (event->type() == QEvent::ShortcutOverride) {
             const auto *key = static_cast<QKeyEvent *>(event);
+            if (isPlainSpace(key) && typing()) {
+                QKeyEvent enter(QEvent::KeyPress, Qt::Key_Return, Qt::NoModifier);
+                Base::keyPressEvent(&enter);
+            }
             if (isPlainSpace(key) || (isUndoOrRedo(key) && !typing()))
                 return true; // not accepted: the shortcut may take the key
         }

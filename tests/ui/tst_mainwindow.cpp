@@ -28,7 +28,9 @@
 #include <QFile>
 #include <QGraphicsScene>
 #include <QKeySequence>
+#include <QCheckBox>
 #include <QLabel>
+#include <QRadioButton>
 #include <QLineSeries>
 #include <QMap>
 #include <QMenu>
@@ -116,6 +118,8 @@ private Q_SLOTS:
     void plotGetsOneSamplePerFrame();
     void plotShowsAPushAsAJump();
     void frictionChangedMidRunBendsThePlot();
+    void spaceAfterTypingPlaysWithTheNumberTyped();
+    void spaceWorksAFocusedButtonOrCheckBox();
     void spacePausesFromANumberField();
     void undoKeysReachTheSceneFromANumberField();
     void compareOffersOnlyModelsThatCanRun();
@@ -711,6 +715,60 @@ void TestMainWindow::plotShowsAPushAsAJump()
     QVERIFY(plot->sampleSpeed(1, 0) == length(reference.velocity[0])); // deterministic: same bits
     plot->refreshChart();
     QCOMPARE(plot->speedSeries(0)->count(), 2);
+}
+
+void TestMainWindow::spaceAfterTypingPlaysWithTheNumberTyped()
+{
+    // Typed without Enter, then Space: the run uses the number the field shows (it ran with the
+    // old friction, the new one taken only when the field lost the focus, an edit mid-run).
+    auto *friction = m_window->findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit"));
+    QVERIFY(friction);
+    RunController *run = m_window->runController();
+    friction->setFocus();
+    friction->selectAll();
+    QTest::keyClicks(friction, QStringLiteral("0.3"));
+    QCOMPARE(m_window->document()->world().params.friction, 0.1);
+    QTest::keyClick(friction, Qt::Key_Space);
+    QCOMPARE(m_window->document()->world().params.friction, 0.3);
+    QVERIFY(run->isRunning());
+    QTest::keyClick(friction, Qt::Key_Space);
+    QVERIFY(!run->isRunning());
+
+    // Refused (friction 5 is beyond even the book's): explained, and the run still plays.
+    friction->selectAll();
+    QTest::keyClicks(friction, QStringLiteral("5"));
+    QTest::keyClick(friction, Qt::Key_Space);
+    QVERIFY(run->isRunning());
+    QCOMPARE(m_window->document()->world().params.friction, 0.3);
+    auto *help = m_window->findChild<QLabel *>(QStringLiteral("frictionEditHelp"));
+    QVERIFY(help);
+    QVERIFY2(help->text().contains(QStringLiteral("5")), qPrintable(help->text()));
+    QTest::keyClick(friction, Qt::Key_Space);
+    QVERIFY(!run->isRunning());
+}
+
+void TestMainWindow::spaceWorksAFocusedButtonOrCheckBox()
+{
+    // Tabbed to a check box or a button, Space presses it (the Play shortcut took it: the run
+    // started and the box stayed as it was); elsewhere Space still plays.
+    RunController *run = m_window->runController();
+    auto *kinetic = m_window->findChild<QCheckBox *>(QStringLiteral("kineticCheck"));
+    QVERIFY(kinetic);
+    const bool shown = kinetic->isChecked();
+    kinetic->setFocus();
+    QTest::keyClick(kinetic, Qt::Key_Space);
+    QCOMPARE(kinetic->isChecked(), !shown);
+    QVERIFY(!run->isRunning());
+    auto *seconds = m_window->findChild<QRadioButton *>(QStringLiteral("secondAxisButton"));
+    QVERIFY(seconds);
+    seconds->setFocus();
+    QTest::keyClick(seconds, Qt::Key_Space);
+    QVERIFY(seconds->isChecked());
+    QVERIFY(!run->isRunning());
+    QTest::keyClick(m_window->stageView(), Qt::Key_Space);
+    QVERIFY(run->isRunning());
+    QTest::keyClick(m_window->stageView(), Qt::Key_Space);
+    QVERIFY(!run->isRunning());
 }
 
 void TestMainWindow::spacePausesFromANumberField()
