@@ -2,6 +2,7 @@
 
 #include "ui/refusingspinbox.h"
 
+#include <QApplication>
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
@@ -237,6 +238,14 @@ void ParametersDock::buildUi()
     scroll->setFrameShape(QFrame::NoFrame);
     scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAsNeeded);
     scroll->setWidget(page);
+    // Not a stop of its own for Tab (it showed no focus, and the arrow keys then scrolled it);
+    // and a field that takes the focus is scrolled into sight, by Alt and its letter too (a
+    // projector's small dock changed a model it did not show).
+    scroll->setFocusPolicy(Qt::NoFocus);
+    connect(qApp, &QApplication::focusChanged, scroll, [scroll, page](QWidget *, QWidget *now) {
+        if (now && page->isAncestorOf(now))
+            scroll->ensureWidgetVisible(now);
+    });
     page->installEventFilter(this);
     setWidget(scroll);
 

@@ -7,6 +7,7 @@
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QLabel>
+#include <QScrollArea>
 #include <QLineEdit>
 #include <QSignalSpy>
 #include <QSpinBox>
@@ -30,6 +31,7 @@ private slots:
     void decimalsShown();
     void invalidValuesRefused_data();
     void invalidValuesRefused();
+    void focusedFieldIsScrolledIntoSight();
     void refusalIsExplainedUntilTheNextEdit();
     void frictionWarning_data();
     void frictionWarning();
@@ -314,6 +316,30 @@ void TestParametersDock::invalidValuesRefused()
     World world;
     world.params = after;
     QCOMPARE(validateParams(world.params), std::string());
+}
+
+void TestParametersDock::focusedFieldIsScrolledIntoSight()
+{
+    // On a projector's small dock the last fields are below the fold: a field given the focus
+    // (Alt and its letter does so without Tab) is scrolled into sight, and the scroll area is no
+    // Tab stop of its own.
+    ParametersDock dock;
+    dock.resize(360, 160);
+    dock.show();
+    dock.activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(&dock));
+    auto *scroll = qobject_cast<QScrollArea *>(dock.widget());
+    QVERIFY(scroll);
+    QCOMPARE(scroll->focusPolicy(), Qt::NoFocus);
+    auto *model = dock.findChild<QComboBox *>(QStringLiteral("modelEdit"));
+    QVERIFY(model);
+    auto inSight = [&] {
+        const QRect at(model->mapTo(scroll->viewport(), QPoint(0, 0)), model->size());
+        return scroll->viewport()->rect().contains(at);
+    };
+    QVERIFY(!inSight()); // the test needs it below the fold
+    model->setFocus(Qt::ShortcutFocusReason);
+    QTRY_VERIFY(inSight());
 }
 
 void TestParametersDock::refusalIsExplainedUntilTheNextEdit()
