@@ -230,6 +230,16 @@ void MainWindow::createActions()
         eachOnce(QKeySequence::keyBindings(QKeySequence::SaveAs) + QList<QKeySequence>{QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_S)}));
     connect(m_saveAsAction, &QAction::triggered, this, &MainWindow::saveAs);
 
+    // The Plot dock's exports, from the menu too: its buttons are far from the keyboard.
+    m_exportCsvAction = new QAction(tr("Export Plot &Data (CSV)…"), this);
+    m_exportCsvAction->setObjectName(QStringLiteral("actionExportPlotCsv"));
+    m_exportCsvAction->setStatusTip(tr("Save the plotted speeds, energy and momentum, frame by frame, as CSV"));
+    connect(m_exportCsvAction, &QAction::triggered, this, [this] { m_plotDock->exportCsvInteractive(); });
+    m_exportPngAction = new QAction(tr("Export Plot &Image (PNG)…"), this);
+    m_exportPngAction->setObjectName(QStringLiteral("actionExportPlotPng"));
+    m_exportPngAction->setStatusTip(tr("Save the plot as a picture, with a caption naming the scene and models"));
+    connect(m_exportPngAction, &QAction::triggered, this, [this] { m_plotDock->exportPngInteractive(); });
+
     m_quitAction = new QAction(QIcon::fromTheme(QStringLiteral("application-exit")), tr("&Quit"), this);
     m_quitAction->setObjectName(QStringLiteral("actionQuit"));
     m_quitAction->setShortcut(QKeySequence::Quit);
@@ -381,6 +391,9 @@ void MainWindow::createMenus()
     file->addSeparator();
     file->addAction(m_saveAction);
     file->addAction(m_saveAsAction);
+    file->addSeparator();
+    file->addAction(m_exportCsvAction);
+    file->addAction(m_exportPngAction);
     file->addSeparator();
     file->addAction(m_quitAction);
     rebuildRecentMenu();
@@ -576,6 +589,8 @@ void MainWindow::createDocks()
 
     m_plotDock = new PlotDock(this);
     addDockWidget(Qt::BottomDockWidgetArea, m_plotDock);
+    connect(m_plotDock, &PlotDock::exported, this,
+            [this](const QString &path) { showStatus(tr("Plot exported to %1").arg(QDir::toNativeSeparators(path))); });
     connect(m_document, &SceneDocument::frameAdvanced, this,
             [this] { m_plotDock->appendFrame(m_document->world(), m_compare->world()); });
     // The comparison restarted on this signal before (its connection is older): both worlds are at

@@ -1148,6 +1148,8 @@ void PlotDock::exportCsvInteractive()
     const QString error = exportCsv(path);
     if (!error.isEmpty())
         QMessageBox::warning(this, tr("Export Samples"), error);
+    else
+        emit exported(path);
 }
 
 void PlotDock::exportPngInteractive()
@@ -1159,6 +1161,8 @@ void PlotDock::exportPngInteractive()
     const QString error = exportPng(path);
     if (!error.isEmpty())
         QMessageBox::warning(this, tr("Export Chart"), error);
+    else
+        emit exported(path);
 }
 
 } // namespace marbles

@@ -171,6 +171,14 @@ public:
     /// ("Pachinko board (preset) — model: book (solid), exact (dashed) — frames 0 to 137, 0.00
     /// to 2.74 s"), so that a picture in a worksheet says what it is.
     QString exportCaption() const;
+    /// Asks where, then exportCsv() or exportPng() there (a warning says why not, where not);
+    /// the dock's CSV... and PNG... buttons and File > Export Plot.
+    void exportCsvInteractive();
+    void exportPngInteractive();
+
+signals:
+    /// A CSV or PNG was written to `path` by the interactive exports.
+    void exported(const QString &path);
 
 protected:
     bool eventFilter(QObject *watched, QEvent *event) override;
@@ -212,8 +220,6 @@ private:
     void onHovered(const QLineSeries *series, QPointF point, bool state);
     void updateAxisTitles();
     void updateTotalsAxis();
-    void exportCsvInteractive();
-    void exportPngInteractive();
 
     std::size_t m_capacity = kDefaultCapacity;
     RingBuffer<std::int64_t> m_frames;

@@ -120,6 +120,7 @@ private Q_SLOTS:
     void frictionChangedMidRunBendsThePlot();
     void spaceAfterTypingPlaysWithTheNumberTyped();
     void spaceWorksAFocusedButtonOrCheckBox();
+    void plotExportsAreInTheFileMenu();
     void spacePausesFromANumberField();
     void undoKeysReachTheSceneFromANumberField();
     void compareOffersOnlyModelsThatCanRun();
@@ -769,6 +770,26 @@ void TestMainWindow::spaceWorksAFocusedButtonOrCheckBox()
     QVERIFY(run->isRunning());
     QTest::keyClick(m_window->stageView(), Qt::Key_Space);
     QVERIFY(!run->isRunning());
+}
+
+void TestMainWindow::plotExportsAreInTheFileMenu()
+{
+    // The plot's CSV and PNG exports are File menu items too (its buttons were out of the
+    // keyboard's reach), and an export that was written says so in the status bar.
+    QMenu *file = nullptr;
+    for (QAction *menu : m_window->menuBar()->actions()) {
+        if (menu->menu() && menu->text() == QStringLiteral("&File"))
+            file = menu->menu();
+    }
+    QVERIFY(file);
+    QStringList names;
+    for (QAction *action : file->actions())
+        names << action->objectName();
+    QVERIFY2(names.contains(QStringLiteral("actionExportPlotCsv")), qPrintable(names.join(u',')));
+    QVERIFY2(names.contains(QStringLiteral("actionExportPlotPng")), qPrintable(names.join(u',')));
+    emit m_window->plotDock()->exported(QStringLiteral("/tmp/lesson.png"));
+    QVERIFY2(m_window->statusBar()->currentMessage().contains(QStringLiteral("Plot exported to /tmp/lesson.png")),
+             qPrintable(m_window->statusBar()->currentMessage()));
 }
 
 void TestMainWindow::spacePausesFromANumberField()
