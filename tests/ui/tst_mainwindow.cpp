@@ -1505,7 +1505,8 @@ void TestMainWindow::randomUseKeepsTheWindowWhole()
     StageView *view = m_window->stageView();
     SplitMix64 rng(static_cast<std::uint64_t>(seed));
     const QStringList excluded{QStringLiteral("actionQuit"), QStringLiteral("actionAbout"), QStringLiteral("actionAboutQt"),
-                               QStringLiteral("actionOpen"), QStringLiteral("actionSave"), QStringLiteral("actionSaveAs")};
+                               QStringLiteral("actionOpen"), QStringLiteral("actionSave"), QStringLiteral("actionSaveAs"),
+                               QStringLiteral("actionExportPlotCsv"), QStringLiteral("actionExportPlotPng")}; // file dialogs
     // The menus' actions (presets and comparison models included) and the toolbars'.
     QList<QAction *> candidates;
     for (QMenu *menu : m_window->menuBar()->findChildren<QMenu *>())
