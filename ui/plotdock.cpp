@@ -328,9 +328,11 @@ void PlotDock::forEachValueBuffer(Apply &&apply)
     apply(m_momentum);
     apply(m_compareKinetic);
     apply(m_compareMomentum);
-    for (Track &t : m_tracks) {
-        apply(t.speed);
-        apply(t.compareSpeed);
+    for (std::vector<Track> *tracks : {&m_tracks, &m_parked}) {
+        for (Track &t : *tracks) {
+            apply(t.speed);
+            apply(t.compareSpeed);
+        }
     }
 }
 
@@ -348,6 +350,7 @@ void PlotDock::reset(const World &world)
     }
     m_frameMs = world.params.frameMs;
     m_models = QStringList{modelLabel(world)};
+    m_parked.clear(); // another scene's marbles
     rebuildTracks();
     m_hoverLabel->clear();
     m_dirty = true;
@@ -414,15 +417,15 @@ void PlotDock::appendFrame(const World &world, const World *compare)
     m_frames.push(world.frame);
     m_kinetic.push(world.kineticEnergy());
     m_momentum.push(magnitude(world.momentum()));
-    for (Track &t : m_tracks) {
-        const auto i = static_cast<std::size_t>(t.marble);
-        t.speed.push(i < world.velocity.size() ? magnitude(world.velocity[i]) : kNaN);
+    for (std::vector<Track> *tracks : {&m_tracks, &m_parked}) {
+        for (Track &t : *tracks) {
+            const auto i = static_cast<std::size_t>(t.marble);
+            t.speed.push(i < world.velocity.size() ? magnitude(world.velocity[i]) : kNaN);
+            if (!m_compareModel.isEmpty())
+                t.compareSpeed.push(compare && i < compare->velocity.size() ? magnitude(compare->velocity[i]) : kNaN);
+        }
     }
     if (!m_compareModel.isEmpty()) {
-        for (Track &t : m_tracks) {
-            const auto i = static_cast<std::size_t>(t.marble);
-            t.compareSpeed.push(compare && i < compare->velocity.size() ? magnitude(compare->velocity[i]) : kNaN);
-        }
         m_compareKinetic.push(compare ? compare->kineticEnergy() : kNaN);
         m_compareMomentum.push(compare ? magnitude(compare->momentum()) : kNaN);
     }
@@ -508,6 +511,8 @@ void PlotDock::setCompareModel(const QString &model)
         return;
     for (Track &t : m_tracks)
         removeCompareTrack(t);
+    for (Track &t : m_parked)
+        t.compareSpeed.clear();
     removeCompareTotals();
     m_compareModel = model;
     // While comparing, the legend names the two models once, as a solid and a dashed grey line,
@@ -522,6 +527,8 @@ void PlotDock::setCompareModel(const QString &model)
     if (!m_compareModel.isEmpty()) {
         for (Track &t : m_tracks)
             addCompareTrack(t);
+        for (Track &t : m_parked)
+            startFrom(t.compareSpeed, t.marble, m_compareVelocities);
         auto addKeySeries = [this](bool dashed) {
             auto *series = new QLineSeries;
             const QColor grey(0x55, 0x55, 0x55);
@@ -836,31 +843,50 @@ void PlotDock::rebuildTracks()
     for (int marble : wanted) {
         Track t;
         t.marble = marble;
-        auto old = std::find_if(m_tracks.begin(), m_tracks.end(), [marble](const Track &k) { return k.marble == marble; });
+        const auto isMarble = [marble](const Track &k) { return k.marble == marble; };
+        auto old = std::find_if(m_tracks.begin(), m_tracks.end(), isMarble);
+        auto parked = std::find_if(m_parked.begin(), m_parked.end(), isMarble);
         const bool kept = old != m_tracks.end();
         if (kept) {
             t.speed = std::move(old->speed);
             t.compareSpeed = std::move(old->compareSpeed);
             old->marble = -1;
+        } else if (parked != m_parked.end()) {
+            // Sampled while it was not plotted; gaps it had (a line started late) are filled
+            // from the run's history where that knows them now.
+            t.speed = std::move(parked->speed);
+            t.compareSpeed = std::move(parked->compareSpeed);
+            m_parked.erase(parked);
+            fillGaps(t.speed, marble, m_documentVelocities);
+            if (!m_compareModel.isEmpty())
+                fillGaps(t.compareSpeed, marble, m_compareVelocities);
         } else {
             // A marble plotted from now on: its speeds for the samples already held, as far as
             // the run still knows them.
             startFrom(t.speed, marble, m_documentVelocities);
+            if (!m_compareModel.isEmpty())
+                startFrom(t.compareSpeed, marble, m_compareVelocities);
         }
         t.series = addSpeedSeries();
-        if (kept && old->compareSeries)
+        if (!m_compareModel.isEmpty())
             t.compareSeries = addSpeedSeries();
-        else if (!m_compareModel.isEmpty())
-            addCompareTrack(t);
         tracks.push_back(std::move(t));
     }
     for (Track &t : m_tracks) {
         if (t.series) {
             m_chart->removeSeries(t.series);
             delete t.series;
+            t.series = nullptr;
         }
-        removeCompareTrack(t);
+        if (t.compareSeries) {
+            m_chart->removeSeries(t.compareSeries);
+            delete t.compareSeries;
+            t.compareSeries = nullptr;
+        }
+        if (t.marble >= 0 && t.marble < std::min(m_marbleCount, kMaxPlottedMarbles))
+            m_parked.push_back(std::move(t));
     }
+    std::erase_if(m_parked, [this](const Track &t) { return t.marble >= m_marbleCount; });
     m_tracks = std::move(tracks);
     // The new lines were added after the two models' legend entries: put those back at the end,
     // so that the legend lists the marbles first, then "book (solid)", "exact (dashed)".
@@ -911,6 +937,19 @@ void PlotDock::startFrom(RingBuffer<double> &values, int marble, const VelocityL
     for (std::size_t k = 0; k < m_frames.size(); ++k) {
         const std::vector<Vec2> *velocities = lookup ? lookup(m_frames.at(k)) : nullptr;
         values.push(velocities && i < velocities->size() ? magnitude((*velocities)[i]) : kNaN);
+    }
+}
+
+void PlotDock::fillGaps(RingBuffer<double> &values, int marble, const VelocityLookup &lookup) const
+{
+    if (!lookup)
+        return;
+    const auto i = static_cast<std::size_t>(marble);
+    for (std::size_t k = 0; k < m_frames.size() && k < values.size(); ++k) {
+        if (!std::isnan(values.at(k)))
+            continue;
+        if (const std::vector<Vec2> *velocities = lookup(m_frames.at(k)); velocities && i < velocities->size())
+            values.at(k) = magnitude((*velocities)[i]);
     }
 }
 

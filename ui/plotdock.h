@@ -203,6 +203,8 @@ private:
     QLineSeries *addSpeedSeries();
     void startFrom(RingBuffer<double> &values, int marble, const VelocityLookup &lookup) const;
     void startWithGaps(RingBuffer<double> &values) const { startFrom(values, 0, {}); }
+    /// Fills the gaps (NaN) of a marble's samples where `lookup` knows the frame.
+    void fillGaps(RingBuffer<double> &values, int marble, const VelocityLookup &lookup) const;
     void addCompareTrack(Track &t);
     void removeCompareTrack(Track &t);
     QLineSeries *addTotalSeries(QColor colour);
@@ -228,6 +230,11 @@ private:
     RingBuffer<double> m_compareKinetic;  ///< while comparing, aligned with m_frames
     RingBuffer<double> m_compareMomentum; ///< while comparing, aligned with m_frames
     std::vector<Track> m_tracks;
+    // The marbles plotted when none is selected (0 to kMaxPlottedMarbles - 1) that are not plotted
+    // now: still sampled, without lines, so that taking the selection away brings their lines
+    // back whole (they were started again from what Step Back keeps, a few hundred frames in a
+    // crowd).
+    std::vector<Track> m_parked;
     VelocityLookup m_documentVelocities; ///< may be empty (no earlier speeds for new lines)
     VelocityLookup m_compareVelocities;  ///< may be empty
 

@@ -42,6 +42,11 @@ public:
         assert(i < m_data.size());
         return m_data[(m_head + i) % m_data.size()];
     }
+    T &at(std::size_t i)
+    {
+        assert(i < m_data.size());
+        return m_data[(m_head + i) % m_data.size()];
+    }
 
     /// The newest entry; the buffer must not be empty.
     const T &last() const { return at(m_data.size() - 1); }

@@ -45,6 +45,7 @@ private slots:
     void plottedMarbles_data();
     void plottedMarbles();
     void selectionKeepsHistory();
+    void unselectingBringsTheFirstMarblesBackWhole();
     void newLineTakesEarlierSpeeds();
     void lineColours();
     void chartGetsSamples();
@@ -600,8 +601,8 @@ void TestPlotDock::selectionKeepsHistory()
 {
     PlotDock dock;
     World world = worldWith(3);
+    dock.setSelectedMarbles({0}); // before the scene: marble 2 is never plotted until chosen
     dock.reset(world);
-    dock.setSelectedMarbles({0});
     runFrames(dock, world, 10);
 
     dock.setSelectedMarbles({2, 0});
@@ -620,6 +621,41 @@ void TestPlotDock::selectionKeepsHistory()
     QCOMPARE(dock.speedSeries(0)->count(), 11);
 }
 
+void TestPlotDock::unselectingBringsTheFirstMarblesBackWhole()
+{
+    // Nothing selected plots marbles 0 to 11; a marble selected for a while and then unselected
+    // gives them back with every sample since the start (they were started again from what Step
+    // Back keeps: a few hundred frames in a crowd, the rest gone), the comparison's too.
+    PlotDock dock;
+    World world = worldWith(20);
+    dock.reset(world);
+    dock.setCompareModel(QStringLiteral("exact"));
+    const World same = world;
+    dock.appendFrame(world, &same);
+    for (int f = 1; f <= 9; ++f) {
+        world.frame = f;
+        world.velocity[3] = {0.0, static_cast<double>(f)};
+        dock.appendFrame(world, &world);
+    }
+    dock.setSelectedMarbles({15});
+    QCOMPARE(dock.plottedMarbles(), QList<int>({15}));
+    for (int f = 10; f <= 14; ++f) {
+        world.frame = f;
+        world.velocity[3] = {0.0, static_cast<double>(f)};
+        dock.appendFrame(world, &world);
+    }
+    dock.setSelectedMarbles({});
+    QCOMPARE(dock.plottedMarbles().size(), 12);
+    QCOMPARE(dock.sampleCount(), 15);
+    for (int k = 1; k < 15; ++k) {
+        QCOMPARE(dock.sampleSpeed(k, 3), static_cast<double>(k)); // while unplotted too
+        QCOMPARE(dock.sampleCompareSpeed(k, 3), static_cast<double>(k));
+    }
+    // Marble 15 was not among the first twelve: it is not kept.
+    dock.setSelectedMarbles({15});
+    QVERIFY(std::isnan(dock.sampleSpeed(12, 15)));
+}
+
 void TestPlotDock::newLineTakesEarlierSpeeds()
 {
     // With a velocity lookup (Step Back's history), a marble plotted later gets its speeds for
@@ -629,8 +665,8 @@ void TestPlotDock::newLineTakesEarlierSpeeds()
     KeptFrames kept;        // the document's frames 4..10
     KeptFrames compareKept; // the comparison's frames 9..10
     dock.setVelocityLookup(lookupIn(kept), lookupIn(compareKept));
+    dock.setSelectedMarbles({0}); // before the scene: marble 2 is never plotted until chosen
     dock.reset(world);
-    dock.setSelectedMarbles({0});
     for (int f = 1; f <= 10; ++f) {
         world.frame = f;
         for (int i = 0; i < 3; ++i)
@@ -1130,8 +1166,8 @@ void TestPlotDock::exportCsv()
     world.addMarble({100, 100}, 10.0, {3.0, 4.0}, 2.0);
     world.addMarble({300, 100}, 20.0, {-6.0, 0.0}, 1.0);
     PlotDock dock;
+    dock.setSelectedMarbles({0}); // before the scene: marble 1 is not plotted at first
     dock.reset(world);
-    dock.setSelectedMarbles({0});
     for (int f = 1; f <= 2; ++f) {
         world.frame = f;
         dock.appendFrame(world);
