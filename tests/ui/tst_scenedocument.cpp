@@ -750,6 +750,14 @@ void TestSceneDocument::paramEditsAreNamedAsTheDockNamesThem()
     QCOMPARE(doc.undoStack()->text(3), QStringLiteral("Set marble 1's radius to 22.5 px"));
     QVERIFY(doc.setMarbleVelocity(1, {3, -0.25}).isEmpty());
     QCOMPARE(doc.undoStack()->text(4), QStringLiteral("Set marble 1's velocity to (3, -0.25) px/frame"));
+    // Edits of one parameter that come back to where they started leave no entry (a tester's
+    // friction 0, 0.01, 0 left "Set friction to 0", whose Undo did nothing).
+    const QString friction = QString::number(doc.world().params.friction, 'g', 17);
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
+    QCOMPARE(doc.undoStack()->count(), 6);
+    QVERIFY(doc.setParam(QStringLiteral("friction"), friction).isEmpty());
+    QCOMPARE(doc.undoStack()->count(), 5);
+    QCOMPARE(doc.undoStack()->text(4), QStringLiteral("Set marble 1's velocity to (3, -0.25) px/frame"));
 }
 
 void TestSceneDocument::saveThenOpenRoundTrips()
