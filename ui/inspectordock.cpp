@@ -59,8 +59,9 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     form->setContentsMargins(0, 0, 0, 0);
     m_radius = makeBox(0.5, 5000.0, 2, tr(" px"), tr("Radius r, px. Mass follows as massScale * r unless set."));
     m_mass = makeBox(0.001, 1.0e9, 3, QString(), tr("Mass m (the book: massScale * r)."));
-    m_autoMass = new QCheckBox(tr("massScale × radius"), m_form);
-    m_autoMass->setToolTip(tr("Checked: the mass follows the radius, as in the book."));
+    m_autoMass = new QCheckBox(tr("mass scale × radius"), m_form);
+    m_autoMass->setToolTip(tr("Checked: the mass is the mass scale (Parameters) times the radius, as in the book; "
+                              "unchecked: the marble has a mass of its own."));
     m_x = makeBox(-1.0e6, 1.0e6, 2, tr(" px"), tr("Centre x, px (right is +x)."));
     m_y = makeBox(-1.0e6, 1.0e6, 2, tr(" px"), tr("Centre y, px (down is +y)."));
     m_vx = makeBox(-1.0e5, 1.0e5, 3, tr(" px/frame"), tr("Velocity x, px per frame."));

@@ -121,6 +121,7 @@ private Q_SLOTS:
     void spaceAfterTypingPlaysWithTheNumberTyped();
     void spaceWorksAFocusedButtonOrCheckBox();
     void plotExportsAreInTheFileMenu();
+    void massScaleSaysWhenNoMarbleUsesIt();
     void spacePausesFromANumberField();
     void undoKeysReachTheSceneFromANumberField();
     void compareOffersOnlyModelsThatCanRun();
@@ -391,8 +392,8 @@ void TestMainWindow::stepBackSaysWhereItStops()
     QTest::keyClick(view, Qt::Key_Left);
     QCOMPARE(doc->world().frame, 12);
     QCOMPARE(m_window->statusBar()->currentMessage(),
-             QStringLiteral("Frame 11 is not kept: Step Back goes back to frame 12 (it keeps the last %1 frames, fewer "
-                            "for a large scene, and starts again when a marble is added or removed); Home goes to frame 0.")
+             QStringLiteral("Frame 11 is not kept: Step Back reaches frame 12, Home frame 0 (the last %1 frames are "
+                            "kept, fewer in a large scene, none from before a marble was added or removed).")
                  .arg(FrameHistory::kDefaultMaxFrames));
     QTest::keyClick(view, Qt::Key_Home);
     QCOMPARE(doc->world().frame, 0);
@@ -790,6 +791,33 @@ void TestMainWindow::plotExportsAreInTheFileMenu()
     emit m_window->plotDock()->exported(QStringLiteral("/tmp/lesson.png"));
     QVERIFY2(m_window->statusBar()->currentMessage().contains(QStringLiteral("Plot exported to /tmp/lesson.png")),
              qPrintable(m_window->statusBar()->currentMessage()));
+}
+
+void TestMainWindow::massScaleSaysWhenNoMarbleUsesIt()
+{
+    // A generated crowd gives every marble its own mass: the mass scale then changes nothing, and
+    // the status bar says so (a tester saw the energy stay put and no hint why).
+    World world;
+    world.addMarble({100, 100}, 10, {1, 0}, 5.0);
+    world.addMarble({200, 100}, 10, {0, 0}, 7.0);
+    m_window->document()->resetScene(world);
+    auto *scale = m_window->findChild<QDoubleSpinBox *>(QStringLiteral("massScaleEdit"));
+    QVERIFY(scale);
+    scale->setFocus();
+    scale->selectAll();
+    QTest::keyClicks(scale, QStringLiteral("2.5"));
+    QTest::keyClick(scale, Qt::Key_Return);
+    QCOMPARE(m_window->document()->world().params.massScale, 2.5);
+    QVERIFY2(m_window->statusBar()->currentMessage().contains(QStringLiteral("changes none of them")),
+             qPrintable(m_window->statusBar()->currentMessage()));
+    // One marble that takes its mass from the scale: no such word.
+    QVERIFY(m_window->document()->setMarbleMass(1, 0.0).isEmpty());
+    m_window->statusBar()->clearMessage();
+    scale->selectAll();
+    QTest::keyClicks(scale, QStringLiteral("3"));
+    QTest::keyClick(scale, Qt::Key_Return);
+    QCOMPARE(m_window->document()->world().params.massScale, 3.0);
+    QVERIFY(!m_window->statusBar()->currentMessage().contains(QStringLiteral("changes none of them")));
 }
 
 void TestMainWindow::spacePausesFromANumberField()
