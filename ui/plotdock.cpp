@@ -234,10 +234,10 @@ PlotDock::PlotDock(QWidget *parent)
     m_frameAxis->setChecked(true);
     m_showKinetic = new QCheckBox(tr("&Kinetic energy"), page);
     m_showKinetic->setObjectName(QStringLiteral("kineticCheck"));
-    m_showKinetic->setToolTip(tr("Total kinetic energy, \u03a3 m v\u00b2 / 2 (right-hand axis)"));
+    m_showKinetic->setToolTip(tr("Total kinetic energy, \u03a3 m v\u00b2 / 2 (its own axis, on the right)"));
     m_showMomentum = new QCheckBox(tr("Momen&tum"), page);
     m_showMomentum->setObjectName(QStringLiteral("momentumCheck"));
-    m_showMomentum->setToolTip(tr("Size of the total momentum, |\u03a3 m v| (right-hand axis).\n"
+    m_showMomentum->setToolTip(tr("Size of the total momentum, |\u03a3 m v| (its own axis, on the right).\n"
                                   "Walls, pins and friction change it in every model; hits between marbles keep it\n"
                                   "in the exact and impulse models, not in the book's."));
     auto *csvButton = new QPushButton(tr("CSV\u2026"), page);
@@ -270,18 +270,24 @@ PlotDock::PlotDock(QWidget *parent)
     m_axisSpeed = new QValueAxis(m_chart);
     m_axisSpeed->setLabelFormat(QStringLiteral("%g"));
     m_axisSpeed->setTitleText(tr("speed (px/frame)"));
-    m_axisTotals = new QValueAxis(m_chart);
     m_rangeScratch = new QValueAxis(this); // never added to the chart (niceRange())
-    m_axisTotals->setLabelFormat(QStringLiteral("%g"));
-    // Its ticks fall elsewhere than the speed axis's: two sets of grid lines read as a double grid.
-    m_axisTotals->setGridLineVisible(false);
-    m_axisTotals->setVisible(false);
     m_chart->addAxis(m_axisX, Qt::AlignBottom);
     m_chart->addAxis(m_axisSpeed, Qt::AlignLeft);
-    m_chart->addAxis(m_axisTotals, Qt::AlignRight);
+    // Energy and momentum each on an axis of its own: they differ in units and in size (on a
+    // crowd the energy's 1e7 made the momentum a flat line at 0 on a shared axis).
+    for (QValueAxis **axis : {&m_axisTotals, &m_axisMomentum}) {
+        *axis = new QValueAxis(m_chart);
+        (*axis)->setLabelFormat(QStringLiteral("%g"));
+        // Its ticks fall elsewhere than the speed axis's: two sets of grid lines read as a double grid.
+        (*axis)->setGridLineVisible(false);
+        (*axis)->setVisible(false);
+        m_chart->addAxis(*axis, Qt::AlignRight);
+    }
+    m_axisTotals->setTitleText(tr("kinetic energy"));
+    m_axisMomentum->setTitleText(tr("|momentum|"));
 
-    m_kineticSeries = addTotalSeries(kKineticColour);
-    m_momentumSeries = addTotalSeries(kMomentumColour);
+    m_kineticSeries = addTotalSeries(kKineticColour, m_axisTotals);
+    m_momentumSeries = addTotalSeries(kMomentumColour, m_axisMomentum);
     styleSeries();
 
     m_chartView = new QChartView(m_chart, page);
@@ -545,8 +551,8 @@ void PlotDock::setCompareModel(const QString &model)
         // The comparison starts now: no comparison totals for the samples already held.
         startWithGaps(m_compareKinetic);
         startWithGaps(m_compareMomentum);
-        m_compareKineticSeries = addTotalSeries(kKineticColour);
-        m_compareMomentumSeries = addTotalSeries(kMomentumColour);
+        m_compareKineticSeries = addTotalSeries(kKineticColour, m_axisTotals);
+        m_compareMomentumSeries = addTotalSeries(kMomentumColour, m_axisMomentum);
         showTotal(m_compareKineticSeries, m_showKinetic->isChecked());
         showTotal(m_compareMomentumSeries, m_showMomentum->isChecked());
     }
@@ -641,24 +647,26 @@ void PlotDock::refreshChart()
         }
     }
 
-    double totalMin = std::numeric_limits<double>::infinity();
-    double totalMax = -std::numeric_limits<double>::infinity();
-    auto refreshTotal = [&](QLineSeries *series, const RingBuffer<double> &values, bool shown) {
+    struct Extent {
+        double min = std::numeric_limits<double>::infinity();
+        double max = -std::numeric_limits<double>::infinity();
+    } energy, momentum;
+    auto refreshTotal = [&](QLineSeries *series, const RingBuffer<double> &values, bool shown, Extent &extent) {
         QList<QPointF> points;
         if (shown) {
             appendThinned(
-                points, n, maxPoints, x, [&values](qsizetype i) { return values.at(static_cast<std::size_t>(i)); }, totalMin,
-                totalMax);
+                points, n, maxPoints, x, [&values](qsizetype i) { return values.at(static_cast<std::size_t>(i)); },
+                extent.min, extent.max);
         }
         series->replace(points);
         showPoints(series);
     };
-    refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked());
-    refreshTotal(m_momentumSeries, m_momentum, m_showMomentum->isChecked());
+    refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked(), energy);
+    refreshTotal(m_momentumSeries, m_momentum, m_showMomentum->isChecked(), momentum);
     if (m_compareKineticSeries)
-        refreshTotal(m_compareKineticSeries, m_compareKinetic, m_showKinetic->isChecked());
+        refreshTotal(m_compareKineticSeries, m_compareKinetic, m_showKinetic->isChecked(), energy);
     if (m_compareMomentumSeries)
-        refreshTotal(m_compareMomentumSeries, m_compareMomentum, m_showMomentum->isChecked());
+        refreshTotal(m_compareMomentumSeries, m_compareMomentum, m_showMomentum->isChecked(), momentum);
 
     // Speeds and the totals are never negative: both axes start at zero.
     const AxisRange time = n > 0 ? niceRange(m_rangeScratch, x(0), x(n - 1)) : niceRange(m_rangeScratch, 0.0, xOf(100));
@@ -667,7 +675,8 @@ void PlotDock::refreshChart()
     // px/frame) ran along the chart's top edge, where it could hardly be seen.
     const auto top = [](double max) { return std::isfinite(max) ? std::max(max, 0.0) * 1.04 : 1.0; };
     applyRange(m_axisSpeed, niceRange(m_rangeScratch, 0.0, top(speedMax)));
-    applyRange(m_axisTotals, niceRange(m_rangeScratch, 0.0, top(totalMax)));
+    applyRange(m_axisTotals, niceRange(m_rangeScratch, 0.0, top(energy.max)));
+    applyRange(m_axisMomentum, niceRange(m_rangeScratch, 0.0, top(momentum.max)));
     m_dirty = false;
 }
 
@@ -969,14 +978,14 @@ void PlotDock::removeCompareTrack(Track &t)
     t.compareSeries = nullptr;
 }
 
-QLineSeries *PlotDock::addTotalSeries(QColor colour)
+QLineSeries *PlotDock::addTotalSeries(QColor colour, QValueAxis *axis)
 {
     // Hidden, legend entry included, until its checkbox is ticked; named and dashed by styleSeries().
     auto *series = new QLineSeries;
     series->setPen(QPen(colour, 2.0));
     m_chart->addSeries(series);
     series->attachAxis(m_axisX);
-    series->attachAxis(m_axisTotals);
+    series->attachAxis(axis);
     showTotal(series, false);
     connect(series, &QLineSeries::hovered, this,
             [this, series](const QPointF &point, bool state) { onHovered(series, point, state); });
@@ -1163,14 +1172,9 @@ void PlotDock::onHovered(const QLineSeries *series, QPointF point, bool state)
 
 void PlotDock::updateTotalsAxis()
 {
-    // Shown with either total, and titled with what it shows: a short title still fits beside
-    // the default, low plot (with both, in the usual symbols; the legend spells them out).
-    const bool kinetic = m_showKinetic->isChecked();
-    const bool momentum = m_showMomentum->isChecked();
-    m_axisTotals->setVisible(kinetic || momentum);
-    m_axisTotals->setTitleText(kinetic && momentum ? tr("KE and |p|")
-                               : kinetic           ? tr("kinetic energy")
-                                                   : tr("|momentum|"));
+    // Each total's axis is shown with it (the legend gives the colours).
+    m_axisTotals->setVisible(m_showKinetic->isChecked());
+    m_axisMomentum->setVisible(m_showMomentum->isChecked());
 }
 
 void PlotDock::updateAxisTitles()

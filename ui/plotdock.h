@@ -207,7 +207,7 @@ private:
     void fillGaps(RingBuffer<double> &values, int marble, const VelocityLookup &lookup) const;
     void addCompareTrack(Track &t);
     void removeCompareTrack(Track &t);
-    QLineSeries *addTotalSeries(QColor colour);
+    QLineSeries *addTotalSeries(QColor colour, QValueAxis *axis);
     void removeCompareTotals();
     void showTotal(QLineSeries *series, bool shown);
     void styleSeries();
@@ -256,7 +256,8 @@ private:
     bool m_compactLegend = false; // the marbles' legend labels are the short ones
     QValueAxis *m_axisX = nullptr;
     QValueAxis *m_axisSpeed = nullptr;
-    QValueAxis *m_axisTotals = nullptr;
+    QValueAxis *m_axisTotals = nullptr;   // kinetic energy, on the right
+    QValueAxis *m_axisMomentum = nullptr; // |momentum|, on the right beside it: its own scale
     QValueAxis *m_rangeScratch = nullptr; ///< works out nice ranges away from the chart
     QLineSeries *m_kineticSeries = nullptr;
     QLineSeries *m_momentumSeries = nullptr;

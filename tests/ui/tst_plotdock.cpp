@@ -1101,15 +1101,22 @@ void TestPlotDock::totalsOnRequest()
     const double v0 = 0.12 * 0.12;
     const double v1 = 0.12 * 0.12 + 0.25;
     QCOMPARE_LE(std::abs(kinetic->at(11).y() - 0.5 * 12.5 * (v0 + v1)), 1e-12);
-    // The right-hand axis, titled with what it shows.
-    QValueAxis *totalsAxis = nullptr;
+    // The right-hand axes, one per total, titled with what it shows and shown with it.
+    QValueAxis *energyAxis = nullptr;
+    QValueAxis *momentumAxis = nullptr;
     for (QAbstractAxis *axis : dock.chartView()->chart()->axes(Qt::Vertical)) {
-        if (axis->alignment() == Qt::AlignRight)
-            totalsAxis = qobject_cast<QValueAxis *>(axis);
+        if (axis->alignment() != Qt::AlignRight)
+            continue;
+        auto *value = qobject_cast<QValueAxis *>(axis);
+        QVERIFY(value);
+        (value->titleText() == QStringLiteral("kinetic energy") ? energyAxis : momentumAxis) = value;
     }
-    QVERIFY(totalsAxis);
-    QVERIFY(totalsAxis->isVisible());
-    QCOMPARE(totalsAxis->titleText(), QStringLiteral("kinetic energy"));
+    QVERIFY(energyAxis && momentumAxis);
+    QCOMPARE(momentumAxis->titleText(), QStringLiteral("|momentum|"));
+    QVERIFY(energyAxis->isVisible());
+    QVERIFY(!momentumAxis->isVisible());
+    QVERIFY(kinetic->attachedAxes().contains(energyAxis));
+    QVERIFY(momentum->attachedAxes().contains(momentumAxis));
 
     box = dock.findChild<QCheckBox *>(QStringLiteral("momentumCheck"));
     QTest::mouseClick(box, Qt::LeftButton, {}, QPoint(box->height() / 2, box->height() / 2));
@@ -1119,11 +1126,14 @@ void TestPlotDock::totalsOnRequest()
     const double px = 12.5 * 0.24;
     const double py = 12.5 * -0.5;
     QCOMPARE_LE(std::abs(momentum->at(11).y() - std::sqrt(px * px + py * py)), 1e-12);
-    QCOMPARE(totalsAxis->titleText(), QStringLiteral("KE and |p|"));
+    QVERIFY(energyAxis->isVisible() && momentumAxis->isVisible());
+    // Each axis spans its own total (a shared one flattened the smaller to a line at 0).
+    QVERIFY(momentumAxis->max() >= momentum->at(11).y() && momentumAxis->max() < 2 * momentum->at(11).y());
+    QVERIFY(energyAxis->max() >= kinetic->at(11).y() && energyAxis->max() < 2 * kinetic->at(11).y());
     dock.setKineticEnergyShown(false);
-    QCOMPARE(totalsAxis->titleText(), QStringLiteral("|momentum|"));
+    QVERIFY(!energyAxis->isVisible() && momentumAxis->isVisible());
     dock.setMomentumShown(false);
-    QVERIFY(!totalsAxis->isVisible());
+    QVERIFY(!momentumAxis->isVisible());
 }
 
 void TestPlotDock::hoverShowsExactValues_data()
