@@ -17,16 +17,27 @@
 #include <optional>
 #include <sstream>
 
+#include <unistd.h>
+
 namespace marbles::cli {
 
-long long parseInteger(std::string_view option, std::string_view text, long long minimum)
+long long parseInteger(std::string_view option, std::string_view text, long long minimum, long long maximum)
 {
     long long value = 0;
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size())
+    const bool whole = end == text.data() + text.size() && !text.empty();
+    // A whole number beyond the range (99999999999999999999) is too large, not "no number".
+    if (ec == std::errc::result_out_of_range && whole)
+        throw InvalidInput{std::string(option) + ": must be " + (text.front() == '-' ? ">= " + std::to_string(minimum)
+                                                                                      : "<= " + std::to_string(maximum))
+                           + ", got " + std::string(text)};
+    if (ec != std::errc() || !whole)
         throw InvalidInput{std::string(option) + ": must be a whole number, got '" + std::string(text) + "'"};
     if (value < minimum)
         throw InvalidInput{std::string(option) + ": must be >= " + std::to_string(minimum) + ", got "
+                           + std::string(text)};
+    if (value > maximum)
+        throw InvalidInput{std::string(option) + ": must be <= " + std::to_string(maximum) + ", got "
                            + std::string(text)};
     return value;
 }
@@ -41,6 +52,33 @@ double parseNumber(std::string_view option, std::string_view text)
         throw InvalidInput{std::string(option) + ": must be a finite number, got '" + s + "'"};
     return value;
 }
+
+std::string sceneLabel(const std::string &scene)
+{
+    return scene == "-" ? std::string("stdin") : scene;
+}
+
+namespace {
+
+// All of standard input. A read that fails (a folder or a closed descriptor given as standard
+// input) is said as such: it read as an empty text before ("the text is empty").
+std::string readStandardInput()
+{
+    std::string text;
+    char buffer[1 << 16];
+    for (;;) {
+        const ssize_t n = ::read(STDIN_FILENO, buffer, sizeof buffer);
+        if (n > 0) {
+            text.append(buffer, static_cast<std::size_t>(n));
+        } else if (n == 0) {
+            return text;
+        } else if (errno != EINTR) {
+            throw InvalidInput{"stdin: cannot read: " + std::string(std::strerror(errno))};
+        }
+    }
+}
+
+} // namespace
 
 World loadWorld(const std::string &scene, const std::vector<std::string> &settings)
 {
@@ -57,8 +95,7 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
     } else {
         SceneLoad load;
         if (scene == "-") {
-            const std::string text{std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>()};
-            load = parseScene(text, "stdin");
+            load = parseScene(readStandardInput(), sceneLabel(scene));
         } else {
             load = loadSceneFile(scene);
         }
@@ -75,7 +112,7 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
             throw InvalidInput{"--set " + error}; // the error names the setting ("KEY=VALUE: rule")
     }
     if (const std::string error = validateParams(world.params); !error.empty())
-        throw InvalidInput{(settings.empty() ? scene : "--set") + ": " + error};
+        throw InvalidInput{(settings.empty() ? sceneLabel(scene) : "--set") + ": " + error};
     return world;
 }
 
@@ -261,7 +298,7 @@ int runCommand(const std::vector<std::string> &args)
     }
     std::fflush(stdout);
     if (status != ExitOk)
-        std::cerr << "marbles-cli: " << o.positional.front() << ": " << failure << '\n';
+        std::cerr << "marbles-cli: " << sceneLabel(o.positional.front()) << ": " << failure << '\n';
     return status;
 }
 
@@ -276,7 +313,7 @@ int checkCommand(const std::vector<std::string> &args)
         return std::to_string(n) + " " + w + (n == 1 ? "" : (w.back() == 'h' ? "es" : "s"));
     };
     std::ostringstream line;
-    line << o.positional.front() << ": ok: " << plural(w.radius.size(), "marble") << ", "
+    line << sceneLabel(o.positional.front()) << ": ok: " << plural(w.radius.size(), "marble") << ", "
          << plural(w.pins.size(), "pin") << ", " << plural(w.pushes.size(), "push") << ", model "
          << modelName(w.params.model) << ", stage " << w.stage.width << "x" << w.stage.height << " walls "
          << (w.stage.walls ? "on" : "off") << '\n';
@@ -311,6 +348,8 @@ int presetCommand(const std::vector<std::string> &args)
     if (o.positional.size() != 1)
         throw InvalidInput{"preset: expected 'list' or one preset ID, got " + given(o.positional)};
     if (o.positional.front() == "list") {
+        if (o.last("--out"))
+            throw InvalidInput{"preset list: --out is not used (the list goes to standard output)"};
         for (const PresetInfo &p : presets())
             std::cout << p.id << '\t' << p.title << '\t' << p.description << '\n';
         return ExitOk;
@@ -327,9 +366,7 @@ int genCommand(const std::vector<std::string> &args)
         throw InvalidInput{"gen: expected 'crowd', got " + given(o.positional)};
     if (!o.last("--n"))
         throw InvalidInput{"gen crowd: --n is required"};
-    const long long n = parseInteger("--n", *o.last("--n"), 0);
-    if (n > 10'000'000)
-        throw InvalidInput{"--n: must be <= 10000000, got " + std::to_string(n)};
+    const long long n = parseInteger("--n", *o.last("--n"), 0, kMaxCrowd);
     const long long seed = o.last("--seed") ? parseInteger("--seed", *o.last("--seed"), 0) : 1;
     double moving = 1.0;
     if (const std::string *m = o.last("--moving")) {

@@ -546,22 +546,30 @@ int benchCommand(const std::vector<std::string> &args)
         else if (a == "--plot")
             plotPath = value();
         else if (a == "--repeat")
-            repeats = static_cast<int>(parseInteger("--repeat", value(), 1));
+            repeats = static_cast<int>(parseInteger("--repeat", value(), 1, 1000));
         else if (a == "--frames")
-            frames = static_cast<int>(parseInteger("--frames", value(), 1));
+            frames = static_cast<int>(parseInteger("--frames", value(), 1, 1'000'000));
         else if (a == "--crowd")
-            crowd = static_cast<int>(parseInteger("--crowd", value(), 0));
+            crowd = static_cast<int>(parseInteger("--crowd", value(), 0, kMaxCrowd));
         else if (a == "--max-n")
-            maxN = static_cast<int>(parseInteger("--max-n", value(), 1000));
+            maxN = static_cast<int>(parseInteger("--max-n", value(), 1000, kMaxCrowd));
         else
             throw InvalidInput{"bench: unknown option '" + a + "'"};
     }
+    // An option the chosen bench has no use for is refused, not silently dropped.
+    const auto given = [&args](const char *option) { return std::find(args.begin(), args.end(), option) != args.end(); };
     if (scale && !plotPath.empty())
         throw InvalidInput{"--plot: draws the work-precision diagram, not --scale"};
+    if (scale && given("--crowd"))
+        throw InvalidInput{"--crowd: not with --scale (its crowds have 1k, 10k and 100k marbles; --max-n stops earlier)"};
+    for (const char *option : {"--frames", "--max-n"}) {
+        if (!scale && given(option))
+            throw InvalidInput{std::string(option) + ": only with --scale"};
+    }
 
     // The files are written before anything is printed: one that cannot be written ends the
-    // command with exit code 2, its message on stderr and nothing on stdout (progress goes to
-    // stderr while the scenes run).
+    // command with its message on stderr and nothing on stdout (exit code 2 for a path that
+    // cannot be written, 1 for a write that failed; progress goes to stderr while the scenes run).
     const std::vector<Row> rows = scale ? scaleBench(frames, repeats, maxN) : precisionBench(repeats, crowd);
     if (!csvPath.empty())
         writeFileAtomically(csvPath, rowsToCsv(rows));
@@ -575,9 +583,9 @@ int benchCommand(const std::vector<std::string> &args)
         printScaleSummary(rows, maxN);
         printScaleTargets(rows, frames, maxN);
     } else {
-        std::printf("marbles-cli bench: run time against error (median of %d runs; errors against the closed form, "
+        std::printf("marbles-cli bench: run time against error (median of %d run%s; errors against the closed form, "
                     "else against exact)\n",
-                    repeats);
+                    repeats, repeats == 1 ? "" : "s");
         printTable(rows, false);
     }
     return ExitOk;

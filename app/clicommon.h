@@ -4,6 +4,7 @@
 
 #include "core/world.h"
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -30,11 +31,16 @@ struct WriteFailed {
     std::string message;
 };
 
-/// Parses a whole non-negative or positive integer option value; throws InvalidInput naming the option.
-long long parseInteger(std::string_view option, std::string_view text, long long minimum);
+/// Parses a whole integer option value in [minimum, maximum]; throws InvalidInput naming the option.
+long long parseInteger(std::string_view option, std::string_view text, long long minimum,
+                       long long maximum = std::numeric_limits<long long>::max());
+/// The most marbles a generated crowd may have (gen crowd --n, bench --crowd and --max-n).
+inline constexpr long long kMaxCrowd = 10'000'000;
 /// Parses a finite double option value; throws InvalidInput naming the option.
 double parseNumber(std::string_view option, std::string_view text);
 
+/// How messages name SCENE: "stdin" for "-", else as given.
+std::string sceneLabel(const std::string &scene);
 /// Loads SCENE ("-" reads standard input; "preset:ID" builds a built-in preset), applies the
 /// KEY=VALUE settings in order and validates the result; throws InvalidInput with one message.
 World loadWorld(const std::string &scene, const std::vector<std::string> &settings);

@@ -7,6 +7,7 @@
 
 #include <QtTest>
 
+#include <QDir>
 #include <QProcess>
 #include <QTemporaryDir>
 
@@ -109,6 +110,7 @@ private slots:
     void setChangesParameters();
     void invalidInputExitsTwo_data();
     void invalidInputExitsTwo();
+    void standardInputIsNamedAndItsErrorsSaid();
     void outputThatCannotBeWrittenFails();
     void benchFileThatCannotBeWrittenPrintsNothing();
     void nonFiniteExitsThree();
@@ -268,6 +270,22 @@ void TestCli::invalidInputExitsTwo_data()
     QTest::addRow("out into missing folder")
         << QStringList{"run", "preset:pins", "--out", "/nonexistent/dir/rows.csv"} << QByteArray()
         << "/nonexistent/dir/rows.csv";
+    // An option the command has no use for is refused, not silently dropped.
+    QTest::addRow("preset list to a file") << QStringList{"preset", "list", "--out", "list.txt"} << QByteArray()
+                                           << "preset list: --out is not used";
+    QTest::addRow("bench frames without scale") << QStringList{"bench", "--repeat", "1", "--frames", "3"}
+                                                << QByteArray() << "--frames: only with --scale";
+    QTest::addRow("bench max-n without scale") << QStringList{"bench", "--max-n", "5000"} << QByteArray()
+                                               << "--max-n: only with --scale";
+    QTest::addRow("bench scale with crowd") << QStringList{"bench", "--scale", "--crowd", "5"} << QByteArray()
+                                            << "--crowd: not with --scale";
+    // A number too large is said to be too large (it was "must be a whole number").
+    QTest::addRow("frames beyond long long") << QStringList{"run", "preset:pins", "--frames", "99999999999999999999"}
+                                             << QByteArray() << "--frames: must be <= 9223372036854775807";
+    QTest::addRow("bench crowd too large") << QStringList{"bench", "--crowd", "1000000000"} << QByteArray()
+                                           << "--crowd: must be <= 10000000, got 1000000000";
+    QTest::addRow("bench repeat past int") << QStringList{"bench", "--repeat", "4294967297"} << QByteArray()
+                                           << "--repeat: must be <= 1000";
 }
 
 void TestCli::invalidInputExitsTwo()
@@ -281,6 +299,25 @@ void TestCli::invalidInputExitsTwo()
     QVERIFY2(QString::fromUtf8(r.err).contains(expected), r.err.constData());
     if (!args.isEmpty() && args.front() != "fly")
         QCOMPARE(r.err.trimmed().count('\n'), 0); // one message, one line
+}
+
+void TestCli::standardInputIsNamedAndItsErrorsSaid()
+{
+    // Standard input is "stdin" in every message (it was "-" in some), and a read that fails is
+    // said as such (a folder as standard input read as an empty text).
+    QProcess folder;
+    folder.setStandardInputFile(QDir::tempPath());
+    folder.start(QStringLiteral(MARBLES_CLI_PATH), {"check", "-"});
+    QVERIFY(folder.waitForFinished(60000));
+    QCOMPARE(folder.exitCode(), 2);
+    QCOMPARE(folder.readAllStandardError().trimmed(), QByteArray("marbles-cli: stdin: cannot read: Is a directory"));
+
+    const CliResult ok = runCli({"check", "-"}, runCli({"preset", "pins"}).out);
+    QCOMPARE(ok.exitCode, 0);
+    QVERIFY2(ok.out.startsWith("stdin: ok: "), ok.out.constData());
+    const CliResult blowUp = runCli({"run", "-", "--frames", "3000", "--set", "friction=2.5"}, runCli({"preset", "pins"}).out);
+    QCOMPARE(blowUp.exitCode, 3);
+    QVERIFY2(blowUp.err.startsWith("marbles-cli: stdin: frame "), blowUp.err.constData());
 }
 
 void TestCli::outputThatCannotBeWrittenFails()
