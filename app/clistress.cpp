@@ -352,8 +352,12 @@ int stressCommand(const std::vector<std::string> &args)
 
     std::printf("marbles-cli stress%s: each row states its expectation; exit 0 only if all are met\n",
                 quick ? " --quick" : "");
-    std::printf("%-44s %-8s %9s %8s %10s %12s %12s %12s  %s\n", "row", "model", "frames", "escapes", "overlap px",
-                "energy drift", "mom. drift", "frames/s", "verdict");
+    // The name column as wide as the longest name ("long: four marbles, no friction, 1000000 frames").
+    int nameWidth = 3;
+    for (const StressRow &row : rows)
+        nameWidth = std::max(nameWidth, static_cast<int>(row.name.size()));
+    std::printf("%-*s %-8s %9s %8s %10s %12s %12s %12s  %s\n", nameWidth, "row", "model", "frames", "escapes",
+                "overlap px", "energy drift", "mom. drift", "frames/s", "verdict");
     std::string csv = "row,model,frames,blew_up_at,escapes,max_overlap_px,energy_drift,momentum_drift,frames_per_second,verdict\n";
     int failures = 0;
     int ran = 0;
@@ -362,7 +366,7 @@ int stressCommand(const std::vector<std::string> &args)
         ++ran;
         failures += o.verdict.rfind("FAIL", 0) == 0;
         const std::string model(modelName(row.model));
-        std::printf("%-44s %-8s %9lld %8d %10s %12s %12s %12s  %s\n", row.name.c_str(), model.c_str(), o.framesRun,
+        std::printf("%-*s %-8s %9lld %8d %10s %12s %12s %12s  %s\n", nameWidth, row.name.c_str(), model.c_str(), o.framesRun,
                     o.escapes, formatNumber(o.overlap).c_str(), formatNumber(o.energyDrift).c_str(), formatNumber(o.momentumDrift).c_str(),
                     formatNumber(o.framesPerSecond).c_str(), o.verdict.c_str());
         std::fflush(stdout);
