@@ -152,12 +152,14 @@ void ParametersDock::buildUi()
     m_massScale = makeSpin("massScaleEdit", 0.000001, 1000.0, 0.05, tr(" per px"));
     addField(tr("&Mass scale"), m_massScale, tr("m = massScale \u00d7 r"),
              tr("Mass per pixel of radius: bigger marbles are heavier. Hits depend on the ratio of "
-                "masses only; the scale changes how far a click pushes, and the energy and momentum figures."));
+                "masses only; the scale changes how far a click pushes, and the energy and momentum figures "
+                "(for the marbles without a mass of their own)."));
 
     m_friction = makeSpin("frictionEdit", 0.0, kBookFrictionMax, 0.01, QString());
     addField(tr("Fr&iction"), m_friction,
              tr("book: a += \u2212v \u00d7 k\nexact, impulse: the velocity falls by (1 \u2212 k) a frame, smoothly over the frame"),
-             tr("Fraction of its speed a marble loses to air each frame."));
+             tr("Fraction of its speed a marble loses to air each frame. The book model takes up to 3, "
+                "to show where its arithmetic breaks (above 1 a marble swings back and forth)."));
     m_frictionWarning = new QLabel(page);
     m_frictionWarning->setObjectName(QStringLiteral("frictionWarning"));
     m_frictionWarning->setWordWrap(true);

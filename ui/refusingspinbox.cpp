@@ -20,9 +20,9 @@ QString refusalMessage(const Refusing &box, double refused, const QLocale &local
     const QString typed = refusedNumber(box, refused, locale);
     const QString kept = box.shown(box.current());
     if (refused > box.high())
-        return QCoreApplication::translate("marbles", "%1 is above this field's most (%2): it stays %3.")
+        return QCoreApplication::translate("marbles", "%1 is above this field's maximum (%2): it stays %3.")
             .arg(typed, box.shown(box.high()), kept);
-    return QCoreApplication::translate("marbles", "%1 is below this field's least (%2): it stays %3.")
+    return QCoreApplication::translate("marbles", "%1 is below this field's minimum (%2): it stays %3.")
         .arg(typed, box.shown(box.low()), kept);
 }
 

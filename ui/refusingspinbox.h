@@ -198,7 +198,7 @@ public:
 QString refusedNumber(const Refusing &box, double refused, const QLocale &locale);
 
 /// Why `refused` was not taken by `box`, short enough for two lines of a dock: "5000 is above
-/// this field's most (1000 per px): it stays 1.25 per px."
+/// this field's maximum (1000 per px): it stays 1.25 per px."
 QString refusalMessage(const Refusing &box, double refused, const QLocale &locale);
 
 } // namespace marbles

@@ -121,9 +121,9 @@ void TestInspectorDock::outOfRangeNumbersAreRefusedWhole_data()
     QTest::addColumn<QString>("typed");
     QTest::addColumn<QString>("message");
     // Without the refusal these came through as 600 px and 0.3 kept the old radius silently.
-    QTest::newRow("radius above") << "radius" << "6000" << "6000 is above this field's most (5000.00 px)";
-    QTest::newRow("radius below") << "radius" << "0.3" << "0.3 is below this field's least (0.50 px)";
-    QTest::newRow("speed above") << "vx" << "200000" << "200000 is above this field's most (100000.000 px/frame)";
+    QTest::newRow("radius above") << "radius" << "6000" << "6000 is above this field's maximum (5000.00 px)";
+    QTest::newRow("radius below") << "radius" << "0.3" << "0.3 is below this field's minimum (0.50 px)";
+    QTest::newRow("speed above") << "vx" << "200000" << "200000 is above this field's maximum (100000.000 px/frame)";
 }
 
 void TestInspectorDock::outOfRangeNumbersAreRefusedWhole()
@@ -203,14 +203,14 @@ void TestInspectorDock::fieldsFollowUndoAndReadPowersOfTen()
     QCOMPARE_LE(std::abs(field->value() - radius), 0.005);
 
     // Powers of ten: 2e1 is 20 (it was taken as 21, the 'e' dropped), 1.5E1 is 15; 1e308 is
-    // refused as above the field's most (it was taken as 1308).
+    // refused as above the field's maximum (it was taken as 1308).
     typeInto(field, QStringLiteral("2e1"));
     QCOMPARE(m_document->world().radius[1], 20.0);
     typeInto(field, QStringLiteral("1.5E1"));
     QCOMPARE(m_document->world().radius[1], 15.0);
     typeInto(field, QStringLiteral("1e308"));
     QCOMPARE(m_document->world().radius[1], 15.0);
-    QVERIFY2(errorText(*m_dock).startsWith(QStringLiteral("1e+308 is above this field's most")), qPrintable(errorText(*m_dock)));
+    QVERIFY2(errorText(*m_dock).startsWith(QStringLiteral("1e+308 is above this field's maximum")), qPrintable(errorText(*m_dock)));
     // An edit that changes nothing (the field emptied) leaves no earlier refusal on show.
     typeInto(field, QString());
     QCOMPARE(m_document->world().radius[1], 15.0);

@@ -381,7 +381,7 @@ void TestParametersDock::refusalIsExplainedUntilTheNextEdit()
     typeInto(massScale, QStringLiteral("5000"));
     QCOMPARE(spy.count(), 1);
     QCOMPARE(dock.findChild<QLabel *>(QStringLiteral("massScaleEditHelp"))->text(),
-             QStringLiteral("5000 is above this field's most (1000 per px): it stays 1.25 per px."));
+             QStringLiteral("5000 is above this field's maximum (1000 per px): it stays 1.25 per px."));
 }
 
 void TestParametersDock::frictionWarning_data()
