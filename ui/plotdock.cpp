@@ -230,7 +230,7 @@ PlotDock::PlotDock(QWidget *parent)
     m_frameAxis->setToolTip(tr("Horizontal axis in frames, the physics' own unit of time"));
     m_secondAxis = new QRadioButton(tr("Se&conds"), page);
     m_secondAxis->setObjectName(QStringLiteral("secondAxisButton"));
-    m_secondAxis->setToolTip(tr("Horizontal axis in seconds: t = frame \u00d7 frameMs / 1000"));
+    m_secondAxis->setToolTip(tr("Horizontal axis in seconds: t = frame \u00d7 frameMs / 1000; speeds in px/s"));
     m_frameAxis->setChecked(true);
     m_showKinetic = new QCheckBox(tr("&Kinetic energy"), page);
     m_showKinetic->setObjectName(QStringLiteral("kineticCheck"));
@@ -269,7 +269,6 @@ PlotDock::PlotDock(QWidget *parent)
     m_axisX->setLabelFormat(QStringLiteral("%g"));
     m_axisSpeed = new QValueAxis(m_chart);
     m_axisSpeed->setLabelFormat(QStringLiteral("%g"));
-    m_axisSpeed->setTitleText(tr("speed (px/frame)"));
     m_rangeScratch = new QValueAxis(this); // never added to the chart (niceRange())
     m_chart->addAxis(m_axisX, Qt::AlignBottom);
     m_chart->addAxis(m_axisSpeed, Qt::AlignLeft);
@@ -632,17 +631,21 @@ void PlotDock::refreshChart()
         if (series->pointsVisible() != (n == 1))
             series->setPointsVisible(n == 1);
     };
+    // Held in px/frame; drawn per second when the time axis is in seconds (speed x f, momentum
+    // x f, energy x f^2), so that a line's slope and its axis are in the same time unit.
+    const double f = perSecond();
     for (Track &t : m_tracks) {
         QList<QPointF> points;
         appendThinned(
-            points, n, maxPoints, x, [&t](qsizetype i) { return t.speed.at(static_cast<std::size_t>(i)); }, speedMin, speedMax);
+            points, n, maxPoints, x, [&t, f](qsizetype i) { return t.speed.at(static_cast<std::size_t>(i)) * f; },
+            speedMin, speedMax);
         t.series->replace(points);
         showPoints(t.series);
         if (t.compareSeries) {
             QList<QPointF> comparePoints;
             appendThinned(
-                comparePoints, n, maxPoints, x, [&t](qsizetype i) { return t.compareSpeed.at(static_cast<std::size_t>(i)); },
-                speedMin, speedMax);
+                comparePoints, n, maxPoints, x,
+                [&t, f](qsizetype i) { return t.compareSpeed.at(static_cast<std::size_t>(i)) * f; }, speedMin, speedMax);
             t.compareSeries->replace(comparePoints);
         }
     }
@@ -651,22 +654,24 @@ void PlotDock::refreshChart()
         double min = std::numeric_limits<double>::infinity();
         double max = -std::numeric_limits<double>::infinity();
     } energy, momentum;
-    auto refreshTotal = [&](QLineSeries *series, const RingBuffer<double> &values, bool shown, Extent &extent) {
+    auto refreshTotal = [&](QLineSeries *series, const RingBuffer<double> &values, bool shown, double scale,
+                            Extent &extent) {
         QList<QPointF> points;
         if (shown) {
             appendThinned(
-                points, n, maxPoints, x, [&values](qsizetype i) { return values.at(static_cast<std::size_t>(i)); },
-                extent.min, extent.max);
+                points, n, maxPoints, x,
+                [&values, scale](qsizetype i) { return values.at(static_cast<std::size_t>(i)) * scale; }, extent.min,
+                extent.max);
         }
         series->replace(points);
         showPoints(series);
     };
-    refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked(), energy);
-    refreshTotal(m_momentumSeries, m_momentum, m_showMomentum->isChecked(), momentum);
+    refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked(), f * f, energy);
+    refreshTotal(m_momentumSeries, m_momentum, m_showMomentum->isChecked(), f, momentum);
     if (m_compareKineticSeries)
-        refreshTotal(m_compareKineticSeries, m_compareKinetic, m_showKinetic->isChecked(), energy);
+        refreshTotal(m_compareKineticSeries, m_compareKinetic, m_showKinetic->isChecked(), f * f, energy);
     if (m_compareMomentumSeries)
-        refreshTotal(m_compareMomentumSeries, m_compareMomentum, m_showMomentum->isChecked(), momentum);
+        refreshTotal(m_compareMomentumSeries, m_compareMomentum, m_showMomentum->isChecked(), f, momentum);
 
     // Speeds and the totals are never negative: both axes start at zero.
     const AxisRange time = n > 0 ? niceRange(m_rangeScratch, x(0), x(n - 1)) : niceRange(m_rangeScratch, 0.0, xOf(100));
@@ -712,23 +717,30 @@ QString PlotDock::describePoint(const QLineSeries *series, QPointF point) const
 
     const std::int64_t f = m_frames.at(lo);
     const QString when = tr("frame %1 (%2 s)").arg(f).arg(QString::number(secondsAt(f), 'g', 6));
-    const std::pair<const QLineSeries *, const RingBuffer<double> *> totals[] = {
-        {m_kineticSeries, &m_kinetic},
-        {m_momentumSeries, &m_momentum},
-        {m_compareKineticSeries, &m_compareKinetic},
-        {m_compareMomentumSeries, &m_compareMomentum},
+    // In the units drawn (refreshChart()).
+    const double perS = perSecond();
+    const struct {
+        const QLineSeries *line;
+        const RingBuffer<double> *values;
+        double scale;
+    } totals[] = {
+        {m_kineticSeries, &m_kinetic, perS * perS},
+        {m_momentumSeries, &m_momentum, perS},
+        {m_compareKineticSeries, &m_compareKinetic, perS * perS},
+        {m_compareMomentumSeries, &m_compareMomentum, perS},
     };
-    for (const auto &[line, values] : totals) {
-        if (line && line == series)
-            return tr("%1: %2 %3").arg(when, line->name(), QString::number(values->at(lo), 'g', 6));
+    for (const auto &total : totals) {
+        if (total.line && total.line == series)
+            return tr("%1: %2 %3").arg(when, total.line->name(), QString::number(total.values->at(lo) * total.scale, 'g', 6));
     }
+    const QString unit = m_timeInSeconds ? tr("px/s") : tr("px/frame");
     for (const Track &t : m_tracks) {
         if (t.series == series)
-            return tr("%1: %2, speed %3 px/frame")
-                .arg(when, marbleLabel(t.marble), QString::number(t.speed.at(lo), 'g', 6));
+            return tr("%1: %2, speed %3 %4")
+                .arg(when, marbleLabel(t.marble), QString::number(t.speed.at(lo) * perS, 'g', 6), unit);
         if (t.compareSeries && t.compareSeries == series)
-            return tr("%1: %2, speed %3 px/frame")
-                .arg(when, t.compareSeries->name(), QString::number(t.compareSpeed.at(lo), 'g', 6));
+            return tr("%1: %2, speed %3 %4")
+                .arg(when, t.compareSeries->name(), QString::number(t.compareSpeed.at(lo) * perS, 'g', 6), unit);
     }
     return QString();
 }
@@ -1180,6 +1192,12 @@ void PlotDock::updateTotalsAxis()
 void PlotDock::updateAxisTitles()
 {
     m_axisX->setTitleText(m_timeInSeconds ? tr("time (s)") : tr("frame"));
+    m_axisSpeed->setTitleText(m_timeInSeconds ? tr("speed (px/s)") : tr("speed (px/frame)"));
+}
+
+double PlotDock::perSecond() const
+{
+    return m_timeInSeconds && m_frameMs > 0.0 ? 1000.0 / m_frameMs : 1.0;
 }
 
 void PlotDock::exportCsvInteractive()

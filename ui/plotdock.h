@@ -157,7 +157,8 @@ public:
     /// True while the legend gives the marbles short labels ("#3"), the full ones not fitting.
     bool legendIsCompact() const { return m_compactLegend; }
 
-    /// Writes every held sample as CSV: frame,time_s,speed_<i>...,kinetic,momentum (17 significant
+    /// Writes every held sample as CSV, speeds in px/frame whatever the time axis shows:
+    /// frame,time_s,speed_<i>...,kinetic,momentum (17 significant
     /// digits; an empty field where a marble was not plotted), then speed_<i>_<model>...,
     /// kinetic_<model>,momentum_<model> while a comparison model is plotted. Returns "" or a
     /// message naming the file.
@@ -221,6 +222,8 @@ private:
     const Track *trackOf(int marble) const;
     void onHovered(const QLineSeries *series, QPointF point, bool state);
     void updateAxisTitles();
+    /// Frames per second while the time axis is in seconds (speeds are drawn in px/s), else 1.
+    double perSecond() const;
     void updateTotalsAxis();
 
     std::size_t m_capacity = kDefaultCapacity;

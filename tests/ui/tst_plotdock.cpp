@@ -1143,7 +1143,8 @@ void TestPlotDock::hoverShowsExactValues_data()
     QTest::addColumn<QString>("expected");
 
     QTest::addRow("frames") << false << 6.8 << "frame 7 (0.14 s): marble 1, speed 1.23457 px/frame";
-    QTest::addRow("seconds") << true << 0.141 << "frame 7 (0.14 s): marble 1, speed 1.23457 px/frame";
+    // With the time in seconds the speed is per second too (1.2345678 px/frame at 20 ms a frame).
+    QTest::addRow("seconds") << true << 0.141 << "frame 7 (0.14 s): marble 1, speed 61.7284 px/s";
 }
 
 void TestPlotDock::hoverShowsExactValues()
@@ -1163,6 +1164,17 @@ void TestPlotDock::hoverShowsExactValues()
     dock.setTimeInSeconds(seconds);
     dock.refreshChart();
     QLineSeries *line = dock.speedSeries(1);
+    // The line and its axis in the same units as the hover (a speed axis in px/frame under a
+    // time axis in seconds mixed two time units).
+    QCOMPARE_LE(std::abs(line->at(6).y() - (seconds ? 1.2345678 * 50.0 : 1.2345678)), 1e-12);
+    QValueAxis *speedAxis = nullptr;
+    for (QAbstractAxis *axis : dock.chartView()->chart()->axes(Qt::Vertical)) {
+        if (axis->alignment() == Qt::AlignLeft)
+            speedAxis = qobject_cast<QValueAxis *>(axis);
+    }
+    QVERIFY(speedAxis);
+    QCOMPARE(speedAxis->titleText(), seconds ? QStringLiteral("speed (px/s)") : QStringLiteral("speed (px/frame)"));
+    QVERIFY(dock.sampleSpeed(6, 1) == 1.2345678); // held in px/frame either way (and so exported), same bits
     emit line->hovered(QPointF(hoverX, 1.2), true);
     QCOMPARE(dock.hoverText(), expected);
     emit line->hovered(QPointF(hoverX, 1.2), false);
