@@ -675,8 +675,12 @@ void MainWindow::fitScreenHeight(int availableHeight)
     // The stage's and the plot's smallest sizes suit a laptop or a 1024 x 768 projector; on a
     // screen less tall (800 x 600) they would push the status bar and the plot's legend below
     // its edge: there both may shrink, to still readable sizes.
+    // Below 600 px (a 1080p projector at a scale of 2 is 540 px tall) the stage's smallest height
+    // goes down again: the window came out 546 px tall there, its status bar below the screen's
+    // edge. The plot keeps 190, below which its axes lose their labels.
     const bool small = availableHeight < kSmallScreenHeight;
-    m_view->setMinimumHeight(small ? 170 : StageView::kMinimumHeight);
+    const bool smaller = availableHeight < 600;
+    m_view->setMinimumHeight(smaller ? 120 : small ? 170 : StageView::kMinimumHeight);
     m_plotDock->chartView()->setMinimumHeight(small ? 190 : PlotDock::kMinimumChartHeight);
 }
 
