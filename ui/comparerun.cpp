@@ -296,6 +296,14 @@ void CompareRun::updateGhost()
         m_stage->addItem(m_ghost);
     }
     m_ghost->setWorld(m_world.get());
+    m_ghost->setTints(m_tints);
+}
+
+void CompareRun::setTints(const std::vector<std::pair<int, QRgb>> &tints)
+{
+    m_tints = tints;
+    if (m_ghost)
+        m_ghost->setTints(m_tints);
 }
 
 void CompareRun::removeGhost()

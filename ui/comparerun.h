@@ -6,12 +6,14 @@
 
 #include <QObject>
 #include <QPointer>
+#include <QRgb>
 #include <QString>
 
 #include <cstdint>
 #include <deque>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 class QGraphicsScene;
@@ -69,6 +71,8 @@ public:
     void setModel(ModelKind model);
     /// Stops comparing and frees the comparison world.
     void stop();
+    /// The ghosts' colours for marbles without one of their own (StageView::setMarbleTints()).
+    void setTints(const std::vector<std::pair<int, QRgb>> &tints);
     /// True when a comparison model is chosen (even while it waits or has stopped with a problem).
     bool isActive() const { return m_model.has_value(); }
     /// The comparison model; only meaningful while isActive().
@@ -167,6 +171,7 @@ private:
 
     QPointer<QGraphicsScene> m_stage;
     MarbleFieldItem *m_ghost = nullptr;
+    std::vector<std::pair<int, QRgb>> m_tints; // setTints()
 };
 
 } // namespace marbles

@@ -589,6 +589,9 @@ void MainWindow::createDocks()
 
     m_plotDock = new PlotDock(this);
     addDockWidget(Qt::BottomDockWidgetArea, m_plotDock);
+    // The plotted marbles drawn in their lines' colours: which line is which marble, at a glance.
+    connect(m_plotDock, &PlotDock::plottedChanged, this, &MainWindow::tintPlottedMarbles);
+    tintPlottedMarbles();
     connect(m_plotDock, &PlotDock::exported, this,
             [this](const QString &path) { showStatus(tr("Plot exported to %1").arg(QDir::toNativeSeparators(path))); });
     connect(m_document, &SceneDocument::frameAdvanced, this,
@@ -1142,6 +1145,16 @@ void MainWindow::onSimulationFailed(const QString &message)
 {
     showBarMessage(message);
     showFrameStatus(message); // about this frame: stepping back leaves it
+}
+
+void MainWindow::tintPlottedMarbles()
+{
+    const QList<QPair<int, QColor>> colours = m_plotDock->plottedColours();
+    m_view->setMarbleTints(colours);
+    std::vector<std::pair<int, QRgb>> tints;
+    for (const auto &[marble, colour] : colours)
+        tints.emplace_back(marble, colour.rgb());
+    m_compare->setTints(tints);
 }
 
 void MainWindow::onParamEdited(const QString &key, const QString &value)

@@ -108,6 +108,8 @@ private:
     void createToolBars();
     void createDocks();
     void createStatusBar();
+    /// The plotted marbles (and their ghosts) drawn in their lines' colours.
+    void tintPlottedMarbles();
     void readSettings();
     void writeSettings();
 

@@ -203,9 +203,33 @@ bool MarbleFieldItem::syncColors()
             continue;
         m_colorText[i] = w.info[i].color;
         m_color[i] = parseColor(m_colorText[i]);
+        if (m_colorText[i].empty()) {
+            for (const auto &[marble, rgb] : m_tints) {
+                if (static_cast<std::size_t>(marble) == i)
+                    m_color[i] = rgb;
+            }
+        }
         changed = true;
     }
     return changed;
+}
+
+void MarbleFieldItem::setTints(const std::vector<std::pair<int, QRgb>> &tints)
+{
+    if (tints == m_tints)
+        return;
+    // The marbles tinted before and now are parsed again (the others keep their colours).
+    for (const auto &[marble, rgb] : m_tints) {
+        if (static_cast<std::size_t>(marble) < m_colorText.size())
+            m_colorText[static_cast<std::size_t>(marble)] = std::string(1, '\0'); // no colour text is this
+    }
+    for (const auto &[marble, rgb] : tints) {
+        if (static_cast<std::size_t>(marble) < m_colorText.size())
+            m_colorText[static_cast<std::size_t>(marble)] = std::string(1, '\0');
+    }
+    m_tints = tints;
+    if (m_world && syncColors())
+        update();
 }
 
 void MarbleFieldItem::setStyle(Style style)

@@ -104,6 +104,9 @@ public:
     int heldMarble() const { return m_held; }
     /// Sets the marble held by the mouse, or -1 for none.
     void setHeldMarble(int i);
+    /// Colours for marbles that have none of their own (the plotted marbles, in their lines'
+    /// colours); the others are the stage's blue.
+    void setTints(const std::vector<std::pair<int, QRgb>> &tints);
 
     /// Marble count above which antialiasing is off.
     int antialiasThreshold() const { return m_antialiasThreshold; }
@@ -161,6 +164,7 @@ private:
     double m_maxRadius = 0.0;
     std::vector<std::string> m_colorText; ///< info[i].color as last parsed
     std::vector<QRgb> m_color;            ///< marble i's colour, opaque
+    std::vector<std::pair<int, QRgb>> m_tints; ///< setTints()
     std::vector<Vec2> m_shownPosition;    ///< what the last sync saw (keepShown())
     std::vector<double> m_shownRadius;
     std::vector<HitRecord> m_shownHits;   ///< kept while the vectors are drawn

@@ -20,6 +20,8 @@ public:
     void setRadius(double radiusPx);
     /// Sets the colour (invalid = the chapter's blue).
     void setColor(const QColor &color);
+    /// The colour set (invalid = the chapter's blue).
+    QColor color() const { return m_color; }
     /// Draws the selection ring.
     void setHighlighted(bool highlighted);
     /// Draws the "held by the mouse" look.

@@ -926,6 +926,15 @@ void PlotDock::rebuildTracks()
     m_capNote->setText(plotted < candidates ? tr("%1 of %2 marbles plotted").arg(plotted).arg(candidates) : QString());
     m_capNote->setToolTip(m_selected.isEmpty() ? tr("Select marbles on the stage to choose which ones are plotted.")
                                                : tr("At most %1 marbles are plotted at once.").arg(kMaxPlottedMarbles));
+    emit plottedChanged();
+}
+
+QList<QPair<int, QColor>> PlotDock::plottedColours() const
+{
+    QList<QPair<int, QColor>> out;
+    for (const Track &t : m_tracks)
+        out.append({t.marble, marbleColor(t.marble)});
+    return out;
 }
 
 QLineSeries *PlotDock::addSpeedSeries()

@@ -177,9 +177,14 @@ public:
     void exportCsvInteractive();
     void exportPngInteractive();
 
+    /// Each plotted marble with its line's colour, in marble order.
+    QList<QPair<int, QColor>> plottedColours() const;
+
 signals:
     /// A CSV or PNG was written to `path` by the interactive exports.
     void exported(const QString &path);
+    /// The plotted marbles, or their colours, changed (plottedColours()).
+    void plottedChanged();
 
 protected:
     bool eventFilter(QObject *watched, QEvent *event) override;

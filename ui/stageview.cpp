@@ -251,6 +251,7 @@ void StageView::rebuild()
         }
         m_field->setVectorsVisible(m_vectorsVisible);
         m_field->setWorld(&world);
+        applyTintsToField();
     } else {
         delete m_field;
         m_field = nullptr;
@@ -309,9 +310,41 @@ void StageView::rebuildMarbleItems(const World &world, int n)
     }
     for (int i = 0; i < n; ++i) {
         m_marbles[i]->setRadius(world.radius[i]);
-        m_marbles[i]->setColor(colorOf(world.info[i]));
+        m_marbles[i]->setColor(drawnColor(world, i));
         m_marbles[i]->setToolTip(QString::fromStdString(world.info[i].name));
     }
+}
+
+QColor StageView::drawnColor(const World &world, int i) const
+{
+    if (const QColor own = colorOf(world.info[static_cast<std::size_t>(i)]); own.isValid())
+        return own;
+    for (const auto &[marble, colour] : m_tints) {
+        if (marble == i)
+            return colour;
+    }
+    return {};
+}
+
+void StageView::applyTintsToField()
+{
+    if (!m_field)
+        return;
+    std::vector<std::pair<int, QRgb>> tints;
+    for (const auto &[marble, colour] : m_tints)
+        tints.emplace_back(marble, colour.rgb());
+    m_field->setTints(tints);
+}
+
+void StageView::setMarbleTints(const QList<QPair<int, QColor>> &tints)
+{
+    if (tints == m_tints)
+        return;
+    m_tints = tints;
+    const World &world = m_document->world();
+    for (int i = 0; i < static_cast<int>(m_marbles.size()) && i < world.marbleCount(); ++i)
+        m_marbles[static_cast<std::size_t>(i)]->setColor(drawnColor(world, i));
+    applyTintsToField();
 }
 
 void StageView::syncPoses()

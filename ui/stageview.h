@@ -76,6 +76,10 @@ public:
     void selectPin(int j);
     /// Selects nothing.
     void clearSelection();
+    /// Draws the marbles of `tints` that have no colour of their own in the colour given (the
+    /// plotted marbles in their lines' colours, so that the class sees which line is which);
+    /// every other marble without a colour is the stage's blue.
+    void setMarbleTints(const QList<QPair<int, QColor>> &tints);
     /// Deletes the selected marble or pin (one undo step).
     void deleteSelection();
 
@@ -149,6 +153,10 @@ protected:
 private:
     void rebuild();
     void rebuildMarbleItems(const World &world, int n);
+    /// Marble i's colour as drawn: its own, else its tint, else none (the stage's blue).
+    QColor drawnColor(const World &world, int i) const;
+    /// Hands the tints to the field item (batched marbles).
+    void applyTintsToField();
     void updateTrailSuppression();
     void updateVectorNote();
     void syncPoses();
@@ -167,6 +175,7 @@ private:
     std::vector<PinItem *> m_pins;
     TrailItem *m_trail = nullptr;
     MarbleFieldItem *m_field = nullptr;
+    QList<QPair<int, QColor>> m_tints; // setMarbleTints()
 
     Tool m_tool = Tool::Select;
     SelectionKind m_selectionKind = SelectionKind::None;

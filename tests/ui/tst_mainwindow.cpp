@@ -8,6 +8,7 @@
 #include "ui/elidingstatusbar.h"
 #include "ui/history.h"
 #include "ui/mainwindow.h"
+#include "ui/marbleitem.h"
 #include "ui/parametersdock.h"
 #include "ui/plotdock.h"
 #include "ui/prompts.h"
@@ -31,6 +32,7 @@
 #include <QCheckBox>
 #include <QLabel>
 #include <QRadioButton>
+#include <QSet>
 #include <QLineSeries>
 #include <QMap>
 #include <QMenu>
@@ -122,6 +124,7 @@ private Q_SLOTS:
     void spaceWorksAFocusedButtonOrCheckBox();
     void plotExportsAreInTheFileMenu();
     void massScaleSaysWhenNoMarbleUsesIt();
+    void plottedMarblesWearTheirLinesColours();
     void spacePausesFromANumberField();
     void undoKeysReachTheSceneFromANumberField();
     void compareOffersOnlyModelsThatCanRun();
@@ -818,6 +821,33 @@ void TestMainWindow::massScaleSaysWhenNoMarbleUsesIt()
     QTest::keyClick(scale, Qt::Key_Return);
     QCOMPARE(m_window->document()->world().params.massScale, 3.0);
     QVERIFY(!m_window->statusBar()->currentMessage().contains(QStringLiteral("changes none of them")));
+}
+
+void TestMainWindow::plottedMarblesWearTheirLinesColours()
+{
+    // Which line is which marble: the stage draws each plotted marble (without a colour of its
+    // own) in its line's colour, and follows the selection.
+    QVERIFY(m_window->openPreset(QStringLiteral("four-marbles")));
+    const QList<QPair<int, QColor>> plotted = m_window->plotDock()->plottedColours();
+    QCOMPARE(plotted.size(), 4);
+    QSet<QRgb> distinct;
+    for (const auto &[marble, colour] : plotted)
+        distinct.insert(colour.rgb());
+    QCOMPARE(distinct.size(), 4);
+    auto drawn = [&](int marble) {
+        const Vec2 p = m_window->document()->world().position[static_cast<std::size_t>(marble)];
+        for (QGraphicsItem *item : m_window->stageView()->scene()->items()) {
+            if (auto *ball = qgraphicsitem_cast<MarbleItem *>(item); ball && ball->pos() == QPointF(p.x, p.y))
+                return ball->color();
+        }
+        return QColor(Qt::black);
+    };
+    for (const auto &[marble, colour] : plotted)
+        QCOMPARE(drawn(marble), colour);
+    m_window->stageView()->selectMarble(2);
+    QCOMPARE(m_window->plotDock()->plottedColours().size(), 1);
+    QCOMPARE(drawn(2), m_window->plotDock()->plottedColours().front().second);
+    QCOMPARE(drawn(1), QColor()); // not plotted: the stage's blue
 }
 
 void TestMainWindow::spacePausesFromANumberField()

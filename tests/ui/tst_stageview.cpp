@@ -76,6 +76,7 @@ private Q_SLOTS:
     void stillFramesAreNotRedrawn();
     void vectorsWaitForALegibleZoom();
     void batchedToolTipNamesTheMarble();
+    void tintsColourMarblesWithoutColours();
 
 private:
     QWidget *viewport() const { return m_view->viewport(); }
@@ -108,6 +109,42 @@ void TestStageView::cleanup()
 {
     m_view.reset();
     m_document.reset();
+}
+
+void TestStageView::tintsColourMarblesWithoutColours()
+{
+    // The plotted marbles are drawn in their lines' colours (the window hands the plot's colours
+    // over); a marble with a colour of its own keeps it, and the others are the stage's blue.
+    World w;
+    w.addMarble({100, 100}, 10);
+    w.addMarble({200, 100}, 10);
+    w.addMarble({300, 100}, 10);
+    w.info[2].color = "#123456";
+    m_document->resetScene(w);
+    const QColor orange(0xe6, 0x9f, 0x00);
+    m_view->setMarbleTints({{1, orange}, {2, Qt::green}});
+    auto colourAt = [&](double x) {
+        for (MarbleItem *item : itemsOf<MarbleItem>(*m_view)) {
+            if (item->pos().x() == x)
+                return item->color();
+        }
+        return QColor(Qt::black);
+    };
+    QCOMPARE(colourAt(100), QColor());
+    QCOMPARE(colourAt(200), orange);
+    QCOMPARE(colourAt(300), QColor(0x12, 0x34, 0x56));
+    m_view->setMarbleTints({});
+    QCOMPARE(colourAt(200), QColor());
+
+    // Batched (a crowd): the same, through the field item's colours.
+    loadCrowd(StageView::kBatchThreshold + 10);
+    QVERIFY(m_view->isBatched());
+    m_view->setMarbleTints({{1, orange}});
+    QCOMPARE(m_view->fieldItem()->marbleColor(1), orange);
+    QCOMPARE(m_view->fieldItem()->marbleColor(2), MarbleItem::defaultColor());
+    m_view->setMarbleTints({{2, orange}});
+    QCOMPARE(m_view->fieldItem()->marbleColor(1), MarbleItem::defaultColor());
+    QCOMPARE(m_view->fieldItem()->marbleColor(2), orange);
 }
 
 void TestStageView::itemsMirrorTheWorld()
