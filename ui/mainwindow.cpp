@@ -311,6 +311,39 @@ void MainWindow::createActions()
     m_rewindAction->setStatusTip(tr("Go back to frame 0"));
     connect(m_rewindAction, &QAction::triggered, this, &MainWindow::rewindToStart);
 
+    // The stage from the keyboard: choose a marble, push it (a click needs the mouse).
+    m_nextMarbleAction = new QAction(tr("Select &Next Marble"), this);
+    m_nextMarbleAction->setObjectName(QStringLiteral("actionNextMarble"));
+    m_nextMarbleAction->setShortcut(QKeySequence(Qt::Key_BracketRight));
+    connect(m_nextMarbleAction, &QAction::triggered, this, [this] { m_view->selectNextMarble(1); });
+    m_previousMarbleAction = new QAction(tr("Select Pre&vious Marble"), this);
+    m_previousMarbleAction->setObjectName(QStringLiteral("actionPreviousMarble"));
+    m_previousMarbleAction->setShortcut(QKeySequence(Qt::Key_BracketLeft));
+    connect(m_previousMarbleAction, &QAction::triggered, this, [this] { m_view->selectNextMarble(-1); });
+    const struct {
+        const char *name;
+        const char *text;
+        Qt::Key key;
+        Vec2 direction;
+    } pushes[] = {
+        {"actionPushLeft", QT_TR_NOOP("Push Selected Marble &Left"), Qt::Key_Left, {-1, 0}},
+        {"actionPushRight", QT_TR_NOOP("Push Selected Marble &Right"), Qt::Key_Right, {1, 0}},
+        {"actionPushUp", QT_TR_NOOP("Push Selected Marble &Up"), Qt::Key_Up, {0, -1}},
+        {"actionPushDown", QT_TR_NOOP("Push Selected Marble &Down"), Qt::Key_Down, {0, 1}},
+    };
+    for (const auto &push : pushes) {
+        auto *action = new QAction(tr(push.text), this);
+        action->setObjectName(QLatin1String(push.name));
+        action->setShortcut(QKeySequence(Qt::SHIFT | push.key));
+        action->setStatusTip(tr("As a click on the selected marble's far edge would"));
+        const Vec2 direction = push.direction;
+        connect(action, &QAction::triggered, this, [this, direction] {
+            if (!m_view->pushSelected(direction))
+                showStatus(tr("Select a marble first: click it, or ] and [ go through the marbles."));
+        });
+        m_pushActions.append(action);
+    }
+
     m_fitAction = new QAction(QIcon::fromTheme(QStringLiteral("zoom-fit-best")), tr("&Fit to Stage"), this);
     m_fitAction->setObjectName(QStringLiteral("actionFit"));
     // Short toolbar labels (the menus keep the full names), so that every tool stays on the
@@ -406,6 +439,9 @@ void MainWindow::createMenus()
     edit->addAction(m_marbleToolAction);
     edit->addAction(m_pinToolAction);
     edit->addSeparator();
+    edit->addAction(m_nextMarbleAction);
+    edit->addAction(m_previousMarbleAction);
+    edit->addSeparator();
     edit->addAction(m_deleteAction);
 
     QMenu *simulation = menuBar()->addMenu(tr("&Simulation"));
@@ -413,6 +449,8 @@ void MainWindow::createMenus()
     simulation->addAction(m_stepAction);
     simulation->addAction(m_stepBackAction);
     simulation->addAction(m_rewindAction);
+    simulation->addSeparator();
+    simulation->addActions(m_pushActions);
     simulation->addSeparator();
     m_compareMenu = simulation->addMenu(tr("&Compare With"));
     m_compareMenu->setObjectName(QStringLiteral("compareMenu"));

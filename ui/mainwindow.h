@@ -214,6 +214,9 @@ private:
     QAction *m_stepAction = nullptr;
     QAction *m_stepBackAction = nullptr;
     QAction *m_rewindAction = nullptr;
+    QAction *m_nextMarbleAction = nullptr;
+    QAction *m_previousMarbleAction = nullptr;
+    QList<QAction *> m_pushActions; // Shift+arrows: push the selected marble
     QAction *m_fitAction = nullptr;
     QAction *m_zoomInAction = nullptr;
     QAction *m_zoomOutAction = nullptr;

@@ -114,6 +114,52 @@ void StageView::selectMarble(int i)
     Q_EMIT selectionChanged();
 }
 
+void StageView::pushAt(int i, Vec2 p, bool byKey)
+{
+    const Vec2 before = m_document->world().acceleration[static_cast<std::size_t>(i)];
+    m_document->pushMarble(i, p);
+    const Vec2 after = m_document->world().acceleration[static_cast<std::size_t>(i)];
+    const Vec2 a{after.x - before.x, after.y - before.y};
+    if (!m_pushed.contains(i))
+        m_pushed.append(i);
+    const Vec2 scripted = m_document->world().scriptedPushDue(i);
+    QString text = (byKey ? tr("Marble %1 pushed: the key's push of (%2, %3) px/frame acts on the next frame")
+                          : tr("Marble %1 pushed: the click's push of (%2, %3) px/frame acts on the next frame"))
+                       .arg(i)
+                       .arg(a.x, 0, 'f', 2)
+                       .arg(a.y, 0, 'f', 2);
+    if (before.x != 0.0 || before.y != 0.0)
+        text += tr(", with earlier pushes' (%1, %2)").arg(before.x, 0, 'f', 2).arg(before.y, 0, 'f', 2);
+    if (scripted.x != 0.0 || scripted.y != 0.0)
+        text += tr(", with the scene's scripted push (%1, %2)").arg(scripted.x, 0, 'f', 2).arg(scripted.y, 0, 'f', 2);
+    Q_EMIT frameMessage(text);
+    viewport()->update();
+}
+
+void StageView::selectNextMarble(int step)
+{
+    const int n = m_document->world().marbleCount();
+    if (n == 0)
+        return;
+    const int current = selectedMarble();
+    const int next = current < 0 ? (step > 0 ? 0 : n - 1) : ((current + step) % n + n) % n;
+    selectMarble(next);
+    Q_EMIT message(tr("Marble %1 selected").arg(next));
+}
+
+bool StageView::pushSelected(Vec2 direction)
+{
+    const int i = selectedMarble();
+    if (i < 0)
+        return false;
+    // As a click on the marble's far side would: the push points from the click to the centre.
+    const World &world = m_document->world();
+    const Vec2 c = world.position[static_cast<std::size_t>(i)];
+    const double r = world.radius[static_cast<std::size_t>(i)];
+    pushAt(i, {c.x - direction.x * r, c.y - direction.y * r}, true);
+    return true;
+}
+
 void StageView::selectPin(int j)
 {
     if (j < 0 || j >= static_cast<int>(m_document->world().pins.size())) {
@@ -539,23 +585,7 @@ void StageView::mouseReleaseEvent(QMouseEvent *event)
         const int i = m_gestureIndex;
         if (i >= m_document->world().marbleCount())
             break; // gone since the press (an undo by key, say)
-        const Vec2 before = m_document->world().acceleration[static_cast<std::size_t>(i)];
-        m_document->pushMarble(i, p);
-        const Vec2 after = m_document->world().acceleration[static_cast<std::size_t>(i)];
-        const Vec2 a{after.x - before.x, after.y - before.y};
-        if (!m_pushed.contains(i))
-            m_pushed.append(i);
-        const Vec2 scripted = m_document->world().scriptedPushDue(i);
-        QString text = tr("Marble %1 pushed: the click's push of (%2, %3) px/frame acts on the next frame")
-                           .arg(i)
-                           .arg(a.x, 0, 'f', 2)
-                           .arg(a.y, 0, 'f', 2);
-        if (before.x != 0.0 || before.y != 0.0)
-            text += tr(", with earlier clicks' (%1, %2)").arg(before.x, 0, 'f', 2).arg(before.y, 0, 'f', 2);
-        if (scripted.x != 0.0 || scripted.y != 0.0)
-            text += tr(", with the scene's scripted push (%1, %2)").arg(scripted.x, 0, 'f', 2).arg(scripted.y, 0, 'f', 2);
-        Q_EMIT frameMessage(text);
-        viewport()->update();
+        pushAt(i, p, false);
         break;
     }
     case Gesture::DragMarble:

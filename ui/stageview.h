@@ -76,6 +76,12 @@ public:
     void selectPin(int j);
     /// Selects nothing.
     void clearSelection();
+    /// Selects the marble `step` after the selected one in scene order (1 next, -1 previous,
+    /// round the end; the first or last when none is selected): the keyboard's way to choose.
+    void selectNextMarble(int step);
+    /// Pushes the selected marble towards `direction` (a unit vector, y down) as a click on its
+    /// far edge would; false when no marble is selected.
+    bool pushSelected(Vec2 direction);
     /// Draws the marbles of `tints` that have no colour of their own in the colour given (the
     /// plotted marbles in their lines' colours, so that the class sees which line is which);
     /// every other marble without a colour is the stage's blue.
@@ -153,6 +159,9 @@ protected:
 private:
     void rebuild();
     void rebuildMarbleItems(const World &world, int n);
+    /// The chapter's click on marble i at p (or the keys' stand-in for one): the push, its arrow
+    /// and its status message.
+    void pushAt(int i, Vec2 p, bool byKey);
     /// Marble i's colour as drawn: its own, else its tint, else none (the stage's blue).
     QColor drawnColor(const World &world, int i) const;
     /// Hands the tints to the field item (batched marbles).

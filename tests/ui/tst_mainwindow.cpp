@@ -125,6 +125,7 @@ private Q_SLOTS:
     void plotExportsAreInTheFileMenu();
     void massScaleSaysWhenNoMarbleUsesIt();
     void plottedMarblesWearTheirLinesColours();
+    void keyboardChoosesAndPushesAMarble();
     void spacePausesFromANumberField();
     void undoKeysReachTheSceneFromANumberField();
     void compareOffersOnlyModelsThatCanRun();
@@ -848,6 +849,45 @@ void TestMainWindow::plottedMarblesWearTheirLinesColours()
     QCOMPARE(m_window->plotDock()->plottedColours().size(), 1);
     QCOMPARE(drawn(2), m_window->plotDock()->plottedColours().front().second);
     QCOMPARE(drawn(1), QColor()); // not plotted: the stage's blue
+}
+
+void TestMainWindow::keyboardChoosesAndPushesAMarble()
+{
+    // Without a mouse: ] and [ go through the marbles, Shift and an arrow push the one chosen as
+    // a click on its far edge would (the stage was out of the keyboard's reach).
+    QVERIFY(m_window->openPreset(QStringLiteral("four-marbles")));
+    StageView *view = m_window->stageView();
+    SceneDocument *doc = m_window->document();
+    view->setFocus();
+    m_window->statusBar()->clearMessage();
+    QTest::keyClick(view, Qt::Key_Left, Qt::ShiftModifier);
+    QVERIFY2(m_window->statusBar()->currentMessage().contains(QStringLiteral("Select a marble first")),
+             qPrintable(m_window->statusBar()->currentMessage()));
+    QTest::keyClick(view, Qt::Key_BracketRight);
+    QCOMPARE(view->selectedMarble(), 0);
+    QTest::keyClick(view, Qt::Key_BracketRight);
+    QCOMPARE(view->selectedMarble(), 1);
+    QTest::keyClick(view, Qt::Key_BracketLeft);
+    QTest::keyClick(view, Qt::Key_BracketLeft);
+    QCOMPARE(view->selectedMarble(), 3); // round the start
+    const World &w = doc->world();
+    const Vec2 before = w.acceleration[3];
+    QTest::keyClick(view, Qt::Key_Right, Qt::ShiftModifier);
+    const double kick = w.radius[3] * w.params.pushScale / w.mass[3];
+    QCOMPARE_LE(std::abs(w.acceleration[3].x - before.x - kick), 1e-12);
+    QCOMPARE(w.acceleration[3].y, before.y);
+    QTest::keyClick(view, Qt::Key_Up, Qt::ShiftModifier);
+    QCOMPARE_LE(std::abs(w.acceleration[3].y - before.y + kick), 1e-12); // up is -y
+    QCOMPARE(w.frame, std::int64_t(0)); // a push, not a step
+
+    // In a number field Shift and an arrow select text, as in any field: no push.
+    auto *friction = m_window->findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit"));
+    QVERIFY(friction);
+    friction->setFocus();
+    const Vec2 held = w.acceleration[3];
+    for (Qt::Key key : {Qt::Key_Left, Qt::Key_Right, Qt::Key_Up, Qt::Key_Down})
+        QTest::keyClick(friction, key, Qt::ShiftModifier);
+    QVERIFY(w.acceleration[3] == held);
 }
 
 void TestMainWindow::spacePausesFromANumberField()

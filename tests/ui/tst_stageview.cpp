@@ -423,7 +423,7 @@ void TestStageView::pushIsShownUntilItActs()
     const Vec2 both = w.acceleration[marble];
     QCOMPARE(messages.last().at(0).toString(),
              QStringLiteral("Marble 0 pushed: the click's push of (%1, %2) px/frame acts on the next frame, "
-                            "with earlier clicks' (%3, %4)")
+                            "with earlier pushes' (%3, %4)")
                  .arg(both.x - push.x, 0, 'f', 2)
                  .arg(both.y - push.y, 0, 'f', 2)
                  .arg(push.x, 0, 'f', 2)
