@@ -112,6 +112,7 @@ MainWindow::MainWindow(QWidget *parent)
     createActions();
     createMenus();
     createToolBars();
+    addShortcutsToToolTips();
     createDocks();
     createStatusBar();
 
@@ -509,8 +510,12 @@ void MainWindow::showKeysAndMouse()
     for (QMenu *menu : menuBar()->findChildren<QMenu *>(Qt::FindDirectChildrenOnly)) {
         for (const QAction *action : menu->actions()) {
             if (!action->shortcut().isEmpty()) {
-                // The menu text without its mnemonic marks ("&&" is a literal "&": "Select && Push").
-                QString text = action->text();
+                // The menu text without its mnemonic marks ("&&" is a literal "&": "Select && Push");
+                // Undo and Redo by their names, not the edit they would undo now.
+                QString text = action == m_undoAction   ? tr("Undo")
+                               : action == m_redoAction ? tr("Redo")
+                               : action == m_playAction ? tr("Play / Pause")
+                                                        : action->text();
                 text.replace(QStringLiteral("&&"), QStringLiteral("\u0001")).remove(QLatin1Char('&'));
                 text.replace(QChar(1), QLatin1Char('&'));
                 row(text, action->shortcut().toString(QKeySequence::NativeText));
@@ -524,10 +529,40 @@ void MainWindow::showKeysAndMouse()
     row(tr("Drag a marble or a pin"), tr("move it (paused or running)"));
     row(tr("Right-click"), tr("add or delete here"));
     row(tr("Wheel"), tr("zoom"));
+    rows += QStringLiteral("<tr><td colspan=2>&nbsp;</td></tr>");
+    row(tr("Tab, Shift+Tab"), tr("from control to control; Space presses a button or ticks a box there"));
+    row(tr("Alt + a field's underlined letter"), tr("to that field (Enter takes a number typed; Space takes it and plays)"));
     m_keysDialog->findChild<QLabel *>(QStringLiteral("keysText"))->setText(QStringLiteral("<table>%1</table>").arg(rows));
     m_keysDialog->show();
     m_keysDialog->raise();
     m_keysDialog->activateWindow();
+}
+
+namespace {
+
+// "Play (Space)": an action's text without its mnemonic marks, and its shortcut.
+QString withShortcut(const QAction *action)
+{
+    QString text = action->text();
+    text.replace(QStringLiteral("&&"), QStringLiteral("\u0001")).remove(QLatin1Char('&'));
+    text.replace(QChar(1), QLatin1Char('&'));
+    text.remove(QStringLiteral("\u2026")).remove(QStringLiteral("..."));
+    return action->shortcut().isEmpty()
+        ? text
+        : QStringLiteral("%1 (%2)").arg(text, action->shortcut().toString(QKeySequence::NativeText));
+}
+
+} // namespace
+
+void MainWindow::addShortcutsToToolTips()
+{
+    // A toolbar button's tip names its key, as the menus do: the buttons are what a class sees.
+    for (QToolBar *bar : findChildren<QToolBar *>()) {
+        for (QAction *action : bar->actions()) {
+            if (!action->shortcut().isEmpty() && action != m_undoAction && action != m_redoAction)
+                action->setToolTip(withShortcut(action));
+        }
+    }
 }
 
 void MainWindow::createToolBars()
@@ -1174,6 +1209,7 @@ void MainWindow::onSpeedChosen(int index)
 void MainWindow::onRunningChanged(bool running)
 {
     m_playAction->setText(running ? tr("&Pause") : tr("&Play"));
+    m_playAction->setToolTip(withShortcut(m_playAction));
     m_playAction->setIcon(running ? themeIcon(QStringLiteral("media-playback-pause"), QStyle::SP_MediaPause)
                                   : themeIcon(QStringLiteral("media-playback-start"), QStyle::SP_MediaPlay));
     updateSlowLabel();

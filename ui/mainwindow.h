@@ -108,6 +108,8 @@ private:
     void createToolBars();
     void createDocks();
     void createStatusBar();
+    /// Toolbar buttons' tips name their keys ("Play (Space)").
+    void addShortcutsToToolTips();
     /// The plotted marbles (and their ghosts) drawn in their lines' colours.
     void tintPlottedMarbles();
     void readSettings();
