@@ -12,6 +12,7 @@
 #include <QVBoxLayout>
 
 #include <cmath>
+#include <iterator>
 #include <utility>
 
 namespace marbles {
@@ -80,6 +81,10 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     form->addRow(tr("vx"), m_vx);
     form->addRow(tr("vy"), m_vy);
     layout->addWidget(m_form);
+    // Down the form, the check box included (Tab went from Mass to x past it).
+    QWidget *order[] = {m_radius, m_mass, m_autoMass, m_x, m_y, m_vx, m_vy};
+    for (std::size_t k = 1; k < std::size(order); ++k)
+        QWidget::setTabOrder(order[k - 1], order[k]);
 
     // A field shows numbers within its range only; a marble past it (the book's blow-up at a
     // friction above 2 reaches 1e27 px/frame and more) gets its true numbers said here.

@@ -31,6 +31,7 @@
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QScreen>
+#include <QScrollArea>
 #include <QSettings>
 #include <QShowEvent>
 #include <QSignalBlocker>
@@ -498,7 +499,13 @@ void MainWindow::showKeysAndMouse()
         auto *text = new QLabel(m_keysDialog);
         text->setObjectName(QStringLiteral("keysText"));
         text->setTextFormat(Qt::RichText);
-        layout->addWidget(text);
+        // In a scroll area: on a projector at a scale of 2 the list was taller than the screen,
+        // its last rows and Close below the edge.
+        auto *scroll = new QScrollArea(m_keysDialog);
+        scroll->setWidget(text);
+        scroll->setWidgetResizable(true);
+        scroll->setFrameShape(QFrame::NoFrame);
+        layout->addWidget(scroll);
         auto *buttons = new QDialogButtonBox(QDialogButtonBox::Close, m_keysDialog);
         connect(buttons, &QDialogButtonBox::rejected, m_keysDialog, &QDialog::close);
         layout->addWidget(buttons);
@@ -532,7 +539,12 @@ void MainWindow::showKeysAndMouse()
     rows += QStringLiteral("<tr><td colspan=2>&nbsp;</td></tr>");
     row(tr("Tab, Shift+Tab"), tr("from control to control; Space presses a button or ticks a box there"));
     row(tr("Alt + a field's underlined letter"), tr("to that field (Enter takes a number typed; Space takes it and plays)"));
-    m_keysDialog->findChild<QLabel *>(QStringLiteral("keysText"))->setText(QStringLiteral("<table>%1</table>").arg(rows));
+    auto *label = m_keysDialog->findChild<QLabel *>(QStringLiteral("keysText"));
+    label->setText(QStringLiteral("<table>%1</table>").arg(rows));
+    // As large as the list asks, within the screen.
+    const QSize wanted = label->sizeHint() + QSize(48, 96);
+    const QSize room = screen() ? screen()->availableGeometry().size() * 9 / 10 : wanted;
+    m_keysDialog->resize(wanted.boundedTo(room));
     m_keysDialog->show();
     m_keysDialog->raise();
     m_keysDialog->activateWindow();
@@ -559,10 +571,14 @@ void MainWindow::addShortcutsToToolTips()
     // A toolbar button's tip names its key, as the menus do: the buttons are what a class sees.
     for (QToolBar *bar : findChildren<QToolBar *>()) {
         for (QAction *action : bar->actions()) {
-            if (!action->shortcut().isEmpty() && action != m_undoAction && action != m_redoAction)
+            if (!action->shortcut().isEmpty())
                 action->setToolTip(withShortcut(action));
         }
     }
+    // Undo's and Redo's texts follow the stack ("Undo Set friction to 0.2"): their tips too.
+    QUndoStack *stack = m_document->undoStack();
+    connect(stack, &QUndoStack::undoTextChanged, this, [this] { m_undoAction->setToolTip(withShortcut(m_undoAction)); });
+    connect(stack, &QUndoStack::redoTextChanged, this, [this] { m_redoAction->setToolTip(withShortcut(m_redoAction)); });
 }
 
 void MainWindow::createToolBars()
@@ -1181,8 +1197,8 @@ void MainWindow::stepBackward()
     m_run->pause();
     if (!m_document->stepBack())
         // Where the keys go first, why after: a projector's narrow status bar cuts the end off.
-        showFrameStatus(tr("Frame %1 is not kept: Step Back reaches frame %2, Home frame %4 (the last %3 frames "
-                           "are kept, fewer in a large scene, none from before a marble was added or removed).")
+        showFrameStatus(tr("Frame %1 is not kept: Step Back reaches frame %2, Home frame %4 (%3 frames at most, "
+                           "none from before a marble was added or removed).")
                             .arg(m_document->world().frame - 1)
                             .arg(m_document->world().frame - static_cast<std::int64_t>(m_document->history().size()))
                             .arg(FrameHistory::kDefaultMaxFrames)
@@ -1244,8 +1260,8 @@ void MainWindow::onParamEdited(const QString &key, const QString &value)
     const World &world = m_document->world();
     if (key == QLatin1String("massScale") && world.marbleCount() > 0
         && std::all_of(world.info.begin(), world.info.end(), [](const MarbleInfo &info) { return info.hasMass; }))
-        showStatus(tr("Every marble of this scene has a mass of its own, so the mass scale changes none of them: "
-                      "tick \u201cmass scale \u00d7 radius\u201d in the Inspector for a marble to use it."));
+        showStatus(tr("Every marble here has a mass of its own: the mass scale changes none of them (see the "
+                      "Inspector's \u201cmass scale \u00d7 radius\u201d)."));
 }
 
 void MainWindow::onSceneChanged()

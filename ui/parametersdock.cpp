@@ -109,7 +109,8 @@ void ParametersDock::buildUi()
     auto addField = [&](const QString &label, QWidget *field, const QString &formula, const QString &explanation) {
         field->setToolTip(formula);
         auto *labelWidget = new QLabel(label, page);
-        labelWidget->setBuddy(field);
+        // A row of several fields (gravity's x and y) hands its Alt key to the first of them.
+        labelWidget->setBuddy(field->focusProxy() ? field->focusProxy() : field);
         labelWidget->setToolTip(formula);
         form->addRow(labelWidget, field);
         auto *help = explanationLabel(explanation, page);

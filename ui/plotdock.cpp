@@ -66,16 +66,18 @@ QPen comparePen(QColor colour)
 const QColor kKineticColour(0x33, 0x33, 0x33);
 const QColor kMomentumColour(0x8c, 0x1c, 0x8c);
 
-/// Marbles without a colour of their own are drawn blue on the stage; the first one's line is
-/// that blue, the others' clearly different hues (colour-blind safe, after Okabe and Ito): four
-/// shades of blue, which the lines once were, could not be told apart in class.
+/// Marbles without a colour of their own are drawn blue on the stage, and the plotted ones in
+/// their lines' colours (StageView::setMarbleTints()): so no line is that blue or near it (marble
+/// 0's line was the stage's blue, and on a crowd its marble looked like every other), and the
+/// hues are clearly different from each other (colour-blind safe, after Okabe and Ito, with the
+/// sky blue left out): four shades of blue, which the lines once were, could not be told apart.
 QColor defaultMarbleColor(int marble)
 {
     // Twelve, as many as lines are plotted at most (kMaxPlottedMarbles): no two lines share one.
     static const QColor hues[] = {
-        QColor(0x1f, 0x63, 0xc6), QColor(0xe6, 0x9f, 0x00), QColor(0x00, 0x9e, 0x73), QColor(0xcc, 0x79, 0xa7),
-        QColor(0x56, 0xb4, 0xe9), QColor(0xd5, 0x5e, 0x00), QColor(0x6a, 0x5a, 0xd6), QColor(0x99, 0x99, 0x33),
-        QColor(0x88, 0x22, 0x55), QColor(0x44, 0xaa, 0x99), QColor(0x33, 0x22, 0x88), QColor(0xdd, 0xcc, 0x77),
+        QColor(0xd5, 0x5e, 0x00), QColor(0xe6, 0x9f, 0x00), QColor(0x00, 0x9e, 0x73), QColor(0xcc, 0x79, 0xa7),
+        QColor(0x7f, 0x7f, 0x7f), QColor(0x99, 0x99, 0x33), QColor(0x88, 0x22, 0x55), QColor(0x1b, 0x78, 0x37),
+        QColor(0xc9, 0xa2, 0x27), QColor(0x8c, 0x51, 0x0a), QColor(0x66, 0xa6, 0x1e), QColor(0xe7, 0x29, 0x8a),
     };
     static_assert(sizeof(hues) / sizeof(hues[0]) >= PlotDock::kMaxPlottedMarbles);
     constexpr int count = sizeof(hues) / sizeof(hues[0]);

@@ -114,6 +114,14 @@ protected:
             }
             if (isPlainSpace(key) || (isUndoOrRedo(key) && !typing()))
                 return true; // not accepted: the shortcut may take the key
+            // Shift and an arrow select text here, as in any field (the window's Shift+Up and
+            // Shift+Down, which push the selected marble, took them).
+            if (key->modifiers() == Qt::ShiftModifier
+                && (key->key() == Qt::Key_Up || key->key() == Qt::Key_Down || key->key() == Qt::Key_Left
+                    || key->key() == Qt::Key_Right)) {
+                event->accept();
+                return true;
+            }
         }
         return Base::event(event);
     }

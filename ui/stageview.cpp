@@ -143,8 +143,7 @@ void StageView::selectNextMarble(int step)
         return;
     const int current = selectedMarble();
     const int next = current < 0 ? (step > 0 ? 0 : n - 1) : ((current + step) % n + n) % n;
-    selectMarble(next);
-    Q_EMIT message(tr("Marble %1 selected").arg(next));
+    selectMarble(next); // the ring, the Inspector and the plot say which
 }
 
 bool StageView::pushSelected(Vec2 direction)
@@ -732,7 +731,9 @@ void StageView::drawForeground(QPainter *painter, const QRectF &rect)
         const Vec2 a{world.acceleration[k].x + scripted.x, world.acceleration[k].y + scripted.y};
         const double size = std::hypot(a.x, a.y);
         const QPointF u(a.x / size, a.y / size);
-        if (!std::isfinite(u.x()) || !std::isfinite(u.y()))
+        // Pushes that cancel out (Shift+Up, then Shift+Down) leave rounding behind: no arrow
+        // labelled "+0.00".
+        if (!std::isfinite(u.x()) || !std::isfinite(u.y()) || size < 0.005)
             continue;
         const QPointF centre = mapFromScene(QPointF(world.position[k].x, world.position[k].y));
         const double rim = world.radius[k] * scale;

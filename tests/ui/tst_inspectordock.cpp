@@ -46,6 +46,7 @@ class TestInspectorDock : public QObject {
 private Q_SLOTS:
     void init();
     void cleanup();
+    void tabGoesDownTheForm();
     void showsTheSelectedMarble();
     void typedValuesAreUndoableEdits();
     void outOfRangeNumbersAreRefusedWhole_data();
@@ -72,6 +73,24 @@ void TestInspectorDock::cleanup()
 {
     m_dock.reset();
     m_document.reset();
+}
+
+void TestInspectorDock::tabGoesDownTheForm()
+{
+    // The "mass scale x radius" box is on the way from Mass to x (Tab went past it).
+    auto *mass = m_dock->findChild<QDoubleSpinBox *>(QStringLiteral("mass"));
+    auto *box = m_dock->findChild<QCheckBox *>();
+    auto *x = m_dock->findChild<QDoubleSpinBox *>(QStringLiteral("x"));
+    QVERIFY(mass && box && x);
+    // The next widget Tab can reach that is not part of `from` (a spin box's own line edit).
+    auto after = [](QWidget *from) {
+        QWidget *next = from->nextInFocusChain();
+        while (from->isAncestorOf(next) || !(next->focusPolicy() & Qt::TabFocus))
+            next = next->nextInFocusChain();
+        return next;
+    };
+    QCOMPARE(after(mass), box);
+    QCOMPARE(after(box), x);
 }
 
 void TestInspectorDock::showsTheSelectedMarble()

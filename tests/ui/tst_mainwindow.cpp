@@ -396,8 +396,8 @@ void TestMainWindow::stepBackSaysWhereItStops()
     QTest::keyClick(view, Qt::Key_Left);
     QCOMPARE(doc->world().frame, 12);
     QCOMPARE(m_window->statusBar()->currentMessage(),
-             QStringLiteral("Frame 11 is not kept: Step Back reaches frame 12, Home frame 0 (the last %1 frames are "
-                            "kept, fewer in a large scene, none from before a marble was added or removed).")
+             QStringLiteral("Frame 11 is not kept: Step Back reaches frame 12, Home frame 0 (%1 frames at most, none "
+                            "from before a marble was added or removed).")
                  .arg(FrameHistory::kDefaultMaxFrames));
     QTest::keyClick(view, Qt::Key_Home);
     QCOMPARE(doc->world().frame, 0);
@@ -885,9 +885,15 @@ void TestMainWindow::keyboardChoosesAndPushesAMarble()
     QVERIFY(friction);
     friction->setFocus();
     const Vec2 held = w.acceleration[3];
-    for (Qt::Key key : {Qt::Key_Left, Qt::Key_Right, Qt::Key_Up, Qt::Key_Down})
-        QTest::keyClick(friction, key, Qt::ShiftModifier);
-    QVERIFY(w.acceleration[3] == held);
+    for (Qt::Key key : {Qt::Key_Left, Qt::Key_Right, Qt::Key_Up, Qt::Key_Down}) {
+        QTest::keyClick(friction, key, Qt::ShiftModifier); // one at a time: two could cancel out
+        QVERIFY2(w.acceleration[3] == held, qPrintable(QKeySequence(key).toString()));
+    }
+    // Back on the stage, Shift+Down and Shift+Up cancel out (to rounding).
+    view->setFocus();
+    QTest::keyClick(view, Qt::Key_Down, Qt::ShiftModifier);
+    QTest::keyClick(view, Qt::Key_Up, Qt::ShiftModifier);
+    QVERIFY(std::hypot(w.acceleration[3].x - held.x, w.acceleration[3].y - held.y) < 1e-9);
 }
 
 void TestMainWindow::spacePausesFromANumberField()
@@ -1493,6 +1499,10 @@ void TestMainWindow::helpListsTheRealShortcuts()
     // The toolbar buttons' tips name their keys too.
     QCOMPARE(m_window->findChild<QAction *>(QStringLiteral("actionPlay"))->toolTip(), QStringLiteral("Play (Space)"));
     QCOMPARE(m_window->findChild<QAction *>(QStringLiteral("actionStep"))->toolTip(), QStringLiteral("Step (Right)"));
+    QCOMPARE(m_window->findChild<QAction *>(QStringLiteral("actionUndo"))->toolTip(),
+             QStringLiteral("Undo Set friction to 0.2 (Ctrl+Z)"));
+    // The list fits the screen (at a scale of 2 it ran below the screen's edge, Close with it).
+    QCOMPARE_LE(dialog->height(), m_window->screen()->availableGeometry().height());
     QVERIFY(text.contains(QStringLiteral("<td>Undo</td><td>&nbsp;&nbsp;Ctrl+Z</td>")));
     QVERIFY2(text.contains(QStringLiteral("<td>Select &amp; Push</td><td>&nbsp;&nbsp;S</td>")), qPrintable(text));
     QVERIFY(text.contains(QStringLiteral("Click a marble")));

@@ -32,6 +32,7 @@ private slots:
     void invalidValuesRefused_data();
     void invalidValuesRefused();
     void focusedFieldIsScrolledIntoSight();
+    void gravityTakesItsAltKey();
     void refusalIsExplainedUntilTheNextEdit();
     void frictionWarning_data();
     void frictionWarning();
@@ -340,6 +341,20 @@ void TestParametersDock::focusedFieldIsScrolledIntoSight()
     QVERIFY(!inSight()); // the test needs it below the fold
     model->setFocus(Qt::ShortcutFocusReason);
     QTRY_VERIFY(inSight());
+}
+
+void TestParametersDock::gravityTakesItsAltKey()
+{
+    // Alt+G (the Gravity label's letter) goes to the x field: the label's buddy was the row of
+    // both fields, which takes no focus, so Alt+G did nothing.
+    ParametersDock dock;
+    QLabel *gravity = nullptr;
+    for (QLabel *label : dock.findChildren<QLabel *>()) {
+        if (label->text() == QStringLiteral("&Gravity"))
+            gravity = label;
+    }
+    QVERIFY(gravity);
+    QCOMPARE(gravity->buddy(), dock.findChild<QDoubleSpinBox *>(QStringLiteral("gravityXEdit")));
 }
 
 void TestParametersDock::refusalIsExplainedUntilTheNextEdit()

@@ -1,5 +1,6 @@
 #include "core/presets.h"
 #include "core/world.h"
+#include "ui/marbleitem.h"
 #include "ui/plotdock.h"
 #include "ui/ringbuffer.h"
 #include "tests/ui/filesizelimit.h"
@@ -46,6 +47,7 @@ private slots:
     void plottedMarbles();
     void selectionKeepsHistory();
     void unselectingBringsTheFirstMarblesBackWhole();
+    void lineColoursAreNotTheStagesBlue();
     void newLineTakesEarlierSpeeds();
     void lineColours();
     void chartGetsSamples();
@@ -656,6 +658,26 @@ void TestPlotDock::unselectingBringsTheFirstMarblesBackWhole()
     QVERIFY(std::isnan(dock.sampleSpeed(12, 15)));
 }
 
+void TestPlotDock::lineColoursAreNotTheStagesBlue()
+{
+    // The plotted marbles are drawn in their lines' colours, the others in the stage's blue: no
+    // line may be that blue or near it (marble 0's was it, and on a crowd looked like any other),
+    // and no two lines share a colour.
+    PlotDock dock;
+    dock.reset(worldWith(12));
+    const QList<QPair<int, QColor>> colours = dock.plottedColours();
+    QCOMPARE(colours.size(), 12);
+    const QColor blue = MarbleItem::defaultColor();
+    QSet<QRgb> seen;
+    for (const auto &[marble, colour] : colours) {
+        const double distance = std::hypot(colour.red() - blue.red(), colour.green() - blue.green(),
+                                           colour.blue() - blue.blue());
+        QVERIFY2(distance > 100, qPrintable(QStringLiteral("marble %1: %2").arg(marble).arg(colour.name())));
+        seen.insert(colour.rgb());
+    }
+    QCOMPARE(seen.size(), 12);
+}
+
 void TestPlotDock::newLineTakesEarlierSpeeds()
 {
     // With a velocity lookup (Step Back's history), a marble plotted later gets its speeds for
@@ -717,9 +739,10 @@ void TestPlotDock::lineColours()
     PlotDock dock;
     dock.reset(world);
     QCOMPARE(dock.speedSeries(1)->pen().color(), QColor(0xe0, 0x40, 0x40));
-    // Marbles without a colour get a blue: hue in the blue range.
+    // Marbles without a colour get one of the palette's, never the stage's blue (and the stage
+    // draws the marble so: lineColoursAreNotTheStagesBlue).
     const QColor c0 = dock.speedSeries(0)->pen().color();
-    QVERIFY2(c0.hslHue() >= 180 && c0.hslHue() <= 260, qPrintable(c0.name()));
+    QVERIFY2(c0.isValid() && c0 != MarbleItem::defaultColor(), qPrintable(c0.name()));
     QVERIFY(dock.speedSeries(2)->name().contains(QStringLiteral("red giant")));
     QCOMPARE(dock.speedSeries(0)->name(), QStringLiteral("marble 0"));
     // As many colours as lines at most: none shared (marbles 0 and 8 were both blue).
