@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -51,6 +52,21 @@ double parseNumber(std::string_view option, std::string_view text)
     if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(value))
         throw InvalidInput{std::string(option) + ": must be a finite number, got '" + s + "'"};
     return value;
+}
+
+std::vector<std::string> splitOptionValues(const std::vector<std::string> &args)
+{
+    std::vector<std::string> out;
+    for (const std::string &a : args) {
+        const std::size_t eq = a.find('=');
+        if (a.starts_with("--") && eq != std::string::npos) {
+            out.push_back(a.substr(0, eq));
+            out.push_back(a.substr(eq + 1));
+        } else {
+            out.push_back(a);
+        }
+    }
+    return out;
 }
 
 std::string sceneLabel(const std::string &scene)
@@ -116,22 +132,40 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
     return world;
 }
 
-void throwIfFailed(const WholeFileWriter &writer, const std::string &path)
+OutputFile::OutputFile(const std::string &path)
+    : m_path(path)
+    , m_writer(path, SpecialFiles::WriteInPlace)
 {
-    if (writer.error().empty())
+    throwIfFailed();
+}
+
+void OutputFile::write(std::string_view bytes)
+{
+    m_writer.write(bytes);
+    throwIfFailed();
+}
+
+void OutputFile::commit()
+{
+    m_writer.commit();
+    throwIfFailed();
+}
+
+void OutputFile::throwIfFailed() const
+{
+    if (m_writer.error().empty())
         return;
-    const std::string message = path + ": cannot write: " + writer.error();
-    if (writer.failedWhileWriting())
+    const std::string message = m_path + ": cannot write: " + m_writer.error();
+    if (m_writer.failedWhileWriting())
         throw WriteFailed{message};
     throw InvalidInput{message};
 }
 
 void writeFileAtomically(const std::string &path, const std::string &text)
 {
-    WholeFileWriter writer(path, SpecialFiles::WriteInPlace);
-    writer.write(text);
-    writer.commit();
-    throwIfFailed(writer, path);
+    OutputFile file(path);
+    file.write(text);
+    file.commit();
 }
 
 std::string formatNumber(double x, const char *spec, const char *missing)
@@ -255,17 +289,14 @@ int runCommand(const std::vector<std::string> &args)
 
     // The rows go out a megabyte at a time, to --out as to standard output: a long run's CSV is
     // never held whole in memory. --out is replaced only once the run is over.
-    std::optional<WholeFileWriter> file;
-    if (outPath) {
-        file.emplace(*outPath, SpecialFiles::WriteInPlace);
-        throwIfFailed(*file, *outPath);
-    }
+    std::optional<OutputFile> file;
+    if (outPath)
+        file.emplace(*outPath);
     std::string csv = "frame,marble,x,y,vx,vy\n";
     auto flush = [&](bool force) {
         if (force || csv.size() > (1 << 20)) {
             if (file) {
                 file->write(csv);
-                throwIfFailed(*file, *outPath);
             } else {
                 std::fwrite(csv.data(), 1, csv.size(), stdout);
             }
@@ -292,10 +323,8 @@ int runCommand(const std::vector<std::string> &args)
         flush(false);
     }
     flush(true);
-    if (file) {
+    if (file)
         file->commit();
-        throwIfFailed(*file, *outPath);
-    }
     std::fflush(stdout);
     if (status != ExitOk)
         std::cerr << "marbles-cli: " << sceneLabel(o.positional.front()) << ": " << failure << '\n';
@@ -383,9 +412,28 @@ int genCommand(const std::vector<std::string> &args)
 
 } // namespace marbles::cli
 
+namespace {
+
+// Ctrl+C, SIGTERM, a closed terminal: an interrupted write leaves no hidden temporary file (a
+// run --out of a long run stopped so left 150 MB beside its target), then the signal ends the
+// program as it would have.
+extern "C" void onStopSignal(int signal)
+{
+    marbles::removeUnfinishedTemporaries();
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
+}
+
+} // namespace
+
 int main(int argc, char **argv)
 {
     using namespace marbles::cli;
+    for (int signal : {SIGINT, SIGTERM, SIGHUP})
+        std::signal(signal, onStopSignal);
+    // Past a file size limit a write fails (exit code 1, the old file kept), instead of SIGXFSZ
+    // killing the program with its temporary file left behind.
+    std::signal(SIGXFSZ, SIG_IGN);
     const std::vector<std::string> all(argv + 1, argv + argc);
     if (all.empty() || all.front() == "--help" || all.front() == "-h" || all.front() == "help") {
         (all.empty() ? std::cerr : std::cout) << usageText;

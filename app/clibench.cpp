@@ -524,9 +524,12 @@ void printScaleTargets(const std::vector<Row> &rows, int frames, int maxN)
 
 } // namespace
 
-int benchCommand(const std::vector<std::string> &args)
+int benchCommand(const std::vector<std::string> &given)
 {
-    bool scale = false;
+    const std::vector<std::string> args = splitOptionValues(given);
+    // An option the chosen bench has no use for is refused, not silently dropped, and before its
+    // value is judged ("--max-n 10" said "must be >= 1000" without --scale).
+    const bool scale = std::find(args.begin(), args.end(), "--scale") != args.end();
     std::string csvPath, plotPath;
     int repeats = 5;
     int frames = 220;
@@ -539,8 +542,14 @@ int benchCommand(const std::vector<std::string> &args)
                 throw InvalidInput{a + ": missing value"};
             return args[++k];
         };
+        if (!scale && (a == "--frames" || a == "--max-n"))
+            throw InvalidInput{a + ": only with --scale"};
+        if (scale && a == "--crowd")
+            throw InvalidInput{"--crowd: not with --scale (its crowds have 1k, 10k and 100k marbles; --max-n stops earlier)"};
+        if (scale && a == "--plot")
+            throw InvalidInput{"--plot: draws the work-precision diagram, not --scale"};
         if (a == "--scale")
-            scale = true;
+            continue;
         else if (a == "--csv")
             csvPath = value();
         else if (a == "--plot")
@@ -556,27 +565,31 @@ int benchCommand(const std::vector<std::string> &args)
         else
             throw InvalidInput{"bench: unknown option '" + a + "'"};
     }
-    // An option the chosen bench has no use for is refused, not silently dropped.
-    const auto given = [&args](const char *option) { return std::find(args.begin(), args.end(), option) != args.end(); };
-    if (scale && !plotPath.empty())
-        throw InvalidInput{"--plot: draws the work-precision diagram, not --scale"};
-    if (scale && given("--crowd"))
-        throw InvalidInput{"--crowd: not with --scale (its crowds have 1k, 10k and 100k marbles; --max-n stops earlier)"};
-    for (const char *option : {"--frames", "--max-n"}) {
-        if (!scale && given(option))
-            throw InvalidInput{std::string(option) + ": only with --scale"};
-    }
 
-    // The files are written before anything is printed: one that cannot be written ends the
-    // command with its message on stderr and nothing on stdout (exit code 2 for a path that
-    // cannot be written, 1 for a write that failed; progress goes to stderr while the scenes run).
-    const std::vector<Row> rows = scale ? scaleBench(frames, repeats, maxN) : precisionBench(repeats, crowd);
+    // The files are opened before the scenes run (a typo in a path failed after the two minutes
+    // of --scale), and written, then both committed, before anything is printed: one that cannot
+    // be written ends the command with its message on stderr, nothing on stdout and neither file
+    // changed (exit code 2 for a path that cannot be written, 1 for a write that failed; progress
+    // goes to stderr while the scenes run).
+    if (!csvPath.empty() && csvPath == plotPath)
+        throw InvalidInput{"--csv and --plot name the same file, " + csvPath};
+    std::optional<OutputFile> csvFile;
+    std::optional<OutputFile> plotFile;
     if (!csvPath.empty())
-        writeFileAtomically(csvPath, rowsToCsv(rows));
-    if (!plotPath.empty()) {
+        csvFile.emplace(csvPath);
+    if (!plotPath.empty())
+        plotFile.emplace(plotPath);
+    const std::vector<Row> rows = scale ? scaleBench(frames, repeats, maxN) : precisionBench(repeats, crowd);
+    if (csvFile)
+        csvFile->write(rowsToCsv(rows));
+    if (plotFile) {
         const std::vector<std::uint8_t> png = plot::encodePng(plot::render(precisionChart(rows)));
-        writeFileAtomically(plotPath, std::string(png.begin(), png.end()));
+        plotFile->write(std::string_view(reinterpret_cast<const char *>(png.data()), png.size()));
     }
+    if (csvFile)
+        csvFile->commit();
+    if (plotFile)
+        plotFile->commit();
     if (scale) {
         std::printf("marbles-cli bench --scale: crowd scene, %d frames, one core\n", frames);
         printTable(rows, true);

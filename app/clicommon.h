@@ -2,6 +2,7 @@
 
 // Shared pieces of the marbles-cli subcommands: exit codes, argument reading and scene loading.
 
+#include "core/filewrite.h"
 #include "core/world.h"
 
 #include <limits>
@@ -39,14 +40,32 @@ inline constexpr long long kMaxCrowd = 10'000'000;
 /// Parses a finite double option value; throws InvalidInput naming the option.
 double parseNumber(std::string_view option, std::string_view text);
 
+/// The arguments with each "--option=value" as "--option" "value", as run and gen read them.
+std::vector<std::string> splitOptionValues(const std::vector<std::string> &args);
 /// How messages name SCENE: "stdin" for "-", else as given.
 std::string sceneLabel(const std::string &scene);
 /// Loads SCENE ("-" reads standard input; "preset:ID" builds a built-in preset), applies the
 /// KEY=VALUE settings in order and validates the result; throws InvalidInput with one message.
 World loadWorld(const std::string &scene, const std::vector<std::string> &settings);
 
-/// Writes `text` to `path` atomically (WholeFileWriter); throws InvalidInput where the path cannot
-/// be written (a missing folder, a read-only file, a folder) and WriteFailed where writing failed.
+/// An output file (--out, --csv, --plot) replaced whole once committed (WholeFileWriter). Opened
+/// before a command's work, so that a path that cannot be written (a missing folder, a read-only
+/// file, a folder) fails at once with InvalidInput, nothing run and nothing printed; write() and
+/// commit() throw WriteFailed where writing fails (a full disk). Destroyed uncommitted, it leaves
+/// the old file as it was.
+class OutputFile {
+public:
+    explicit OutputFile(const std::string &path);
+    void write(std::string_view bytes);
+    void commit();
+
+private:
+    void throwIfFailed() const;
+    std::string m_path;
+    WholeFileWriter m_writer;
+};
+
+/// Writes `text` to `path` whole (an OutputFile opened, written and committed).
 void writeFileAtomically(const std::string &path, const std::string &text);
 /// `x` printed with the printf `spec`, or `missing` when x is NaN (a figure that does not apply).
 std::string formatNumber(double x, const char *spec = "%.3g", const char *missing = "n/a");

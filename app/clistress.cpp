@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <functional>
 #include <limits>
 #include <numbers>
@@ -326,8 +327,9 @@ Outcome runRow(const StressRow &row)
 
 } // namespace
 
-int stressCommand(const std::vector<std::string> &args)
+int stressCommand(const std::vector<std::string> &given)
 {
+    const std::vector<std::string> args = splitOptionValues(given);
     bool quick = false;
     std::string csvPath;
     std::string only;
@@ -349,6 +351,12 @@ int stressCommand(const std::vector<std::string> &args)
         if (rows.empty())
             throw InvalidInput{"stress: --only '" + only + "' matches no row's name (e.g. '" + example + "')"};
     }
+
+    // Opened before the rows run and print: a path that cannot be written fails at once, with
+    // nothing on stdout (it failed after the whole table).
+    std::optional<OutputFile> csvFile;
+    if (!csvPath.empty())
+        csvFile.emplace(csvPath);
 
     std::printf("marbles-cli stress%s: each row states its expectation; exit 0 only if all are met\n",
                 quick ? " --quick" : "");
@@ -374,9 +382,11 @@ int stressCommand(const std::vector<std::string> &args)
                + "," + std::to_string(o.escapes) + "," + formatNumber(o.overlap) + "," + formatNumber(o.energyDrift) + ","
                + formatNumber(o.momentumDrift) + "," + formatNumber(o.framesPerSecond) + ",\"" + o.verdict + "\"\n";
     }
-    if (!csvPath.empty())
-        writeFileAtomically(csvPath, csv);
-    std::printf("stress: %d of %d rows met their expectation\n", ran - failures, ran);
+    if (csvFile) {
+        csvFile->write(csv);
+        csvFile->commit();
+    }
+    std::printf("stress: %d of %d %s their expectation\n", ran - failures, ran, ran == 1 ? "row met" : "rows met");
     return failures == 0 ? ExitOk : ExitInternal;
 }
 

@@ -1,6 +1,8 @@
 #include "core/filewrite.h"
 
 #include <atomic>
+#include <csignal>
+#include <cstring>
 #include <cerrno>
 #include <filesystem>
 #include <system_error>
@@ -37,7 +39,47 @@ std::filesystem::path followLinks(std::filesystem::path path, std::error_code &e
     return path;
 }
 
+// The temporaries of the writers alive, for removeUnfinishedTemporaries(): fixed slots that a
+// signal handler can read without locks (a slot's path is written before it is marked in use).
+constexpr int kSlots = 8;
+struct Slot {
+    char path[4096];
+    volatile std::sig_atomic_t used;
+};
+Slot g_slots[kSlots];
+
+void registerTemporary(const std::string &path)
+{
+    if (path.size() >= sizeof(g_slots[0].path))
+        return;
+    for (Slot &slot : g_slots) {
+        if (!slot.used) {
+            std::memcpy(slot.path, path.c_str(), path.size() + 1);
+            slot.used = 1;
+            return;
+        }
+    }
+}
+
+void forgetTemporary(const std::string &path)
+{
+    for (Slot &slot : g_slots) {
+        if (slot.used && path == slot.path) {
+            slot.used = 0;
+            return;
+        }
+    }
+}
+
 } // namespace
+
+void removeUnfinishedTemporaries() noexcept
+{
+    for (Slot &slot : g_slots) {
+        if (slot.used)
+            ::unlink(slot.path);
+    }
+}
 
 WholeFileWriter::WholeFileWriter(const std::string &path, SpecialFiles special)
 {
@@ -81,16 +123,21 @@ WholeFileWriter::WholeFileWriter(const std::string &path, SpecialFiles special)
 
     // The temporary file sits beside the target, so the final rename stays within one file
     // system and is atomic.
+    // Its name is the target's, cut short enough that the suffix still fits a file name's 255
+    // bytes (a 244-byte name was refused as too long).
     static std::atomic<unsigned> counter{0};
+    const std::string stem = "." + base.substr(0, 200);
     for (int attempt = 0; attempt < 100 && m_fd < 0; ++attempt) {
-        m_temporary = (fs::path(m_folder) / ("." + base + ".tmp-" + std::to_string(::getpid()) + "-"
+        m_temporary = (fs::path(m_folder) / (stem + ".tmp-" + std::to_string(::getpid()) + "-"
                                              + std::to_string(counter.fetch_add(1))))
                           .string();
         m_fd = ::open(m_temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (m_fd < 0 && errno != EEXIST) {
             const int error = errno;
             m_temporary.clear();
-            fail("cannot create a file in " + m_folder, error, false);
+            fail("cannot create a file in " + m_folder
+                     + (error == EACCES ? " (the file is replaced whole, through a new file beside it)" : ""),
+                 error, false);
             return;
         }
     }
@@ -99,6 +146,7 @@ WholeFileWriter::WholeFileWriter(const std::string &path, SpecialFiles special)
         m_error = "cannot create a temporary file in " + m_folder;
         return;
     }
+    registerTemporary(m_temporary);
     // Replacing a file keeps its permissions; a new file gets the usual ones (0666 less umask).
     if (exists)
         ::fchmod(m_fd, existing.st_mode & 07777);
@@ -110,6 +158,8 @@ WholeFileWriter::~WholeFileWriter()
         ::close(m_fd);
     if (!m_committed && !m_temporary.empty())
         ::unlink(m_temporary.c_str());
+    if (!m_temporary.empty())
+        forgetTemporary(m_temporary);
 }
 
 void WholeFileWriter::fail(const std::string &what, int error, bool whileWriting)
@@ -165,6 +215,7 @@ bool WholeFileWriter::commit()
         return false;
     }
     m_committed = true;
+    forgetTemporary(m_temporary);
     // Make the rename itself durable; a failure here cannot undo it, so it is not reported.
     if (const int dir = ::open(m_folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dir >= 0) {
         ::fsync(dir);

@@ -53,6 +53,11 @@ private:
     std::string m_error;
 };
 
+/// Removes the temporary files of the writers not yet committed or destroyed. Safe to call from a
+/// signal handler (it only calls unlink()): a program stopped by Ctrl+C or SIGTERM calls it so
+/// that an interrupted write leaves no hidden temporary beside its target.
+void removeUnfinishedTemporaries() noexcept;
+
 /// Writes `bytes` as the whole content of `path` (a WholeFileWriter, written once and committed);
 /// returns "" or why nothing was written.
 std::string writeFileWhole(const std::string &path, std::string_view bytes, SpecialFiles special);

@@ -8,8 +8,11 @@
 #include <QtTest>
 
 #include <QDir>
+#include <QFileInfo>
 #include <QProcess>
 #include <QTemporaryDir>
+
+#include <csignal>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -111,6 +114,7 @@ private slots:
     void invalidInputExitsTwo_data();
     void invalidInputExitsTwo();
     void standardInputIsNamedAndItsErrorsSaid();
+    void stoppedRunLeavesNoTemporary();
     void outputThatCannotBeWrittenFails();
     void benchFileThatCannotBeWrittenPrintsNothing();
     void nonFiniteExitsThree();
@@ -286,6 +290,14 @@ void TestCli::invalidInputExitsTwo_data()
                                            << "--crowd: must be <= 10000000, got 1000000000";
     QTest::addRow("bench repeat past int") << QStringList{"bench", "--repeat", "4294967297"} << QByteArray()
                                            << "--repeat: must be <= 1000";
+    QTest::addRow("bench max-n without scale, before its value") << QStringList{"bench", "--max-n", "10"}
+                                                                 << QByteArray() << "--max-n: only with --scale";
+    QTest::addRow("bench csv and plot the same file") << QStringList{"bench", "--csv", "same", "--plot", "same"}
+                                                      << QByteArray() << "--csv and --plot name the same file";
+    // Output paths are tried before the work: nothing printed (stress printed its whole table).
+    QTest::addRow("stress csv into a missing folder")
+        << QStringList{"stress", "--quick", "--only", "sparse gas", "--csv", "/nonexistent/dir/x.csv"} << QByteArray()
+        << "/nonexistent/dir/x.csv: cannot write";
 }
 
 void TestCli::invalidInputExitsTwo()
@@ -318,6 +330,27 @@ void TestCli::standardInputIsNamedAndItsErrorsSaid()
     const CliResult blowUp = runCli({"run", "-", "--frames", "3000", "--set", "friction=2.5"}, runCli({"preset", "pins"}).out);
     QCOMPARE(blowUp.exitCode, 3);
     QVERIFY2(blowUp.err.startsWith("marbles-cli: stdin: frame "), blowUp.err.constData());
+}
+
+void TestCli::stoppedRunLeavesNoTemporary()
+{
+    // Ctrl+C or SIGTERM during run --out: the old file stays and no hidden temporary is left
+    // (a stopped long run left 150 MB beside its target).
+    QTemporaryDir dir;
+    const QString path = dir.filePath("rows.csv");
+    QVERIFY(QFile(path).open(QIODevice::WriteOnly));
+    for (int signal : {SIGINT, SIGTERM}) {
+        QProcess p;
+        p.start(QStringLiteral(MARBLES_CLI_PATH), {"run", "preset:brownian", "--frames", "1000000", "--out", path});
+        QVERIFY(p.waitForStarted());
+        // Until the temporary exists (the rows go there as the run goes).
+        QTRY_VERIFY_WITH_TIMEOUT(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).size() == 2, 20000);
+        ::kill(static_cast<pid_t>(p.processId()), signal);
+        QVERIFY(p.waitForFinished(20000));
+        QCOMPARE(p.exitStatus(), QProcess::CrashExit); // ended by the signal, as before
+        QCOMPARE(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList{"rows.csv"});
+        QCOMPARE(QFileInfo(path).size(), 0);
+    }
 }
 
 void TestCli::outputThatCannotBeWrittenFails()
@@ -354,12 +387,22 @@ void TestCli::outputThatCannotBeWrittenFails()
     // bad argument), and no file, not even a temporary one, where the rows were to go. The rows
     // go to the file as the run goes (a long run's CSV was held whole in memory until the end).
     const QString bigPath = dir.filePath("rows-big.csv");
-    CliResult big;
+    int bigExit = -2;
+    QByteArray bigErr;
     {
         test::FileSizeLimit limit(100'000); // inherited by the command
         QVERIFY(limit.ok());
-        big = runCli({"run", "preset:pins", "--frames", "2000", "--out", bigPath});
+        // With SIGXFSZ as a shell leaves it (this test ignores it, and the child would inherit
+        // that): the command must ignore it itself, or the signal kills it mid-write (exit 153 in
+        // a shell, its temporary left behind).
+        QProcess p;
+        p.setChildProcessModifier([] { std::signal(SIGXFSZ, SIG_DFL); });
+        p.start(QStringLiteral(MARBLES_CLI_PATH), {"run", "preset:pins", "--frames", "2000", "--out", bigPath});
+        QVERIFY(p.waitForFinished(60000));
+        bigExit = p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
+        bigErr = p.readAllStandardError();
     }
+    CliResult big{bigExit, QByteArray(), bigErr};
     QCOMPARE(big.exitCode, 1);
     QVERIFY2(big.err.contains("rows-big.csv: cannot write: writing failed: "), big.err.constData());
     QVERIFY(big.out.isEmpty());

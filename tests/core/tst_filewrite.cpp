@@ -152,6 +152,31 @@ private slots:
         QVERIFY(!writer.failedWhileWriting());
     }
 
+    void aLongNameIsWritten()
+    {
+        // The temporary's name is the target's cut short: a 244-byte name (255 is the most) was
+        // refused as too long, its temporary's name being longer.
+        QTemporaryDir dir;
+        const QString path = dir.filePath(QString(240, QLatin1Char('b')) + QStringLiteral(".csv"));
+        QCOMPARE(writeFileWhole(path.toStdString(), "x", SpecialFiles::Refuse), std::string());
+        QCOMPARE(contents(path), QByteArray("x"));
+    }
+
+    void unfinishedTemporariesCanBeRemoved()
+    {
+        // What a signal handler calls: the temporaries of writers not committed go, the files
+        // they would replace stay.
+        QTemporaryDir dir;
+        const QString path = dir.filePath("rows.csv");
+        QCOMPARE(writeFileWhole(path.toStdString(), "old", SpecialFiles::Refuse), std::string());
+        WholeFileWriter writer(path.toStdString(), SpecialFiles::Refuse);
+        QVERIFY(writer.write("new"));
+        QCOMPARE(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).size(), 2);
+        removeUnfinishedTemporaries();
+        QCOMPARE(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList{"rows.csv"});
+        QCOMPARE(contents(path), QByteArray("old"));
+    }
+
     void aPipeIsWrittenInPlaceOrRefused()
     {
         // A temporary file renamed over a pipe or a device node replaces it; written in place,
