@@ -1,7 +1,6 @@
 #include "core/filewrite.h"
 
 #include <atomic>
-#include <csignal>
 #include <cstring>
 #include <cerrno>
 #include <filesystem>
@@ -40,12 +39,15 @@ std::filesystem::path followLinks(std::filesystem::path path, std::error_code &e
 }
 
 // The temporaries of the writers alive, for removeUnfinishedTemporaries(): fixed slots that a
-// signal handler can read without locks (a slot's path is written before it is marked in use).
+// signal handler can read without locks. A slot is claimed atomically (writers on two threads
+// take two slots), its path written, then marked ready; more writers than slots go unlisted.
 constexpr int kSlots = 8;
+enum SlotState : int { Free, Claimed, Ready };
 struct Slot {
     char path[4096];
-    volatile std::sig_atomic_t used;
+    std::atomic<int> state{Free};
 };
+static_assert(std::atomic<int>::is_always_lock_free);
 Slot g_slots[kSlots];
 
 void registerTemporary(const std::string &path)
@@ -53,9 +55,10 @@ void registerTemporary(const std::string &path)
     if (path.size() >= sizeof(g_slots[0].path))
         return;
     for (Slot &slot : g_slots) {
-        if (!slot.used) {
+        int expected = Free;
+        if (slot.state.compare_exchange_strong(expected, Claimed)) {
             std::memcpy(slot.path, path.c_str(), path.size() + 1);
-            slot.used = 1;
+            slot.state.store(Ready);
             return;
         }
     }
@@ -64,8 +67,8 @@ void registerTemporary(const std::string &path)
 void forgetTemporary(const std::string &path)
 {
     for (Slot &slot : g_slots) {
-        if (slot.used && path == slot.path) {
-            slot.used = 0;
+        if (slot.state.load() == Ready && path == slot.path) {
+            slot.state.store(Free);
             return;
         }
     }
@@ -76,7 +79,7 @@ void forgetTemporary(const std::string &path)
 void removeUnfinishedTemporaries() noexcept
 {
     for (Slot &slot : g_slots) {
-        if (slot.used)
+        if (slot.state.load() == Ready)
             ::unlink(slot.path);
     }
 }
