@@ -488,6 +488,27 @@ void MainWindow::createMenus()
     aboutQt->setObjectName(QStringLiteral("actionAboutQt"));
 }
 
+namespace {
+
+// A menu text without its mnemonic marks ("&&" is a literal "&": "Select && Push").
+QString withoutMnemonics(QString text)
+{
+    text.replace(QStringLiteral("&&"), QStringLiteral("\u0001")).remove(QLatin1Char('&'));
+    return text.replace(QChar(1), QLatin1Char('&'));
+}
+
+// "Play (Space)": an action's text without its mnemonic marks or ellipsis, and its shortcut.
+QString withShortcut(const QAction *action)
+{
+    QString text = withoutMnemonics(action->text());
+    text.remove(QStringLiteral("\u2026")).remove(QStringLiteral("..."));
+    return action->shortcut().isEmpty()
+        ? text
+        : QStringLiteral("%1 (%2)").arg(text, action->shortcut().toString(QKeySequence::NativeText));
+}
+
+} // namespace
+
 void MainWindow::showKeysAndMouse()
 {
     // Built from the actions themselves, so the list is the shortcuts the window really has.
@@ -517,14 +538,11 @@ void MainWindow::showKeysAndMouse()
     for (QMenu *menu : menuBar()->findChildren<QMenu *>(Qt::FindDirectChildrenOnly)) {
         for (const QAction *action : menu->actions()) {
             if (!action->shortcut().isEmpty()) {
-                // The menu text without its mnemonic marks ("&&" is a literal "&": "Select && Push");
                 // Undo and Redo by their names, not the edit they would undo now.
-                QString text = action == m_undoAction   ? tr("Undo")
-                               : action == m_redoAction ? tr("Redo")
-                               : action == m_playAction ? tr("Play / Pause")
-                                                        : action->text();
-                text.replace(QStringLiteral("&&"), QStringLiteral("\u0001")).remove(QLatin1Char('&'));
-                text.replace(QChar(1), QLatin1Char('&'));
+                const QString text = action == m_undoAction   ? tr("Undo")
+                                     : action == m_redoAction ? tr("Redo")
+                                     : action == m_playAction ? tr("Play / Pause")
+                                                              : withoutMnemonics(action->text());
                 row(text, action->shortcut().toString(QKeySequence::NativeText));
             }
         }
@@ -550,21 +568,6 @@ void MainWindow::showKeysAndMouse()
     m_keysDialog->activateWindow();
 }
 
-namespace {
-
-// "Play (Space)": an action's text without its mnemonic marks, and its shortcut.
-QString withShortcut(const QAction *action)
-{
-    QString text = action->text();
-    text.replace(QStringLiteral("&&"), QStringLiteral("\u0001")).remove(QLatin1Char('&'));
-    text.replace(QChar(1), QLatin1Char('&'));
-    text.remove(QStringLiteral("\u2026")).remove(QStringLiteral("..."));
-    return action->shortcut().isEmpty()
-        ? text
-        : QStringLiteral("%1 (%2)").arg(text, action->shortcut().toString(QKeySequence::NativeText));
-}
-
-} // namespace
 
 void MainWindow::addShortcutsToToolTips()
 {
