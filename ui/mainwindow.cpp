@@ -579,9 +579,14 @@ void MainWindow::addShortcutsToToolTips()
         }
     }
     // Undo's and Redo's texts follow the stack ("Undo Set friction to 0.2"): their tips too.
+    // The actions are the receivers, not the window: the stack says its texts changed once more
+    // as it is cleared, while the window is being destroyed (UBSan: a member access within an
+    // object no longer a MainWindow).
     QUndoStack *stack = m_document->undoStack();
-    connect(stack, &QUndoStack::undoTextChanged, this, [this] { m_undoAction->setToolTip(withShortcut(m_undoAction)); });
-    connect(stack, &QUndoStack::redoTextChanged, this, [this] { m_redoAction->setToolTip(withShortcut(m_redoAction)); });
+    for (QAction *action : {m_undoAction, m_redoAction}) {
+        connect(stack, action == m_undoAction ? &QUndoStack::undoTextChanged : &QUndoStack::redoTextChanged, action,
+                [action] { action->setToolTip(withShortcut(action)); });
+    }
 }
 
 void MainWindow::createToolBars()

@@ -245,7 +245,7 @@ void ParametersDock::buildUi()
     // and a field that takes the focus is scrolled into sight, by Alt and its letter too (a
     // projector's small dock changed a model it did not show).
     scroll->setFocusPolicy(Qt::NoFocus);
-    connect(qApp, &QApplication::focusChanged, scroll, [scroll, page](QWidget *, QWidget *now) {
+    m_scrollToFocus = connect(qApp, &QApplication::focusChanged, scroll, [scroll, page](QWidget *, QWidget *now) {
         if (now && page->isAncestorOf(now))
             scroll->ensureWidgetVisible(now);
     });
@@ -272,6 +272,11 @@ void ParametersDock::buildUi()
         emit paramEdited(QStringLiteral("shortCircuit"), on ? QStringLiteral("true") : QStringLiteral("false"));
     });
     connect(m_model, &QComboBox::activated, this, &ParametersDock::onModelActivated);
+}
+
+ParametersDock::~ParametersDock()
+{
+    disconnect(m_scrollToFocus);
 }
 
 QString ParametersDock::refusalText(const QAbstractSpinBox *spin, const Refusing &box, double refused) const

@@ -31,6 +31,9 @@ public:
 
     /// The dock, objectName "parametersDock", showing the default parameters.
     explicit ParametersDock(QWidget *parent = nullptr);
+    /// Disconnects from the application's focus changes before the fields go (a field losing the
+    /// focus as it is destroyed would otherwise scroll a page half destroyed).
+    ~ParametersDock() override;
 
     /// Shows `params` in every field; emits no paramEdited().
     void setParams(const Params &params);
@@ -48,6 +51,7 @@ protected:
     bool eventFilter(QObject *watched, QEvent *event) override;
 
 private:
+    QMetaObject::Connection m_scrollToFocus; // a focused field scrolled into sight
     /// Gives the scrolled page the height its wrapped help texts need at its width.
     void fitPageHeight();
     void buildUi();
