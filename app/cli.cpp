@@ -14,7 +14,6 @@
 #include <cstring>
 #include <exception>
 #include <iostream>
-#include <iterator>
 #include <optional>
 #include <sstream>
 

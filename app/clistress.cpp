@@ -9,10 +9,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <optional>
 #include <functional>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 namespace marbles::cli {
 

@@ -1,8 +1,8 @@
 #include "core/filewrite.h"
 
 #include <atomic>
-#include <cstring>
 #include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <system_error>
 #include <utility>
@@ -159,10 +159,10 @@ WholeFileWriter::~WholeFileWriter()
 {
     if (m_fd >= 0)
         ::close(m_fd);
-    if (!m_committed && !m_temporary.empty())
+    if (!m_committed && !m_temporary.empty()) { // commit() forgot it already
         ::unlink(m_temporary.c_str());
-    if (!m_temporary.empty())
         forgetTemporary(m_temporary);
+    }
 }
 
 void WholeFileWriter::fail(const std::string &what, int error, bool whileWriting)
@@ -195,23 +195,20 @@ bool WholeFileWriter::commit()
 {
     if (!m_error.empty() || m_committed)
         return m_error.empty();
-    if (m_temporary.empty()) { // written in place
-        const int fd = std::exchange(m_fd, -1);
-        if (::close(fd) != 0) {
-            fail("closing failed", errno, true);
-            return false;
-        }
-        m_committed = true;
-        return true;
-    }
-    if (::fsync(m_fd) != 0) {
+    // A file written in place (a device, a pipe) is only closed; a temporary reaches the disk
+    // before it is renamed over the file.
+    const bool inPlace = m_temporary.empty();
+    if (!inPlace && ::fsync(m_fd) != 0) {
         fail("flushing to disk failed", errno, true);
         return false;
     }
-    const int fd = std::exchange(m_fd, -1);
-    if (::close(fd) != 0) {
+    if (::close(std::exchange(m_fd, -1)) != 0) {
         fail("closing failed", errno, true);
         return false;
+    }
+    if (inPlace) {
+        m_committed = true;
+        return true;
     }
     if (::rename(m_temporary.c_str(), m_path.c_str()) != 0) {
         fail("cannot replace the file", errno, true);
