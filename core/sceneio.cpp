@@ -360,16 +360,16 @@ void readParams(Json &j, Params &p, std::string &extraJson)
     extraJson = extraText(extras);
 }
 
-// A mass derived from the radius must be a mass too: massScale * radius can overflow (1e308 x 25
-// is no number) or underflow to 0. Returns "" or the rule it breaks.
-std::string derivedMassRule(const World &world, int i)
+// A mass derived from the radius (World's massScale * radius, for a marble without a mass of its
+// own) must be a mass too: the product can overflow (1e308 x 25 is no number) or underflow to 0.
+// Returns "" or the rule it breaks.
+std::string derivedMassRule(double massScale, double radius)
 {
-    const double m = world.mass[static_cast<std::size_t>(i)];
-    if (world.info[static_cast<std::size_t>(i)].hasMass || (std::isfinite(m) && m > 0.0))
+    const double m = massScale * radius;
+    if (std::isfinite(m) && m > 0.0)
         return {};
-    return "its mass massScale x radius = " + formatNumber(world.params.massScale) + " x "
-           + formatNumber(world.radius[static_cast<std::size_t>(i)]) + " is " + (m > 0.0 ? "beyond" : "below")
-           + " what a double can hold: give the marble a mass, or change massScale";
+    return "its mass massScale x radius = " + formatNumber(massScale) + " x " + formatNumber(radius) + " is "
+           + (m > 0.0 ? "beyond" : "below") + " what a double can hold: give the marble a mass, or change massScale";
 }
 
 void readMarble(Json &j, const std::string &place, World &world)
@@ -406,7 +406,8 @@ void readMarble(Json &j, const std::string &place, World &world)
         }
     }
     const int i = world.addMarble(p, r, v, m);
-    if (std::string broken = derivedMassRule(world, i); !broken.empty())
+    if (std::string broken = world.info[i].hasMass ? std::string() : derivedMassRule(world.params.massScale, r);
+        !broken.empty())
         fail(place, broken);
     info.hasMass = world.info[i].hasMass;
     info.extraJson = extraText(extras);
@@ -1155,13 +1156,16 @@ std::string setParam(World &world, std::string_view key, std::string_view value)
         double scale = p.massScale;
         if (std::string error = setNumber(scale, rulePositive); !error.empty())
             return error;
-        World scaled = world;
-        scaled.setMassScale(scale);
-        for (int i = 0; i < scaled.marbleCount(); ++i) {
-            if (std::string broken = derivedMassRule(scaled, i); !broken.empty())
+        // Checked before it is set, marble by marble (a copy of the world to try it on was a
+        // 100k crowd's whole state, on top of the caller's own trial copy).
+        for (int i = 0; i < world.marbleCount(); ++i) {
+            const std::string broken = world.info[static_cast<std::size_t>(i)].hasMass
+                ? std::string()
+                : derivedMassRule(scale, world.radius[static_cast<std::size_t>(i)]);
+            if (!broken.empty())
                 return head + "marble " + std::to_string(i) + ": " + broken;
         }
-        world = std::move(scaled);
+        world.setMassScale(scale);
         return {};
     }
     if (key == "friction")
