@@ -92,8 +92,7 @@ bool SetParamCommand::mergeWith(const QUndoCommand *other)
     setText(next->text()); // the value the edits ended on
     // Edits that came back to where they started (friction 0, 0.01, 0 again) change nothing: the
     // stack drops them, instead of keeping an Undo that does nothing ("Set friction to 0").
-    setObsolete(m_after.params == m_before.params && m_after.stage == m_before.stage
-                && m_after.mass == m_before.mass);
+    setObsolete(m_after == m_before);
     return true;
 }
 

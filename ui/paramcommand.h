@@ -21,6 +21,8 @@ struct ParamState {
     static ParamState of(const World &world);
     /// Writes it back into `world` (same marbles).
     void applyTo(World &world) const;
+
+    friend bool operator==(const ParamState &, const ParamState &) = default;
 };
 
 /// Sets one parameter (a Parameters dock edit). Consecutive edits of the same key merge.

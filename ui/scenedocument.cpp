@@ -389,7 +389,7 @@ QString SceneDocument::setParam(const QString &key, const QString &value)
         return QString::fromStdString(error);
     const ParamState before = ParamState::of(m_world);
     const ParamState after = ParamState::of(trial);
-    if (before.params == after.params && before.stage == after.stage && before.mass == after.mass)
+    if (before == after)
         return {};
     m_undoStack.push(new SetParamCommand(this, key, value, before, after));
     return {};
