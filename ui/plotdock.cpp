@@ -524,13 +524,8 @@ void PlotDock::setCompareModel(const QString &model)
     m_compareModel = model;
     // While comparing, the legend names the two models once, as a solid and a dashed grey line,
     // instead of listing every marble twice; these two series never hold points.
-    for (QLineSeries *key : {m_modelKey, m_compareKey}) {
-        if (key)
-            m_chart->removeSeries(key);
-        delete key;
-    }
-    m_modelKey = nullptr;
-    m_compareKey = nullptr;
+    deleteSeries(m_modelKey);
+    deleteSeries(m_compareKey);
     if (!m_compareModel.isEmpty()) {
         for (Track &t : m_tracks)
             addCompareTrack(t);
@@ -896,16 +891,8 @@ void PlotDock::rebuildTracks()
         tracks.push_back(std::move(t));
     }
     for (Track &t : m_tracks) {
-        if (t.series) {
-            m_chart->removeSeries(t.series);
-            delete t.series;
-            t.series = nullptr;
-        }
-        if (t.compareSeries) {
-            m_chart->removeSeries(t.compareSeries);
-            delete t.compareSeries;
-            t.compareSeries = nullptr;
-        }
+        deleteSeries(t.series);
+        deleteSeries(t.compareSeries);
         if (t.marble >= 0 && t.marble < std::min(m_marbleCount, kMaxPlottedMarbles))
             m_parked.push_back(std::move(t));
     }
@@ -965,11 +952,9 @@ void PlotDock::startFrom(RingBuffer<double> &values, int marble, const VelocityL
     // A line plotted from now on: a value for every sample already held (a gap where the lookup
     // does not know the frame), so that it stays aligned sample for sample with m_frames.
     values.setCapacity(m_capacity); // also drops what it held
-    const auto i = static_cast<std::size_t>(marble);
-    for (std::size_t k = 0; k < m_frames.size(); ++k) {
-        const std::vector<Vec2> *velocities = lookup ? lookup(m_frames.at(k)) : nullptr;
-        values.push(velocities && i < velocities->size() ? magnitude((*velocities)[i]) : kNaN);
-    }
+    for (std::size_t k = 0; k < m_frames.size(); ++k)
+        values.push(kNaN);
+    fillGaps(values, marble, lookup);
 }
 
 void PlotDock::fillGaps(RingBuffer<double> &values, int marble, const VelocityLookup &lookup) const
@@ -994,11 +979,16 @@ void PlotDock::setVelocityLookup(VelocityLookup document, VelocityLookup compare
 void PlotDock::removeCompareTrack(Track &t)
 {
     t.compareSpeed.clear();
-    if (!t.compareSeries)
+    deleteSeries(t.compareSeries);
+}
+
+void PlotDock::deleteSeries(QLineSeries *&series)
+{
+    if (!series)
         return;
-    m_chart->removeSeries(t.compareSeries);
-    delete t.compareSeries;
-    t.compareSeries = nullptr;
+    m_chart->removeSeries(series);
+    delete series;
+    series = nullptr;
 }
 
 QLineSeries *PlotDock::addTotalSeries(QColor colour, QValueAxis *axis)
@@ -1019,13 +1009,8 @@ void PlotDock::removeCompareTotals()
 {
     m_compareKinetic.clear();
     m_compareMomentum.clear();
-    for (QLineSeries **series : {&m_compareKineticSeries, &m_compareMomentumSeries}) {
-        if (*series) {
-            m_chart->removeSeries(*series);
-            delete *series;
-            *series = nullptr;
-        }
-    }
+    deleteSeries(m_compareKineticSeries);
+    deleteSeries(m_compareMomentumSeries);
 }
 
 void PlotDock::showTotal(QLineSeries *series, bool shown)

@@ -214,6 +214,8 @@ private:
     void addCompareTrack(Track &t);
     void removeCompareTrack(Track &t);
     QLineSeries *addTotalSeries(QColor colour, QValueAxis *axis);
+    /// Takes `series` off the chart and deletes it (nothing when null); leaves it null.
+    void deleteSeries(QLineSeries *&series);
     void removeCompareTotals();
     void showTotal(QLineSeries *series, bool shown);
     void styleSeries();
