@@ -299,7 +299,7 @@ void CompareRun::updateGhost()
     m_ghost->setTints(m_tints);
 }
 
-void CompareRun::setTints(const std::vector<std::pair<int, QRgb>> &tints)
+void CompareRun::setTints(const QList<QPair<int, QColor>> &tints)
 {
     m_tints = tints;
     if (m_ghost)

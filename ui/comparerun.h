@@ -6,14 +6,15 @@
 
 #include <QObject>
 #include <QPointer>
-#include <QRgb>
+#include <QColor>
+#include <QList>
+#include <QPair>
 #include <QString>
 
 #include <cstdint>
 #include <deque>
 #include <memory>
 #include <optional>
-#include <utility>
 #include <vector>
 
 class QGraphicsScene;
@@ -72,7 +73,7 @@ public:
     /// Stops comparing and frees the comparison world.
     void stop();
     /// The ghosts' colours for marbles without one of their own (StageView::setMarbleTints()).
-    void setTints(const std::vector<std::pair<int, QRgb>> &tints);
+    void setTints(const QList<QPair<int, QColor>> &tints);
     /// True when a comparison model is chosen (even while it waits or has stopped with a problem).
     bool isActive() const { return m_model.has_value(); }
     /// The comparison model; only meaningful while isActive().
@@ -171,7 +172,7 @@ private:
 
     QPointer<QGraphicsScene> m_stage;
     MarbleFieldItem *m_ghost = nullptr;
-    std::vector<std::pair<int, QRgb>> m_tints; // setTints()
+    QList<QPair<int, QColor>> m_tints; // setTints()
 };
 
 } // namespace marbles

@@ -1249,10 +1249,7 @@ void MainWindow::tintPlottedMarbles()
 {
     const QList<QPair<int, QColor>> colours = m_plotDock->plottedColours();
     m_view->setMarbleTints(colours);
-    std::vector<std::pair<int, QRgb>> tints;
-    for (const auto &[marble, colour] : colours)
-        tints.emplace_back(marble, colour.rgb());
-    m_compare->setTints(tints);
+    m_compare->setTints(colours);
 }
 
 void MainWindow::onParamEdited(const QString &key, const QString &value)

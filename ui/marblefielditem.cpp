@@ -214,20 +214,22 @@ bool MarbleFieldItem::syncColors()
     return changed;
 }
 
-void MarbleFieldItem::setTints(const std::vector<std::pair<int, QRgb>> &tints)
+void MarbleFieldItem::setTints(const QList<QPair<int, QColor>> &tints)
 {
-    if (tints == m_tints)
+    std::vector<std::pair<int, QRgb>> next;
+    for (const auto &[marble, colour] : tints)
+        next.emplace_back(marble, colour.rgb());
+    if (next == m_tints)
         return;
-    // The marbles tinted before and now are parsed again (the others keep their colours).
-    for (const auto &[marble, rgb] : m_tints) {
-        if (static_cast<std::size_t>(marble) < m_colorText.size())
-            m_colorText[static_cast<std::size_t>(marble)] = std::string(1, '\0'); // no colour text is this
+    // The marbles tinted before and now are parsed again (the others keep their colours): their
+    // colour text is set to one no marble has.
+    for (const auto *list : {&m_tints, &next}) {
+        for (const auto &[marble, rgb] : *list) {
+            if (static_cast<std::size_t>(marble) < m_colorText.size())
+                m_colorText[static_cast<std::size_t>(marble)] = std::string(1, '\0');
+        }
     }
-    for (const auto &[marble, rgb] : tints) {
-        if (static_cast<std::size_t>(marble) < m_colorText.size())
-            m_colorText[static_cast<std::size_t>(marble)] = std::string(1, '\0');
-    }
-    m_tints = tints;
+    m_tints = std::move(next);
     if (m_world && syncColors())
         update();
 }

@@ -106,7 +106,7 @@ public:
     void setHeldMarble(int i);
     /// Colours for marbles that have none of their own (the plotted marbles, in their lines'
     /// colours); the others are the stage's blue.
-    void setTints(const std::vector<std::pair<int, QRgb>> &tints);
+    void setTints(const QList<QPair<int, QColor>> &tints);
 
     /// Marble count above which antialiasing is off.
     int antialiasThreshold() const { return m_antialiasThreshold; }

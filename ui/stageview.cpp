@@ -375,10 +375,7 @@ void StageView::applyTintsToField()
 {
     if (!m_field)
         return;
-    std::vector<std::pair<int, QRgb>> tints;
-    for (const auto &[marble, colour] : m_tints)
-        tints.emplace_back(marble, colour.rgb());
-    m_field->setTints(tints);
+    m_field->setTints(m_tints);
 }
 
 void StageView::setMarbleTints(const QList<QPair<int, QColor>> &tints)
