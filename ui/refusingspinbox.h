@@ -55,6 +55,8 @@ public:
 
     QValidator::State validate(QString &text, int &pos) const override
     {
+        if constexpr (kDecimal)
+            takeOtherDecimalMark(text);
         const QValidator::State state = Base::validate(text, pos);
         if (state != QValidator::Invalid)
             return state;
@@ -176,6 +178,21 @@ private:
     }
 
     bool outside(double value) const { return value < low() || value > high(); }
+
+    // A decimal comma typed where the locale writes a point (or a point where it writes a comma)
+    // becomes the locale's mark, shown at once: "2,5" was read as 25, the comma dropped as a group
+    // separator, and a teacher who writes decimals with a comma got ten times the mass scale. A
+    // text with both marks, or with the other mark twice ("1,000.5", "1,000,000"), is grouped
+    // digits and stays as it is; the fields never show group separators themselves.
+    void takeOtherDecimalMark(QString &text) const
+    {
+        const QString point = this->locale().decimalPoint();
+        if (point != QLatin1String(".") && point != QLatin1String(","))
+            return;
+        const QChar other = point == QLatin1String(".") ? QLatin1Char(',') : QLatin1Char('.');
+        if (text.count(other) == 1 && !text.contains(point))
+            text.replace(other, point.at(0));
+    }
 };
 
 /// A decimal spin box with that refusal.

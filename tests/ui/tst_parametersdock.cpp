@@ -37,6 +37,7 @@ private slots:
     void frictionWarning_data();
     void frictionWarning();
     void typedFrictionWarns();
+    void otherLocalesDecimalPoint();
     void fieldsFollowModel_data();
     void fieldsFollowModel();
     void dampedModelsNeedFrictionBelowOne();
@@ -96,6 +97,11 @@ void TestParametersDock::typingEmitsEdit_data()
     QTest::addRow("gravity x") << "book" << "gravityXEdit" << "-0.25" << "gravity" << "-0.25,0";
     QTest::addRow("gravity y") << "exact" << "gravityYEdit" << "0.5" << "gravity" << "0,0.5";
     QTest::addRow("substeps") << "impulse" << "substepsEdit" << "8" << "substeps" << "8";
+    // A decimal comma, as half of Europe writes it, is a decimal point where the locale's is a
+    // point: "0,25" is a quarter, not 25 (the comma was dropped as a group separator).
+    QTest::addRow("friction comma") << "book" << "frictionEdit" << "0,25" << "friction" << "0.25";
+    QTest::addRow("massScale comma") << "book" << "massScaleEdit" << "2,5" << "massScale" << "2.5";
+    QTest::addRow("gravity y comma") << "exact" << "gravityYEdit" << "-0,5" << "gravity" << "0,-0.5";
 }
 
 void TestParametersDock::typingEmitsEdit()
@@ -470,6 +476,27 @@ void TestParametersDock::typedFrictionWarns()
     typeInto(spin, QStringLiteral("0.2"));
     QVERIFY(!label->isVisible());
     QVERIFY(helpTextsWhole());
+}
+
+void TestParametersDock::otherLocalesDecimalPoint()
+{
+    // Where the locale writes a decimal comma, a point typed is the decimal mark (it was a group
+    // separator there: "0.25" read as 25).
+    ParametersDock dock;
+    dock.setLocale(QLocale(QLocale::German, QLocale::Germany));
+    dock.setParams(paramsWithModel(QStringLiteral("book")));
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    auto *friction = dock.findChild<QAbstractSpinBox *>(QStringLiteral("frictionEdit"));
+    QVERIFY(friction);
+    QSignalSpy spy(&dock, &ParametersDock::paramEdited);
+    typeInto(friction, QStringLiteral("0.25"));
+    QCOMPARE(spy.count(), 1);
+    QCOMPARE(spy.at(0).at(1).toString(), QStringLiteral("0.25"));
+    QCOMPARE(friction->text(), QStringLiteral("0,25"));
+    typeInto(friction, QStringLiteral("0,5"));
+    QCOMPARE(spy.count(), 2);
+    QCOMPARE(spy.at(1).at(1).toString(), QStringLiteral("0.5"));
 }
 
 void TestParametersDock::fieldsFollowModel_data()
