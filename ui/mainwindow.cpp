@@ -378,7 +378,7 @@ void MainWindow::createActions()
     m_trailsAction->setCheckable(true);
     m_trailsAction->setChecked(m_view->trailsVisible());
     m_trailsAction->setShortcut(QKeySequence(Qt::Key_T));
-    m_trailsAction->setStatusTip(tr("Fading trails behind the marbles; the selected marble's is kept long, in orange"));
+    m_trailsAction->setStatusTip(tr("Fading trails behind the marbles; the selected marble's is kept long and drawn dark"));
     connect(m_trailsAction, &QAction::toggled, m_view, &StageView::setTrailsVisible);
 
     // Compare With: one checkable action per model, shared by the Simulation menu and the toolbar box.

@@ -26,8 +26,6 @@ constexpr double kMinHeadDevicePx = 3.0;
 /// than 3 device px, so that it stays visible when a crowd is zoomed out to 1-px marbles.
 constexpr double kRingGapPx = 3.0;
 
-const QColor kSelectedRing(0xff, 0x8f, 0x00);
-const QColor kHeldRing(0x2e, 0x7d, 0x32);
 const QColor kVectorRed(0xe0, 0x00, 0x00);
 const QColor kVectorBlue(0x00, 0x55, 0xff);
 const QColor kVectorGreen(0x00, 0xb0, 0x20);
@@ -515,9 +513,9 @@ void MarbleFieldItem::paintRings(QPainter *painter, const QTransform &toDevice, 
     painter->setRenderHint(QPainter::Antialiasing, true);
     for (int i : m_selected) {
         if (i != m_held)
-            ring(i, kSelectedRing, Qt::DashLine);
+            ring(i, MarbleItem::selectionColor(), Qt::DashLine);
     }
-    ring(m_held, kHeldRing, Qt::SolidLine);
+    ring(m_held, MarbleItem::heldColor(), Qt::SolidLine);
 }
 
 } // namespace marbles

@@ -95,7 +95,7 @@ public:
     /// True when the vectors are long enough to be drawn at `scale` (device px per stage px).
     static bool vectorsLegibleAt(double scale);
 
-    /// The selected marbles (indices into the world), drawn with MarbleItem's dashed orange ring.
+    /// The selected marbles (indices into the world), drawn with MarbleItem's dashed ring in the selection's colour.
     const QList<int> &selectedMarbles() const { return m_selected; }
     /// Sets the selected marbles; out-of-range indices are ignored when painting.
     /// (Named so as not to hide QGraphicsItem::setSelected(bool).)

@@ -9,6 +9,8 @@ namespace {
 
 /// The chapter's marble blue.
 const QColor kMarbleBlue(0x24, 0x63, 0xd1);
+const QColor kSelection(0x1a, 0x1a, 0x1a);
+const QColor kHeld(0x2e, 0x7d, 0x32);
 /// Room around the ball for the selection ring, px.
 constexpr double kRingMargin = 6.0;
 
@@ -66,6 +68,16 @@ QColor MarbleItem::defaultColor()
     return kMarbleBlue;
 }
 
+QColor MarbleItem::selectionColor()
+{
+    return kSelection;
+}
+
+QColor MarbleItem::heldColor()
+{
+    return kHeld;
+}
+
 void MarbleItem::paintBall(QPainter *painter, QPointF centre, double r, const QColor &base, double outlinePx)
 {
     // Light from the upper left: a highlight off-centre, the base colour, a dark rim.
@@ -88,7 +100,7 @@ void MarbleItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *, QWid
     const double r = m_radius;
     paintBall(painter, QPointF(0, 0), r, m_color.isValid() ? m_color : kMarbleBlue, 1.0);
     if (m_highlighted || m_held) {
-        QPen ring(m_held ? QColor(0x2e, 0x7d, 0x32) : QColor(0xff, 0x8f, 0x00));
+        QPen ring(m_held ? kHeld : kSelection);
         ring.setWidthF(2.0);
         ring.setCosmetic(true);
         ring.setStyle(m_held ? Qt::SolidLine : Qt::DashLine);

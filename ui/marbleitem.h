@@ -29,6 +29,13 @@ public:
 
     /// The chapter's marble blue, the colour of a marble without one.
     static QColor defaultColor();
+    /// The selection's colour: the dashed ring around a selected marble or pin and the followed
+    /// marble's long trail. Near-black, as no plotted line and no marble of the stage is (it was
+    /// orange, which the plot's second line and its first, vermilion, looked like: a class could
+    /// take the selected marble for the one plotted in orange).
+    static QColor selectionColor();
+    /// The ring of a marble held by the mouse (solid, where the selection's is dashed).
+    static QColor heldColor();
     /// Paints a shaded ball of radius `r` centred on `centre` (painter coordinates) in `base`, with
     /// a `outlinePx`-wide dark rim; MarbleFieldItem renders its sprites with it, so both look alike.
     static void paintBall(QPainter *painter, QPointF centre, double r, const QColor &base, double outlinePx);

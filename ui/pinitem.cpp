@@ -1,5 +1,7 @@
 #include "ui/pinitem.h"
 
+#include "ui/marbleitem.h"
+
 #include <QPainter>
 
 namespace marbles {
@@ -36,7 +38,7 @@ void PinItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *, QWidget
     painter->setBrush(QColor(0xe5, 0x1c, 0x23));
     painter->drawEllipse(QPointF(0, 0), kDotRadius, kDotRadius);
     if (m_highlighted) {
-        QPen ring(QColor(0xff, 0x8f, 0x00));
+        QPen ring(MarbleItem::selectionColor());
         ring.setWidthF(2.0);
         ring.setCosmetic(true);
         ring.setStyle(Qt::DashLine);

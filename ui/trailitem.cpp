@@ -1,5 +1,7 @@
 #include "ui/trailitem.h"
 
+#include "ui/marbleitem.h"
+
 #include <QPainter>
 
 #include <algorithm>
@@ -38,10 +40,6 @@ void append(std::deque<QPointF> &trail, QPointF p, std::size_t &moving)
         ++moving;
     trail.push_back(p);
 }
-
-// The followed marble's trail: the selection's orange (the dashed ring around the marble).
-const QColor kFollowedColor(0xff, 0x8f, 0x00);
-const QColor kTrailColor(0x24, 0x63, 0xd1);
 
 } // namespace
 
@@ -195,14 +193,14 @@ void TrailItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *, QWidg
     startBatches();
     for (const auto &trail : m_trails)
         addToBatches(trail);
-    drawBatches(painter, kTrailColor, 2.0, 0.0, 0.6);
+    drawBatches(painter, MarbleItem::defaultColor(), 2.0, 0.0, 0.6);
     if (m_long.size() >= 2) {
         // One trail over the others, smooth whatever the crowd, wider, and its oldest part still
         // plain to see: the whole path is the point.
         painter->setRenderHint(QPainter::Antialiasing, true);
         startBatches();
         addToBatches(m_long);
-        drawBatches(painter, kFollowedColor, 3.0, 0.3, 0.9);
+        drawBatches(painter, MarbleItem::selectionColor(), 3.0, 0.5, 1.0);
     }
 }
 

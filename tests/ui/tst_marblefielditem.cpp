@@ -333,13 +333,17 @@ void TestMarbleFieldItem::selectionAndHeldRings()
 {
     const World w = twoMarbles();
     auto *item = new MarbleFieldItem(&w);
-    // MarbleItem's rings: 3 px outside the ball, 2 px wide; dashed orange (selected), solid green (held).
+    // MarbleItem's rings: 3 px outside the ball, 2 px wide; dashed in the selection's colour (selected),
+    // solid green (held).
     const auto ringFraction = [&] { return changedFraction(render(item, QSize(400, 200), 1.0), QPointF(300, 100), 22.0, 24.0); };
     QCOMPARE(ringFraction(), 0.0);
     item->setSelectedMarbles({1, 7});
     QCOMPARE(item->selectedMarbles(), QList<int>({1, 7}));
     const double dashed = ringFraction();
     QCOMPARE_GE(dashed, 0.3);
+    // Near-black, like no plotted line (it was orange, like the plot's second line).
+    const QImage selected = render(item, QSize(400, 200), 1.0);
+    QCOMPARE_GE(annulusFraction(selected, QPointF(300, 100), 22.0, 24.0, [](QColor c) { return c.value() < 110; }), 0.25);
     item->setSelectedMarbles({});
     item->setHeldMarble(1);
     QCOMPARE(item->heldMarble(), 1);

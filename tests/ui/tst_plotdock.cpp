@@ -756,6 +756,13 @@ void TestPlotDock::lineColours()
     for (int i = 0; i < PlotDock::kMaxPlottedMarbles; ++i)
         colours.insert(dock.speedSeries(i)->pen().color().rgb());
     QCOMPARE(colours.size(), PlotDock::kMaxPlottedMarbles);
+    // And none looks like the selection's near-black ring (when that was orange, the ring and the
+    // orange line seemed to name the same marble).
+    for (QRgb rgb : colours) {
+        const QColor c = QColor::fromRgb(rgb);
+        const bool darkGrey = c.value() - MarbleItem::selectionColor().value() < 80 && c.saturation() < 100;
+        QVERIFY2(!darkGrey, qPrintable(c.name()));
+    }
 }
 
 void TestPlotDock::chartGetsSamples()
