@@ -70,7 +70,7 @@ std::vector<std::string> splitOptionValues(const std::vector<std::string> &args)
 
 std::string sceneLabel(const std::string &scene)
 {
-    return scene == "-" ? std::string("stdin") : scene;
+    return isStandardStream(scene) ? std::string("stdin") : scene;
 }
 
 namespace {
@@ -109,7 +109,7 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
         }
     } else {
         SceneLoad load;
-        if (scene == "-") {
+        if (isStandardStream(scene)) {
             load = parseScene(readStandardInput(), sceneLabel(scene));
         } else {
             load = loadSceneFile(scene);
@@ -133,9 +133,18 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
 
 OutputFile::OutputFile(const std::string &path)
     : m_path(path)
-    , m_writer(path, SpecialFiles::WriteInPlace)
+    , m_writer(checkedPath(path), SpecialFiles::WriteInPlace)
 {
     throwIfFailed();
+}
+
+const std::string &OutputFile::checkedPath(const std::string &path)
+{
+    // run and the scene writers take "-" as standard output before they open a file; bench and
+    // stress print their tables there, which a CSV would be mixed into.
+    if (isStandardStream(path))
+        throw InvalidInput{"'-' is standard output, which carries this command's table: name a file to write"};
+    return path;
 }
 
 void OutputFile::write(std::string_view bytes)
@@ -187,7 +196,8 @@ constexpr const char *usageText =
     "  marbles-cli bench [--repeat R] [--csv FILE] [--plot FILE.png] [--crowd N]\n"
     "  marbles-cli bench --scale [--frames F] [--repeat R] [--max-n N] [--csv FILE]\n"
     "  marbles-cli stress [--quick] [--only TEXT] [--csv FILE]\n"
-    "SCENE is a *.marbles.json file, '-' for standard input, or preset:ID (see 'preset list').\n";
+    "SCENE is a *.marbles.json file, '-' for standard input, or preset:ID (see 'preset list').\n"
+    "--out - writes to standard output.\n";
 
 // Reads "--name VALUE" options; positional words are collected in order.
 struct Options {
@@ -283,7 +293,10 @@ int runCommand(const std::vector<std::string> &args)
         throw InvalidInput{"run: expected exactly one SCENE, got " + std::to_string(o.positional.size())};
     const long long frames = o.last("--frames") ? parseInteger("--frames", *o.last("--frames"), 0) : 100;
     const long long every = o.last("--every") ? parseInteger("--every", *o.last("--every"), 1) : 1;
+    // "--out -" is standard output, as "-" is standard input for SCENE.
     const std::string *outPath = o.last("--out");
+    if (outPath && isStandardStream(*outPath))
+        outPath = nullptr;
     World world = loadWorld(o.positional.front(), o.all("--set"));
 
     // The rows go out a megabyte at a time, to --out as to standard output: a long run's CSV is
@@ -349,11 +362,11 @@ int checkCommand(const std::vector<std::string> &args)
     return ExitOk;
 }
 
-// A scene file to --out (written atomically) or, without it, to standard output.
+// A scene file to --out (written atomically) or, without it or with "--out -", to standard output.
 void writeScene(const Options &o, const World &w)
 {
     const std::string json = sceneToJson(w);
-    if (const std::string *out = o.last("--out"))
+    if (const std::string *out = o.last("--out"); out && !isStandardStream(*out))
         writeFileAtomically(*out, json);
     else
         std::cout << json;

@@ -42,6 +42,8 @@ double parseNumber(std::string_view option, std::string_view text);
 
 /// The arguments with each "--option=value" as "--option" "value", as run and gen read them.
 std::vector<std::string> splitOptionValues(const std::vector<std::string> &args);
+/// Whether a path is "-": standard input as SCENE, standard output as run's or a scene's --out.
+inline bool isStandardStream(const std::string &path) { return path == "-"; }
 /// How messages name SCENE: "stdin" for "-", else as given.
 std::string sceneLabel(const std::string &scene);
 /// Loads SCENE ("-" reads standard input; "preset:ID" builds a built-in preset), applies the
@@ -60,6 +62,7 @@ public:
     void commit();
 
 private:
+    static const std::string &checkedPath(const std::string &path);
     void throwIfFailed() const;
     std::string m_path;
     WholeFileWriter m_writer;

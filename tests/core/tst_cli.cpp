@@ -109,6 +109,7 @@ private slots:
     void runPrintsCsvMatchingTheCore();
     void runReadsStandardInput();
     void runWritesOutFile();
+    void outDashIsStandardOutput();
     void setChangesParameters_data();
     void setChangesParameters();
     void invalidInputExitsTwo_data();
@@ -183,6 +184,34 @@ void TestCli::runWritesOutFile()
     QVERIFY(rowsMatchWorld(parseRows(csv), defaultScene(), 10, 1));
     // Nothing else left in the folder (the write goes through a temporary file and a rename).
     QCOMPARE(QDir(dir.path()).entryList(QDir::Files).size(), 1);
+}
+
+void TestCli::outDashIsStandardOutput()
+{
+    // "--out -" is standard output, as "-" is standard input (it wrote a file named "-").
+    QTemporaryDir dir;
+    const CliResult plain = runCli({"run", "preset:pins", "--frames", "5"});
+    QProcess p;
+    p.setWorkingDirectory(dir.path());
+    p.start(QStringLiteral(MARBLES_CLI_PATH), {"run", "preset:pins", "--frames", "5", "--out", "-"});
+    QVERIFY(p.waitForFinished(60000));
+    QCOMPARE(p.exitCode(), 0);
+    QCOMPARE(p.readAllStandardOutput(), plain.out);
+    p.start(QStringLiteral(MARBLES_CLI_PATH), {"preset", "pins", "--out", "-"});
+    QVERIFY(p.waitForFinished(60000));
+    QCOMPARE(p.exitCode(), 0);
+    QCOMPARE(p.readAllStandardOutput(), runCli({"preset", "pins"}).out);
+    QCOMPARE(QDir(dir.path()).entryList(QDir::Files).size(), 0);
+    // bench and stress print their tables there: a CSV to "-" is refused, before any work.
+    for (const QStringList &args : {QStringList{"stress", "--quick", "--csv", "-"},
+                                    QStringList{"bench", "--repeat", "1", "--crowd", "100", "--csv", "-"}}) {
+        p.start(QStringLiteral(MARBLES_CLI_PATH), args);
+        QVERIFY(p.waitForFinished(60000));
+        QCOMPARE(p.exitCode(), 2);
+        QVERIFY(p.readAllStandardOutput().isEmpty());
+        QVERIFY2(p.readAllStandardError().contains("standard output"), qPrintable(args.join(' ')));
+    }
+    QCOMPARE(QDir(dir.path()).entryList(QDir::Files).size(), 0);
 }
 
 void TestCli::setChangesParameters_data()
