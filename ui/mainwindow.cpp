@@ -313,6 +313,20 @@ void MainWindow::createActions()
     m_rewindAction->setStatusTip(tr("Go back to frame 0"));
     connect(m_rewindAction, &QAction::triggered, this, &MainWindow::rewindToStart);
 
+    // The run speed from the keyboard and the menu, as a video site's < and >: slow motion for a
+    // collision was only in the toolbar's box, which the keyboard does not reach.
+    m_slowerAction = new QAction(tr("Run Slo&wer"), this);
+    m_slowerAction->setObjectName(QStringLiteral("actionSlower"));
+    // With Shift as well, as the key arrives where < and > are shifted keys (most layouts).
+    m_slowerAction->setShortcuts({QKeySequence(Qt::Key_Less), QKeySequence(Qt::SHIFT | Qt::Key_Less)});
+    m_slowerAction->setStatusTip(tr("Run at the next slower speed, down to 0.1×: slow motion"));
+    connect(m_slowerAction, &QAction::triggered, this, [this] { stepSpeed(-1); });
+    m_fasterAction = new QAction(tr("Run &Faster"), this);
+    m_fasterAction->setObjectName(QStringLiteral("actionFaster"));
+    m_fasterAction->setShortcuts({QKeySequence(Qt::Key_Greater), QKeySequence(Qt::SHIFT | Qt::Key_Greater)});
+    m_fasterAction->setStatusTip(tr("Run at the next faster speed, up to 4×"));
+    connect(m_fasterAction, &QAction::triggered, this, [this] { stepSpeed(1); });
+
     // The stage from the keyboard: choose a marble, push it (a click needs the mouse).
     m_nextMarbleAction = new QAction(tr("Select &Next Marble"), this);
     m_nextMarbleAction->setObjectName(QStringLiteral("actionNextMarble"));
@@ -451,6 +465,9 @@ void MainWindow::createMenus()
     simulation->addAction(m_stepAction);
     simulation->addAction(m_stepBackAction);
     simulation->addAction(m_rewindAction);
+    simulation->addSeparator();
+    simulation->addAction(m_slowerAction);
+    simulation->addAction(m_fasterAction);
     simulation->addSeparator();
     simulation->addActions(m_pushActions);
     simulation->addSeparator();
@@ -613,7 +630,9 @@ void MainWindow::createToolBars()
     }
     m_speedBox = new QComboBox(runBar);
     m_speedBox->setObjectName(QStringLiteral("speedBox"));
-    m_speedBox->setToolTip(tr("Run speed: simulated time per wall-clock time"));
+    m_speedBox->setToolTip(tr("Run speed: simulated time per wall-clock time (%1 slower, %2 faster)")
+                               .arg(m_slowerAction->shortcut().toString(QKeySequence::NativeText),
+                                    m_fasterAction->shortcut().toString(QKeySequence::NativeText)));
     m_speedBox->setFocusPolicy(Qt::NoFocus);
     for (double speed : kSpeeds)
         m_speedBox->addItem(QStringLiteral("%1×").arg(speed), speed);
@@ -1228,6 +1247,16 @@ void MainWindow::onSpeedChosen(int index)
 {
     if (index >= 0 && index < static_cast<int>(std::size(kSpeeds)))
         m_run->setSpeed(kSpeeds[index]);
+    m_slowerAction->setEnabled(index > 0);
+    m_fasterAction->setEnabled(index + 1 < m_speedBox->count());
+}
+
+void MainWindow::stepSpeed(int by)
+{
+    const int index = std::clamp(m_speedBox->currentIndex() + by, 0, m_speedBox->count() - 1);
+    m_speedBox->setCurrentIndex(index);
+    showStatus(tr("Run speed %1: one second of the scene takes %2 s.")
+                   .arg(m_speedBox->currentText(), QLocale().toString(1.0 / kSpeeds[index], 'g', 3)));
 }
 
 void MainWindow::onRunningChanged(bool running)

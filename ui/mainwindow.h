@@ -131,6 +131,8 @@ private:
     void stepBackward();
     void rewindToStart();
     void onSpeedChosen(int index);
+    /// Moves the run speed `by` steps along the speed box, within its ends, and says so.
+    void stepSpeed(int by);
     void onRunningChanged(bool running);
     void onSimulationFailed(const QString &message);
     void onParamEdited(const QString &key, const QString &value);
@@ -216,6 +218,8 @@ private:
     QAction *m_stepAction = nullptr;
     QAction *m_stepBackAction = nullptr;
     QAction *m_rewindAction = nullptr;
+    QAction *m_slowerAction = nullptr;
+    QAction *m_fasterAction = nullptr;
     QAction *m_nextMarbleAction = nullptr;
     QAction *m_previousMarbleAction = nullptr;
     QList<QAction *> m_pushActions; // Shift+arrows: push the selected marble

@@ -126,6 +126,7 @@ private Q_SLOTS:
     void massScaleSaysWhenNoMarbleUsesIt();
     void plottedMarblesWearTheirLinesColours();
     void keyboardChoosesAndPushesAMarble();
+    void keyboardChangesRunSpeed();
     void spacePausesFromANumberField();
     void undoKeysReachTheSceneFromANumberField();
     void compareOffersOnlyModelsThatCanRun();
@@ -894,6 +895,42 @@ void TestMainWindow::keyboardChoosesAndPushesAMarble()
     QTest::keyClick(view, Qt::Key_Down, Qt::ShiftModifier);
     QTest::keyClick(view, Qt::Key_Up, Qt::ShiftModifier);
     QVERIFY(std::hypot(w.acceleration[3].x - held.x, w.acceleration[3].y - held.y) < 1e-9);
+}
+
+void TestMainWindow::keyboardChangesRunSpeed()
+{
+    // < and > step the run speed along the toolbar's box (slow motion was out of the keyboard's
+    // reach), stopping at its ends, whose actions are then disabled.
+    StageView *view = m_window->stageView();
+    RunController *run = m_window->runController();
+    auto *box = m_window->findChild<QComboBox *>(QStringLiteral("speedBox"));
+    auto *slower = m_window->findChild<QAction *>(QStringLiteral("actionSlower"));
+    auto *faster = m_window->findChild<QAction *>(QStringLiteral("actionFaster"));
+    QVERIFY(box && slower && faster);
+    QCOMPARE(run->speed(), 1.0);
+    view->setFocus();
+    QTest::keyClick(view, Qt::Key_Less, Qt::ShiftModifier);
+    QCOMPARE(run->speed(), 0.5);
+    QCOMPARE(box->currentText(), QStringLiteral("0.5×"));
+    QVERIFY2(m_window->statusBar()->currentMessage().contains(QStringLiteral("takes 2 s")),
+             qPrintable(m_window->statusBar()->currentMessage()));
+    QTest::keyClick(view, Qt::Key_Less); // as a layout with an unshifted < sends it
+    QCOMPARE(run->speed(), 0.25);
+    for (int k = 0; k < 5; ++k)
+        slower->trigger();
+    QCOMPARE(run->speed(), 0.1);
+    QVERIFY(!slower->isEnabled());
+    QVERIFY(faster->isEnabled());
+    for (int k = 0; k < 5; ++k)
+        QTest::keyClick(view, Qt::Key_Greater, Qt::ShiftModifier);
+    QCOMPARE(run->speed(), 4.0);
+    QVERIFY(!faster->isEnabled());
+    QVERIFY(slower->isEnabled());
+    // The box chosen with the mouse moves the actions' ends too.
+    box->setCurrentIndex(0);
+    QCOMPARE(run->speed(), 0.1);
+    QVERIFY(!slower->isEnabled());
+    QVERIFY(faster->isEnabled());
 }
 
 void TestMainWindow::spacePausesFromANumberField()
