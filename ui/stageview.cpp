@@ -468,16 +468,37 @@ void StageView::drawBackground(QPainter *painter, const QRectF &rect)
     painter->fillRect(rect, palette().color(QPalette::Window).darker(112));
     const Stage &stage = m_document->world().stage;
     const QRectF stageRect(0, 0, stage.width, stage.height);
-    painter->fillRect(stageRect, QColor(0xfb, 0xfa, 0xf6));
+    const QRectF area = rect.intersected(stageRect); // what is drawn of the stage (no overflow)
+    painter->fillRect(area, QColor(0xfb, 0xfa, 0xf6));
 
-    // A faint 50 px grid: positions and speeds can be read off the screen.
+    // A faint 50 px grid: positions and speeds can be read off the screen. Only its lines within
+    // the area being drawn, and 10 or 100 ... times as far apart where 50 px would be less than
+    // 4 screen pixels: a stage 1e10 px wide took 6 s a paint (every line of it), and one of 1e308
+    // never finished (past 6e17, x + 50 is x).
     QPen grid(QColor(0xe6, 0xe3, 0xda));
     grid.setCosmetic(true);
     painter->setPen(grid);
-    for (double x = 50.0; x < stage.width; x += 50.0)
-        painter->drawLine(QPointF(x, 0), QPointF(x, stage.height));
-    for (double y = 50.0; y < stage.height; y += 50.0)
-        painter->drawLine(QPointF(0, y), QPointF(stage.width, y));
+    double spacing = 50.0;
+    const double zoom = std::abs(painter->worldTransform().m11());
+    while (spacing * zoom < 4.0 && spacing < 1e300)
+        spacing *= 10.0;
+    const auto lines = [spacing](double from, double to, auto &&draw) {
+        // Lines k * spacing strictly inside (0, side), from `from` to `to`, counted by k.
+        const double first = std::max(1.0, std::ceil(from / spacing));
+        const double count = std::min(std::floor(to / spacing) - first + 1.0, 100000.0);
+        for (int n = 0; n < count; ++n)
+            draw((first + n) * spacing);
+    };
+    if (!area.isEmpty()) {
+        lines(area.left(), area.right(), [&](double x) {
+            if (x < stage.width)
+                painter->drawLine(QPointF(x, area.top()), QPointF(x, area.bottom()));
+        });
+        lines(area.top(), area.bottom(), [&](double y) {
+            if (y < stage.height)
+                painter->drawLine(QPointF(area.left(), y), QPointF(area.right(), y));
+        });
+    }
 
     painter->setRenderHint(QPainter::Antialiasing, false);
     if (stage.walls) {

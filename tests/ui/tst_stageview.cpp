@@ -77,6 +77,8 @@ private Q_SLOTS:
     void vectorsWaitForALegibleZoom();
     void batchedToolTipNamesTheMarble();
     void tintsColourMarblesWithoutColours();
+    void hugeStagesAreDrawn_data();
+    void hugeStagesAreDrawn();
 
 private:
     QWidget *viewport() const { return m_view->viewport(); }
@@ -109,6 +111,41 @@ void TestStageView::cleanup()
 {
     m_view.reset();
     m_document.reset();
+}
+
+void TestStageView::hugeStagesAreDrawn_data()
+{
+    QTest::addColumn<double>("width");
+    QTest::newRow("1e10") << 1e10;
+    QTest::newRow("1e308") << 1e308;
+}
+
+void TestStageView::hugeStagesAreDrawn()
+{
+    // Any stage the loader takes is drawn: the background grid drew every 50 px line of the stage
+    // (a 1e10 px stage took 6 s a paint) and for 1e308 never ended (x + 50 == x past 6e17).
+    QFETCH(double, width);
+    World w;
+    w.stage = {width, 600, true};
+    w.addMarble({100, 300}, 20);
+    m_document->resetScene(w);
+    m_view->fitToStage();
+    const QImage fitted = m_view->grab().toImage();
+    QVERIFY(!fitted.isNull());
+    // At 1:1 by the marble: the stage's cream, and a grid line every 50 px across the view.
+    m_view->setTransform(QTransform());
+    m_view->centerOn(400, 300);
+    const QImage near = m_view->viewport()->grab().toImage();
+    const int row = m_view->mapFromScene(QPointF(0, 340)).y();
+    const QColor cream(0xfb, 0xfa, 0xf6);
+    QCOMPARE(near.pixelColor(m_view->mapFromScene(QPointF(425, 325))), cream);
+    int lines = 0;
+    for (int x = 1; x < near.width(); ++x) {
+        const bool line = near.pixelColor(x, row) != cream;
+        lines += line && near.pixelColor(x - 1, row) == cream ? 1 : 0;
+    }
+    const int expected = near.width() / 50;
+    QVERIFY2(std::abs(lines - expected) <= 2, qPrintable(QStringLiteral("%1 lines").arg(lines)));
 }
 
 void TestStageView::tintsColourMarblesWithoutColours()
