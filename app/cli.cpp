@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -53,19 +54,76 @@ double parseNumber(std::string_view option, std::string_view text)
     return value;
 }
 
-std::vector<std::string> splitOptionValues(const std::vector<std::string> &args)
+const std::string *Options::last(std::string_view name) const
+{
+    const std::string *found = nullptr;
+    for (const auto &[k, v] : named) {
+        if (k == name)
+            found = &v;
+    }
+    return found;
+}
+
+std::vector<std::string> Options::all(std::string_view name) const
 {
     std::vector<std::string> out;
-    for (const std::string &a : args) {
-        const std::size_t eq = a.find('=');
-        if (a.starts_with("--") && eq != std::string::npos) {
-            out.push_back(a.substr(0, eq));
-            out.push_back(a.substr(eq + 1));
-        } else {
-            out.push_back(a);
-        }
+    for (const auto &[k, v] : named) {
+        if (k == name)
+            out.push_back(v);
     }
     return out;
+}
+
+Options parseOptions(const std::vector<std::string> &args, std::initializer_list<std::string_view> valued,
+                     std::initializer_list<std::string_view> flags)
+{
+    const auto takes = [&] {
+        std::string list;
+        for (const auto *names : {&valued, &flags}) {
+            for (std::string_view name : *names)
+                list += (list.empty() ? "" : ", ") + std::string(name);
+        }
+        return list.empty() ? std::string(" (this command takes no options)") : " (this command takes " + list + ")";
+    };
+    Options o;
+    bool wordsOnly = false;
+    for (std::size_t k = 0; k < args.size(); ++k) {
+        const std::string &a = args[k];
+        if (wordsOnly || a == "-" || !a.starts_with('-')) {
+            o.positional.push_back(a);
+            continue;
+        }
+        if (a == "--") {
+            wordsOnly = true;
+            continue;
+        }
+        // "-x" was taken for a second SCENE ("expected exactly one SCENE, got 2").
+        if (!a.starts_with("--"))
+            throw InvalidInput{a + ": unknown option" + takes()};
+        std::string name = a;
+        std::string value;
+        bool hasValue = false;
+        if (const auto eq = a.find('='); eq != std::string::npos) {
+            name = a.substr(0, eq);
+            value = a.substr(eq + 1);
+            hasValue = true;
+        }
+        if (std::find(flags.begin(), flags.end(), name) != flags.end()) {
+            if (hasValue)
+                throw InvalidInput{name + ": takes no value, got '" + value + "'"};
+            o.named.emplace_back(name, "");
+            continue;
+        }
+        if (std::find(valued.begin(), valued.end(), name) == valued.end())
+            throw InvalidInput{name + ": unknown option" + takes()};
+        if (!hasValue) {
+            if (k + 1 >= args.size())
+                throw InvalidInput{name + ": missing value"};
+            value = args[++k];
+        }
+        o.named.emplace_back(name, value);
+    }
+    return o;
 }
 
 std::string sceneLabel(const std::string &scene)
@@ -131,19 +189,21 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
     return world;
 }
 
-OutputFile::OutputFile(const std::string &path)
+OutputFile::OutputFile(const std::string &option, const std::string &path)
     : m_path(path)
-    , m_writer(checkedPath(path), SpecialFiles::WriteInPlace)
+    , m_writer(checkedPath(option, path), SpecialFiles::WriteInPlace)
 {
     throwIfFailed();
 }
 
-const std::string &OutputFile::checkedPath(const std::string &path)
+const std::string &OutputFile::checkedPath(const std::string &option, const std::string &path)
 {
     // run and the scene writers take "-" as standard output before they open a file; bench and
     // stress print their tables there, which a CSV would be mixed into.
     if (isStandardStream(path))
-        throw InvalidInput{"'-' is standard output, which carries this command's table: name a file to write"};
+        throw InvalidInput{option + " -: standard output carries this command's table; name a file"};
+    if (path.empty())
+        throw InvalidInput{option + ": an empty file name"};
     return path;
 }
 
@@ -169,11 +229,19 @@ void OutputFile::throwIfFailed() const
     throw InvalidInput{message};
 }
 
-void writeFileAtomically(const std::string &path, const std::string &text)
+bool sameFile(const std::string &a, const std::string &b)
 {
-    OutputFile file(path);
-    file.write(text);
-    file.commit();
+    namespace fs = std::filesystem;
+    std::error_code error;
+    if (fs::exists(a, error) && fs::exists(b, error)) {
+        const bool same = fs::equivalent(a, b, error);
+        return !error && same;
+    }
+    const fs::path canonicalA = fs::weakly_canonical(fs::absolute(a, error), error);
+    if (error)
+        return a == b;
+    const fs::path canonicalB = fs::weakly_canonical(fs::absolute(b, error), error);
+    return error ? a == b : canonicalA == canonicalB;
 }
 
 std::string formatNumber(double x, const char *spec, const char *missing)
@@ -198,67 +266,6 @@ constexpr const char *usageText =
     "  marbles-cli stress [--quick] [--only TEXT] [--csv FILE]\n"
     "SCENE is a *.marbles.json file, '-' for standard input, or preset:ID (see 'preset list').\n"
     "--out - writes to standard output.\n";
-
-// Reads "--name VALUE" options; positional words are collected in order.
-struct Options {
-    std::vector<std::string> positional;
-    std::vector<std::pair<std::string, std::string>> named;
-
-    const std::string *last(std::string_view name) const
-    {
-        const std::string *found = nullptr;
-        for (const auto &[k, v] : named) {
-            if (k == name)
-                found = &v;
-        }
-        return found;
-    }
-    std::vector<std::string> all(std::string_view name) const
-    {
-        std::vector<std::string> out;
-        for (const auto &[k, v] : named) {
-            if (k == name)
-                out.push_back(v);
-        }
-        return out;
-    }
-};
-
-Options parseOptions(const std::vector<std::string> &args, std::initializer_list<std::string_view> valued,
-                     std::initializer_list<std::string_view> flags = {})
-{
-    Options o;
-    for (std::size_t k = 0; k < args.size(); ++k) {
-        const std::string &a = args[k];
-        if (a.size() > 2 && a.rfind("--", 0) == 0) {
-            std::string name = a;
-            std::string value;
-            bool hasValue = false;
-            if (const auto eq = a.find('='); eq != std::string::npos && name.rfind("--set", 0) != 0) {
-                name = a.substr(0, eq);
-                value = a.substr(eq + 1);
-                hasValue = true;
-            }
-            if (std::find(flags.begin(), flags.end(), name) != flags.end()) {
-                if (hasValue)
-                    throw InvalidInput{name + ": takes no value"};
-                o.named.emplace_back(name, "");
-                continue;
-            }
-            if (std::find(valued.begin(), valued.end(), name) == valued.end())
-                throw InvalidInput{a + ": unknown option"};
-            if (!hasValue) {
-                if (k + 1 >= args.size())
-                    throw InvalidInput{name + ": missing value"};
-                value = args[++k];
-            }
-            o.named.emplace_back(name, value);
-        } else {
-            o.positional.push_back(a);
-        }
-    }
-    return o;
-}
 
 // %.17g: 17 significant digits always round-trip a double exactly.
 void appendNumber(std::string &out, double x)
@@ -294,16 +301,20 @@ int runCommand(const std::vector<std::string> &args)
     const long long frames = o.last("--frames") ? parseInteger("--frames", *o.last("--frames"), 0) : 100;
     const long long every = o.last("--every") ? parseInteger("--every", *o.last("--every"), 1) : 1;
     // "--out -" is standard output, as "-" is standard input for SCENE.
+    const std::string &scene = o.positional.front();
     const std::string *outPath = o.last("--out");
     if (outPath && isStandardStream(*outPath))
         outPath = nullptr;
-    World world = loadWorld(o.positional.front(), o.all("--set"));
+    // The CSV would replace the scene being read, once the run was over.
+    if (outPath && !isStandardStream(scene) && !scene.starts_with("preset:") && sameFile(scene, *outPath))
+        throw InvalidInput{"--out " + *outPath + ": is SCENE, the file being read; name another file"};
+    World world = loadWorld(scene, o.all("--set"));
 
     // The rows go out a megabyte at a time, to --out as to standard output: a long run's CSV is
     // never held whole in memory. --out is replaced only once the run is over.
     std::optional<OutputFile> file;
     if (outPath)
-        file.emplace(*outPath);
+        file.emplace("--out", *outPath);
     std::string csv = "frame,marble,x,y,vx,vy\n";
     auto flush = [&](bool force) {
         if (force || csv.size() > (1 << 20)) {
@@ -362,14 +373,25 @@ int checkCommand(const std::vector<std::string> &args)
     return ExitOk;
 }
 
-// A scene file to --out (written atomically) or, without it or with "--out -", to standard output.
-void writeScene(const Options &o, const World &w)
+// --out's file, opened before the scene is made (a mistyped path failed only after gen had
+// built its crowd, 40 s for ten million marbles), or none for standard output (no --out, or
+// "--out -").
+void openSceneOutput(const Options &o, std::optional<OutputFile> &file)
+{
+    if (const std::string *out = o.last("--out"); out && !isStandardStream(*out))
+        file.emplace("--out", *out);
+}
+
+// A scene file to the file opened (replaced whole) or to standard output.
+void writeScene(std::optional<OutputFile> &file, const World &w)
 {
     const std::string json = sceneToJson(w);
-    if (const std::string *out = o.last("--out"); out && !isStandardStream(*out))
-        writeFileAtomically(*out, json);
-    else
+    if (file) {
+        file->write(json);
+        file->commit();
+    } else {
         std::cout << json;
+    }
 }
 
 // What a command was given where it expected one word: "nothing" or the words, quoted.
@@ -395,8 +417,10 @@ int presetCommand(const std::vector<std::string> &args)
             std::cout << p.id << '\t' << p.title << '\t' << p.description << '\n';
         return ExitOk;
     }
+    std::optional<OutputFile> file;
+    openSceneOutput(o, file);
     const World w = loadWorld("preset:" + o.positional.front(), {});
-    writeScene(o, w);
+    writeScene(file, w);
     return ExitOk;
 }
 
@@ -415,8 +439,10 @@ int genCommand(const std::vector<std::string> &args)
         if (moving < 0 || moving > 1)
             throw InvalidInput{"--moving: must be in [0, 1], got " + *m};
     }
+    std::optional<OutputFile> file;
+    openSceneOutput(o, file);
     const World w = makeCrowd(static_cast<int>(n), static_cast<std::uint64_t>(seed), moving);
-    writeScene(o, w);
+    writeScene(file, w);
     return ExitOk;
 }
 

@@ -526,44 +526,31 @@ void printScaleTargets(const std::vector<Row> &rows, int frames, int maxN)
 
 int benchCommand(const std::vector<std::string> &given)
 {
-    const std::vector<std::string> args = splitOptionValues(given);
+    const Options o = parseOptions(given, {"--csv", "--plot", "--repeat", "--frames", "--crowd", "--max-n"}, {"--scale"});
+    if (!o.positional.empty())
+        throw InvalidInput{"bench: unexpected argument '" + o.positional.front() + "'"};
     // An option the chosen bench has no use for is refused, not silently dropped, and before its
     // value is judged ("--max-n 10" said "must be >= 1000" without --scale).
-    const bool scale = std::find(args.begin(), args.end(), "--scale") != args.end();
-    std::string csvPath, plotPath;
+    const bool scale = o.has("--scale");
     int repeats = 5;
     int frames = 220;
     int crowd = 1000;
     int maxN = 100000;
-    for (std::size_t k = 0; k < args.size(); ++k) {
-        const std::string &a = args[k];
-        auto value = [&]() -> std::string {
-            if (k + 1 >= args.size())
-                throw InvalidInput{a + ": missing value"};
-            return args[++k];
-        };
+    for (const auto &[a, value] : o.named) {
         if (!scale && (a == "--frames" || a == "--max-n"))
             throw InvalidInput{a + ": only with --scale"};
         if (scale && a == "--crowd")
             throw InvalidInput{"--crowd: not with --scale (its crowds have 1k, 10k and 100k marbles; --max-n stops earlier)"};
         if (scale && a == "--plot")
             throw InvalidInput{"--plot: draws the work-precision diagram, not --scale"};
-        if (a == "--scale")
-            continue;
-        else if (a == "--csv")
-            csvPath = value();
-        else if (a == "--plot")
-            plotPath = value();
-        else if (a == "--repeat")
-            repeats = static_cast<int>(parseInteger("--repeat", value(), 1, 1000));
+        if (a == "--repeat")
+            repeats = static_cast<int>(parseInteger("--repeat", value, 1, 1000));
         else if (a == "--frames")
-            frames = static_cast<int>(parseInteger("--frames", value(), 1, 1'000'000));
+            frames = static_cast<int>(parseInteger("--frames", value, 1, 1'000'000));
         else if (a == "--crowd")
-            crowd = static_cast<int>(parseInteger("--crowd", value(), 0, kMaxCrowd));
+            crowd = static_cast<int>(parseInteger("--crowd", value, 0, kMaxCrowd));
         else if (a == "--max-n")
-            maxN = static_cast<int>(parseInteger("--max-n", value(), 1000, kMaxCrowd));
-        else
-            throw InvalidInput{"bench: unknown option '" + a + "'"};
+            maxN = static_cast<int>(parseInteger("--max-n", value, 1000, kMaxCrowd));
     }
 
     // The files are opened before the scenes run (a typo in a path failed after the two minutes
@@ -571,14 +558,14 @@ int benchCommand(const std::vector<std::string> &given)
     // be written ends the command with its message on stderr, nothing on stdout and neither file
     // changed (exit code 2 for a path that cannot be written, 1 for a write that failed; progress
     // goes to stderr while the scenes run).
-    if (!csvPath.empty() && csvPath == plotPath)
-        throw InvalidInput{"--csv and --plot name the same file, " + csvPath};
     std::optional<OutputFile> csvFile;
     std::optional<OutputFile> plotFile;
-    if (!csvPath.empty())
-        csvFile.emplace(csvPath);
-    if (!plotPath.empty())
-        plotFile.emplace(plotPath);
+    if (const std::string *path = o.last("--csv"))
+        csvFile.emplace("--csv", *path);
+    if (const std::string *path = o.last("--plot"))
+        plotFile.emplace("--plot", *path);
+    if (csvFile && plotFile && sameFile(*o.last("--csv"), *o.last("--plot")))
+        throw InvalidInput{"--csv and --plot name the same file, " + *o.last("--plot")};
     const std::vector<Row> rows = scale ? scaleBench(frames, repeats, maxN) : precisionBench(repeats, crowd);
     if (csvFile)
         csvFile->write(rowsToCsv(rows));

@@ -40,8 +40,26 @@ inline constexpr long long kMaxCrowd = 10'000'000;
 /// Parses a finite double option value; throws InvalidInput naming the option.
 double parseNumber(std::string_view option, std::string_view text);
 
-/// The arguments with each "--option=value" as "--option" "value", as run and gen read them.
-std::vector<std::string> splitOptionValues(const std::vector<std::string> &args);
+/// A command's arguments: "--name VALUE" (or "--name=VALUE") options and flags in the order
+/// given, and the other words (positional) in order.
+struct Options {
+    std::vector<std::string> positional;
+    std::vector<std::pair<std::string, std::string>> named;
+
+    /// The last value given for `name`, or null.
+    const std::string *last(std::string_view name) const;
+    /// Whether `name` was given.
+    bool has(std::string_view name) const { return last(name) != nullptr; }
+    /// Every value given for `name`, in order.
+    std::vector<std::string> all(std::string_view name) const;
+};
+
+/// Reads a command's arguments: `valued` options take a value ("--frames 5", "--frames=5"),
+/// `flags` none. "-" is a word (standard input or output), and every word after "--" too. An
+/// option the command does not take, a flag given a value, a value missing: InvalidInput
+/// naming it (and what the command takes).
+Options parseOptions(const std::vector<std::string> &args, std::initializer_list<std::string_view> valued,
+                     std::initializer_list<std::string_view> flags = {});
 /// Whether a path is "-": standard input as SCENE, standard output as run's or a scene's --out.
 inline bool isStandardStream(const std::string &path) { return path == "-"; }
 /// How messages name SCENE: "stdin" for "-", else as given.
@@ -57,19 +75,22 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
 /// the old file as it was.
 class OutputFile {
 public:
-    explicit OutputFile(const std::string &path);
+    /// Opens `path`, given as `option` ("--out"), which messages name where the path cannot be
+    /// a file: empty, or "-" (standard output, which a caller that can write there takes first).
+    OutputFile(const std::string &option, const std::string &path);
     void write(std::string_view bytes);
     void commit();
 
 private:
-    static const std::string &checkedPath(const std::string &path);
+    static const std::string &checkedPath(const std::string &option, const std::string &path);
     void throwIfFailed() const;
     std::string m_path;
     WholeFileWriter m_writer;
 };
 
-/// Writes `text` to `path` whole (an OutputFile opened, written and committed).
-void writeFileAtomically(const std::string &path, const std::string &text);
+/// Whether two paths name one file (links and spellings such as "./x" followed); for paths that
+/// do not exist yet, whether they would.
+bool sameFile(const std::string &a, const std::string &b);
 /// `x` printed with the printf `spec`, or `missing` when x is NaN (a figure that does not apply).
 std::string formatNumber(double x, const char *spec = "%.3g", const char *missing = "n/a");
 

@@ -329,20 +329,11 @@ Outcome runRow(const StressRow &row)
 
 int stressCommand(const std::vector<std::string> &given)
 {
-    const std::vector<std::string> args = splitOptionValues(given);
-    bool quick = false;
-    std::string csvPath;
-    std::string only;
-    for (std::size_t k = 0; k < args.size(); ++k) {
-        if (args[k] == "--quick")
-            quick = true;
-        else if (args[k] == "--csv" && k + 1 < args.size())
-            csvPath = args[++k];
-        else if (args[k] == "--only" && k + 1 < args.size())
-            only = args[++k];
-        else
-            throw InvalidInput{"stress: unknown option or missing value '" + args[k] + "'"};
-    }
+    const Options o = parseOptions(given, {"--csv", "--only"}, {"--quick"});
+    if (!o.positional.empty())
+        throw InvalidInput{"stress: unexpected argument '" + o.positional.front() + "'"};
+    const bool quick = o.has("--quick");
+    const std::string only = o.last("--only") ? *o.last("--only") : std::string();
 
     std::vector<StressRow> rows = stressRows(quick);
     if (!only.empty()) {
@@ -355,8 +346,8 @@ int stressCommand(const std::vector<std::string> &given)
     // Opened before the rows run and print: a path that cannot be written fails at once, with
     // nothing on stdout (it failed after the whole table).
     std::optional<OutputFile> csvFile;
-    if (!csvPath.empty())
-        csvFile.emplace(csvPath);
+    if (const std::string *path = o.last("--csv"))
+        csvFile.emplace("--csv", *path);
 
     std::printf("marbles-cli stress%s: each row states its expectation; exit 0 only if all are met\n",
                 quick ? " --quick" : "");

@@ -110,6 +110,7 @@ private slots:
     void runReadsStandardInput();
     void runWritesOutFile();
     void outDashIsStandardOutput();
+    void runKeepsItsSceneAndReadsOptionsAlike();
     void setChangesParameters_data();
     void setChangesParameters();
     void invalidInputExitsTwo_data();
@@ -212,6 +213,37 @@ void TestCli::outDashIsStandardOutput()
         QVERIFY2(p.readAllStandardError().contains("standard output"), qPrintable(args.join(' ')));
     }
     QCOMPARE(QDir(dir.path()).entryList(QDir::Files).size(), 0);
+}
+
+void TestCli::runKeepsItsSceneAndReadsOptionsAlike()
+{
+    // --out naming the scene being read is refused: the CSV replaced the scene (directly or
+    // through a link), and the run said nothing.
+    QTemporaryDir dir;
+    const QString scene = dir.filePath("pins.marbles.json");
+    QCOMPARE(runCli({"preset", "pins", "--out", scene}).exitCode, 0);
+    QVERIFY(QFile::link(scene, dir.filePath("link.json")));
+    QFile file(scene);
+    QVERIFY(file.open(QIODevice::ReadOnly));
+    const QByteArray before = file.readAll();
+    file.close();
+    for (const QStringList &args : {QStringList{"run", scene, "--out", scene},
+                                    QStringList{"run", dir.filePath("link.json"), "--out", dir.path() + "/./pins.marbles.json"}}) {
+        const CliResult r = runCli(args);
+        QCOMPARE(r.exitCode, 2);
+        QVERIFY2(r.err.contains("is SCENE, the file being read"), r.err.constData());
+        QVERIFY(file.open(QIODevice::ReadOnly));
+        QCOMPARE(file.readAll(), before);
+        file.close();
+    }
+    // --set=KEY=VALUE as --set KEY=VALUE (every other option took the '='); "--" ends the options.
+    const CliResult spaced = runCli({"run", "preset:pins", "--frames", "5", "--set", "friction=0.2"});
+    const CliResult joined = runCli({"run", "preset:pins", "--frames=5", "--set=friction=0.2"});
+    QCOMPARE(joined.exitCode, 0);
+    QCOMPARE(joined.out, spaced.out);
+    const CliResult ended = runCli({"run", "--frames", "5", "--set", "friction=0.2", "--", "preset:pins"});
+    QCOMPARE(ended.exitCode, 0);
+    QCOMPARE(ended.out, spaced.out);
 }
 
 void TestCli::setChangesParameters_data()
@@ -323,6 +355,24 @@ void TestCli::invalidInputExitsTwo_data()
                                                                  << QByteArray() << "--max-n: only with --scale";
     QTest::addRow("bench csv and plot the same file") << QStringList{"bench", "--csv", "same", "--plot", "same"}
                                                       << QByteArray() << "--csv and --plot name the same file";
+    QTest::addRow("bench csv and plot the same file, spelt apart")
+        << QStringList{"bench", "--csv", "same2", "--plot", "./same2"} << QByteArray() << "--csv and --plot name the same file";
+    QTest::addRow("empty out") << QStringList{"run", "preset:pins", "--out="} << QByteArray() << "--out: an empty file name";
+    QTest::addRow("empty bench csv") << QStringList{"bench", "--csv="} << QByteArray() << "--csv: an empty file name";
+    QTest::addRow("empty bench plot") << QStringList{"bench", "--plot", ""} << QByteArray() << "--plot: an empty file name";
+    // Options are read alike by every command (a single-dash word was a second SCENE; bench and
+    // stress had their own, vaguer, messages).
+    QTest::addRow("single-dash word") << QStringList{"run", "preset:pins", "-x"} << QByteArray()
+                                      << "-x: unknown option (this command takes --frames, --every, --set, --out)";
+    QTest::addRow("option of another command") << QStringList{"check", "preset:pins", "--out", "x"} << QByteArray()
+                                               << "--out: unknown option (this command takes --set)";
+    QTest::addRow("flag given a value") << QStringList{"stress", "--quick=1"} << QByteArray()
+                                        << "--quick: takes no value, got '1'";
+    QTest::addRow("bench flag given a value") << QStringList{"bench", "--scale=1"} << QByteArray()
+                                              << "--scale: takes no value";
+    QTest::addRow("stress option without value") << QStringList{"stress", "--only"} << QByteArray()
+                                                 << "--only: missing value";
+    QTest::addRow("stress word") << QStringList{"stress", "extra"} << QByteArray() << "unexpected argument 'extra'";
     // Output paths are tried before the work: nothing printed (stress printed its whole table).
     QTest::addRow("stress csv into a missing folder")
         << QStringList{"stress", "--quick", "--only", "sparse gas", "--csv", "/nonexistent/dir/x.csv"} << QByteArray()
