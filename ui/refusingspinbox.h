@@ -8,7 +8,9 @@
 #include <QString>
 #include <QValidator>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <type_traits>
 #include <utility>
@@ -24,6 +26,11 @@ public:
     std::optional<double> takeRefused() { return std::exchange(m_refused, std::nullopt); }
     /// The last refused number as it was typed ("1e400", "1.50").
     QString refusedText() const { return m_refusedText; }
+    /// Whether the last refusal was of a text that is no number the field can take as written,
+    /// rather than of a number beyond its range: digits grouped ("1,000" or "1,000.5", which
+    /// could be read two ways where a decimal comma is taken), or a fraction in a whole-number
+    /// field ("2,5" substeps). Its number is NaN.
+    bool refusedUnreadable() const { return m_refusedUnreadable; }
     /// The box's range and value, and a value as the box shows it (suffix included).
     virtual double low() const = 0;
     virtual double high() const = 0;
@@ -31,10 +38,13 @@ public:
     virtual QString shown(double value) const = 0;
     /// Whether the field holds typing not yet taken (its text is not its value's).
     virtual bool typing() const = 0;
+    /// Whether the field takes whole numbers only.
+    virtual bool wholeNumbers() const = 0;
 
 protected:
     mutable std::optional<double> m_refused;
     mutable QString m_refusedText;
+    mutable bool m_refusedUnreadable = false;
 };
 
 /// A spin box that keeps a number typed beyond its range as typed, instead of dropping the
@@ -53,10 +63,20 @@ public:
         this->setAccelerated(true);
     }
 
-    QValidator::State validate(QString &text, int &pos) const override
+    QValidator::State validate(QString &input, int &pos) const override
     {
-        if constexpr (kDecimal)
-            takeOtherDecimalMark(text);
+        // The text is left as typed; a decimal comma is read as the locale's mark.
+        QString text = input;
+        switch (marksIn(bareText(input))) {
+        case Marks::None:
+            break;
+        case Marks::OtherDecimal:
+            text = withLocaleMark(input);
+            break;
+        case Marks::Unreadable:
+            // Typed on until the edit ends, and refused then with why (fixup()).
+            return onlyNumberCharacters(bareText(input)) ? QValidator::Intermediate : QValidator::Invalid;
+        }
         const QValidator::State state = Base::validate(text, pos);
         if (state != QValidator::Invalid)
             return state;
@@ -81,7 +101,17 @@ public:
 
     void fixup(QString &input) const override
     {
-        // Called when an edit ends on text that is not a value of the box.
+        // Called when an edit ends on text that is not a value of the box. Grouped digits are
+        // refused before the base class's fixup, which drops group separators ("1,000.5" became
+        // 1000.5 and "1,000" 1000, guesses either way).
+        if (marksIn(bareText(input)) == Marks::Unreadable) {
+            m_refused = std::numeric_limits<double>::quiet_NaN();
+            m_refusedText = bareText(input);
+            m_refusedUnreadable = true;
+            return;
+        }
+        m_refusedUnreadable = false;
+        input = withLocaleMark(input); // "5,5" would lose its comma to the base class: 55
         Base::fixup(input);
         bool number = false;
         const QString bare = bareText(input);
@@ -92,6 +122,7 @@ public:
         }
     }
 
+    bool wholeNumbers() const override { return !kDecimal; }
     double low() const override { return static_cast<double>(this->minimum()); }
     double high() const override { return static_cast<double>(this->maximum()); }
     double current() const override { return static_cast<double>(this->value()); }
@@ -179,19 +210,56 @@ private:
 
     bool outside(double value) const { return value < low() || value > high(); }
 
-    // A decimal comma typed where the locale writes a point (or a point where it writes a comma)
-    // becomes the locale's mark, shown at once: "2,5" was read as 25, the comma dropped as a group
-    // separator, and a teacher who writes decimals with a comma got ten times the mass scale. A
-    // text with both marks, or with the other mark twice ("1,000.5", "1,000,000"), is grouped
-    // digits and stays as it is; the fields never show group separators themselves.
-    void takeOtherDecimalMark(QString &text) const
+protected:
+    // A decimal comma typed where the locale writes a point, or a point where it writes a comma
+    // (the "other" mark), is read as the locale's decimal mark: "2,5" was read as 25, the comma
+    // dropped as a group separator, and a teacher who writes decimals with a comma got ten times
+    // the mass scale. Digits that may be grouped ("1,000", "12,500", "1,000.5", "1,000,000") are
+    // refused with why, not guessed at: 1000 to one teacher is 1.0 to another. In a whole-number
+    // field any mark is refused so ("2,5" substeps became 25). The fields never show group
+    // separators themselves.
+    enum class Marks { None, OtherDecimal, Unreadable };
+    Marks marksIn(const QString &bare) const
     {
         const QString point = this->locale().decimalPoint();
-        if (point != QLatin1String(".") && point != QLatin1String(","))
-            return;
-        const QChar other = point == QLatin1String(".") ? QLatin1Char(',') : QLatin1Char('.');
-        if (text.count(other) == 1 && !text.contains(point))
-            text.replace(other, point.at(0));
+        const QChar other = point == QLatin1String(",") ? QLatin1Char('.') : QLatin1Char(',');
+        const qsizetype others = bare.count(other);
+        const qsizetype points = point.size() == 1 ? bare.count(point.at(0)) : 0;
+        if constexpr (!kDecimal)
+            return others + points == 0 ? Marks::None : Marks::Unreadable;
+        if (others == 0)
+            return Marks::None;
+        if (others > 1 || points > 0 || point.size() != 1)
+            return Marks::Unreadable;
+        // One mark: grouped digits if 1 to 3 digits, not starting with 0, stand before it and
+        // exactly three after it ("0,125" is a decimal; "1,000" could be either).
+        const qsizetype at = bare.indexOf(other);
+        const qsizetype start = bare.startsWith(this->locale().negativeSign()) || bare.startsWith(QLatin1Char('+')) ? 1 : 0;
+        const QString before = bare.mid(start, at - start);
+        const QString after = bare.mid(at + 1);
+        const auto digits = [](const QString &s) {
+            return !s.isEmpty() && std::all_of(s.begin(), s.end(), [](QChar c) { return c.isDigit(); });
+        };
+        const bool grouped = digits(before) && before.size() <= 3 && before.front() != QLatin1Char('0')
+            && digits(after) && after.size() == 3;
+        return grouped ? Marks::Unreadable : Marks::OtherDecimal;
+    }
+    QString withLocaleMark(const QString &text) const
+    {
+        if (marksIn(bareText(text)) != Marks::OtherDecimal)
+            return text;
+        const QString point = this->locale().decimalPoint();
+        QString out = text;
+        out.replace(point == QLatin1String(",") ? QLatin1Char('.') : QLatin1Char(','), point.at(0));
+        return out;
+    }
+    // Digits, marks, signs and exponents only: text a number was meant by, refused with why.
+    static bool onlyNumberCharacters(const QString &bare)
+    {
+        return !bare.isEmpty() && std::all_of(bare.begin(), bare.end(), [](QChar c) {
+            return c.isDigit() || c == QLatin1Char('.') || c == QLatin1Char(',') || c == QLatin1Char('-')
+                || c == QLatin1Char('+') || c == QLatin1Char('e') || c == QLatin1Char('E');
+        });
     }
 };
 
@@ -206,7 +274,7 @@ protected:
     double valueFromText(const QString &text) const override
     {
         bool number = false;
-        const double value = locale().toDouble(bareText(text), &number);
+        const double value = locale().toDouble(bareText(withLocaleMark(text)), &number);
         return number && std::isfinite(value) ? value : QDoubleSpinBox::valueFromText(text);
     }
 };

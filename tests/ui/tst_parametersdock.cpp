@@ -38,6 +38,8 @@ private slots:
     void frictionWarning();
     void typedFrictionWarns();
     void otherLocalesDecimalPoint();
+    void groupedDigitsAreRefused_data();
+    void groupedDigitsAreRefused();
     void fieldsFollowModel_data();
     void fieldsFollowModel();
     void dampedModelsNeedFrictionBelowOne();
@@ -102,6 +104,9 @@ void TestParametersDock::typingEmitsEdit_data()
     QTest::addRow("friction comma") << "book" << "frictionEdit" << "0,25" << "friction" << "0.25";
     QTest::addRow("massScale comma") << "book" << "massScaleEdit" << "2,5" << "massScale" << "2.5";
     QTest::addRow("gravity y comma") << "exact" << "gravityYEdit" << "-0,5" << "gravity" << "0,-0.5";
+    // Three digits after the comma, but a leading 0 before it: no grouping, a decimal.
+    QTest::addRow("friction comma 0,125") << "book" << "frictionEdit" << "0,125" << "friction" << "0.125";
+    QTest::addRow("pushScale comma 12,5") << "book" << "pushScaleEdit" << "12,5" << "pushScale" << "12.5";
 }
 
 void TestParametersDock::typingEmitsEdit()
@@ -497,6 +502,55 @@ void TestParametersDock::otherLocalesDecimalPoint()
     typeInto(friction, QStringLiteral("0,5"));
     QCOMPARE(spy.count(), 2);
     QCOMPARE(spy.at(1).at(1).toString(), QStringLiteral("0.5"));
+}
+
+void TestParametersDock::groupedDigitsAreRefused_data()
+{
+    QTest::addColumn<bool>("german");
+    QTest::addColumn<QString>("model");
+    QTest::addColumn<QString>("field");
+    QTest::addColumn<QString>("typed");
+    QTest::addColumn<QString>("why");
+
+    // Typed key by key, the first comma became a point and the rest was dropped or appended:
+    // "1,000" frame interval was 1 ms, "1,000,000" push scale 1, "1,000.5" friction 1.0005.
+    const QString twoWays = QStringLiteral("can be read two ways");
+    QTest::addRow("frameMs 1,000") << false << "book" << "frameMsEdit" << "1,000" << twoWays;
+    QTest::addRow("pushScale 1,000,000") << false << "book" << "pushScaleEdit" << "1,000,000" << twoWays;
+    QTest::addRow("pushScale 1,000.5") << false << "book" << "pushScaleEdit" << "1,000.5" << twoWays;
+    QTest::addRow("friction 1,000.5") << false << "book" << "frictionEdit" << "1,000.5" << twoWays;
+    QTest::addRow("German massScale 1.000") << true << "book" << "massScaleEdit" << "1.000" << twoWays;
+    // A whole-number field takes digits only ("2,5" substeps was 25).
+    const QString whole = QStringLiteral("takes whole numbers");
+    QTest::addRow("substeps 2,5") << false << "impulse" << "substepsEdit" << "2,5" << whole;
+    QTest::addRow("substeps 2.5") << false << "impulse" << "substepsEdit" << "2.5" << whole;
+    QTest::addRow("substeps 1,000") << false << "impulse" << "substepsEdit" << "1,000" << whole;
+}
+
+void TestParametersDock::groupedDigitsAreRefused()
+{
+    QFETCH(bool, german);
+    QFETCH(QString, model);
+    QFETCH(QString, field);
+    QFETCH(QString, typed);
+    QFETCH(QString, why);
+
+    ParametersDock dock;
+    if (german)
+        dock.setLocale(QLocale(QLocale::German, QLocale::Germany));
+    const Params before = paramsWithModel(model);
+    dock.setParams(before);
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    auto *spin = dock.findChild<QAbstractSpinBox *>(field);
+    QVERIFY(spin);
+    const QString shownBefore = spin->text();
+    QSignalSpy spy(&dock, &ParametersDock::paramEdited);
+    typeInto(spin, typed);
+    QCOMPARE(spy.count(), 0);
+    QCOMPARE(spin->text(), shownBefore);
+    const QString help = dock.findChild<QLabel *>(field + QStringLiteral("Help"))->text();
+    QVERIFY2(help.contains(typed) && help.contains(why) && help.contains(QStringLiteral("It stays")), qPrintable(help));
 }
 
 void TestParametersDock::fieldsFollowModel_data()
