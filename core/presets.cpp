@@ -52,7 +52,7 @@ void pinsExample(World &w)
             w.addPin({x, y});
         }
     }
-    named(w, w.addMarble({90, 90}, 22, {7.5, 4.0}), "blue");
+    named(w, w.addMarble({90, 90}, 22, {7.5, 4.0}), "medium");
     named(w, w.addMarble({700, 520}, 30, {-6.0, -5.5}), "big");
     named(w, w.addMarble({400, 70}, 16, {1.0, 8.0}), "small");
     w.params.friction = 0.02;
