@@ -743,7 +743,6 @@ std::string parseInto(std::string_view text, World &world)
         return "line 1, column 1: the text is empty; a scene file holds a JSON object";
     if (std::string nesting = checkNesting(text); !nesting.empty())
         return nesting;
-
     Json doc;
     TrackingBuilder builder(doc);
     const bool parsed = Json::sax_parse(text.data(), text.data() + text.size(), &builder,
@@ -751,6 +750,13 @@ std::string parseInto(std::string_view text, World &world)
     if (builder.overBudget())
         return "size: reading this scene would take more than " + std::to_string(kMaxSceneMemoryBytes >> 20)
             + " MiB of memory (it holds too many values)";
+    // The parser takes a NUL byte for the end of the text: whatever followed it was never read
+    // (a scene with "\0garbage{{{" after its object loaded), and one at the start read as empty.
+    // Named where the parse stopped at it, or got past the place where it should have.
+    const std::size_t nul = text.find('\0');
+    const std::size_t stopped = builder.position() > 0 ? builder.position() - 1 : 0;
+    if (nul != std::string_view::npos && ((parsed && !builder.failed()) || nul <= stopped))
+        return lineColumn(text, nul) + ": a NUL byte (0x00), which JSON text cannot hold";
     if (!parsed || builder.failed()) {
         // 406: a number too large for a double (1e999): JSON allows it, a scene does not.
         if (builder.errorId() == 406) {

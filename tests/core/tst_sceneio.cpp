@@ -387,7 +387,10 @@ void TestSceneIo::malformed_data()
                                     << "not valid JSON";
     QTest::addRow("NaN literal") << QByteArray(R"({"format": "marbles-scene", "version": 1, "params": {"friction": NaN}})")
                                  << "line 1, column " << "not valid JSON";
-    QTest::addRow("NUL byte") << QByteArray("{\"format\"\0: 1}", 14) << "line 1, column 10" << "not valid JSON";
+    QTest::addRow("NUL byte") << QByteArray("{\"format\"\0: 1}", 14) << "line 1, column 10" << "a NUL byte";
+    // The parser took a NUL for the end of the text: what followed was never read.
+    QTest::addRow("NUL after the object") << base + QByteArray("\0garbage{{{", 11) << "line " << "a NUL byte (0x00)";
+    QTest::addRow("NUL first") << QByteArray("\0", 1) + base << "line 1, column 1" << "a NUL byte";
     QTest::addRow("broken UTF-8 in a string")
         << QByteArray("{\"format\": \"marbles-scene\", \"version\": 1, \"marbles\": [{\"name\": \"\xC3\x28\"}]}")
         << "line 1, column " << "not valid JSON";
