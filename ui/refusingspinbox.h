@@ -145,7 +145,7 @@ protected:
                 QKeyEvent enter(QEvent::KeyPress, Qt::Key_Return, Qt::NoModifier);
                 Base::keyPressEvent(&enter);
             }
-            if (isPlainSpace(key) || (isUndoOrRedo(key) && !typing()))
+            if (isPlainSpace(key) || isNoNumberKey(key) || (isUndoOrRedo(key) && !typing()))
                 return true; // not accepted: the shortcut may take the key
             // Shift and an arrow select text here, as in any field (the window's Shift+Up and
             // Shift+Down, which push the selected marble, took them).
@@ -160,7 +160,7 @@ protected:
     }
     void keyPressEvent(QKeyEvent *event) override
     {
-        if (isPlainSpace(event)) {
+        if (isPlainSpace(event) || isNoNumberKey(event)) {
             event->ignore(); // to the parent, as a key the field has no use for
             return;
         }
@@ -187,6 +187,12 @@ private:
     static bool isPlainSpace(const QKeyEvent *event)
     {
         return event->key() == Qt::Key_Space && (event->modifiers() & ~Qt::KeypadModifier) == Qt::NoModifier;
+    }
+    // < and > are in no number: the window's Run Slower / Run Faster take them from a field as
+    // from the stage (they did nothing there, without a word).
+    static bool isNoNumberKey(const QKeyEvent *event)
+    {
+        return event->key() == Qt::Key_Less || event->key() == Qt::Key_Greater;
     }
     static bool isUndoOrRedo(const QKeyEvent *event)
     {

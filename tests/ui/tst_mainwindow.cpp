@@ -926,6 +926,16 @@ void TestMainWindow::keyboardChangesRunSpeed()
     QCOMPARE(run->speed(), 4.0);
     QVERIFY(!faster->isEnabled());
     QVERIFY(slower->isEnabled());
+    // From a number field too: < and > are in no number.
+    auto *friction = m_window->findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit"));
+    QVERIFY(friction);
+    friction->setFocus();
+    const QString typed = friction->text();
+    QTest::keyClick(friction, Qt::Key_Less, Qt::ShiftModifier);
+    QCOMPARE(run->speed(), 2.0);
+    QCOMPARE(friction->text(), typed);
+    QTest::keyClick(friction, Qt::Key_Greater, Qt::ShiftModifier);
+    QCOMPARE(run->speed(), 4.0);
     // The box chosen with the mouse moves the actions' ends too.
     box->setCurrentIndex(0);
     QCOMPARE(run->speed(), 0.1);
