@@ -1,6 +1,7 @@
 #include "ui/wholefile.h"
 
 #include <QCoreApplication>
+#include <QDir>
 #include <QFileInfo>
 #include <QSaveFile>
 
@@ -15,6 +16,12 @@ QString writeWholeFile(const QString &path, const QByteArray &data)
     const QFileInfo target(path);
     if (target.exists() && !target.isFile())
         return QCoreApplication::translate("marbles", "cannot write: not a regular file (a folder or a device)");
+    // The folder named, as the command line does ("No such file or directory" said neither which
+    // nor that it was the folder that was missing).
+    const QFileInfo folder(target.absolutePath());
+    if (!folder.isDir())
+        return QCoreApplication::translate("marbles", "cannot write: there is no folder %1")
+            .arg(QDir::toNativeSeparators(folder.filePath()));
     QSaveFile file(path);
     if (!file.open(QIODevice::WriteOnly | QIODevice::Unbuffered))
         return QCoreApplication::translate("marbles", "cannot write: %1").arg(file.errorString());

@@ -1298,6 +1298,11 @@ void TestPlotDock::exportCsvError()
     QVERIFY2(refused.endsWith(QStringLiteral("cannot write: not a regular file (a folder or a device)")), qPrintable(refused));
     struct stat info {};
     QVERIFY(::stat(pipe.constData(), &info) == 0 && S_ISFIFO(info.st_mode));
+
+    // A folder that is not there is named.
+    const QString missing = dock.exportCsv(dir.filePath(QStringLiteral("no such folder/plot.csv")));
+    QVERIFY2(missing.endsWith(QStringLiteral("cannot write: there is no folder ") + dir.filePath(QStringLiteral("no such folder"))),
+             qPrintable(missing));
 }
 
 void TestPlotDock::exportPng()
