@@ -49,9 +49,26 @@ QString paramLabel(const QString &key)
     return key;
 }
 
+// The value as the Parameters dock shows it, with its unit ("Set frame interval to 1" gave no
+// hint that it was 1 ms).
+QString shownValue(const QString &key, const QString &value)
+{
+    if (key == QLatin1String("gravity"))
+        return QStringLiteral("(%1) px/frame\u00b2").arg(QString(value).replace(QLatin1Char(','), QStringLiteral(", ")));
+    if (key == QLatin1String("frameMs"))
+        return value + QStringLiteral(" ms");
+    if (key == QLatin1String("zeroThreshold"))
+        return value + QStringLiteral(" px/frame");
+    if (key == QLatin1String("massScale"))
+        return QCoreApplication::translate("marbles", "%1 per px").arg(value);
+    if (key == QLatin1String("width") || key == QLatin1String("height"))
+        return value + QStringLiteral(" px");
+    return value;
+}
+
 QString describe(const QString &key, const QString &value)
 {
-    return QCoreApplication::translate("marbles", "Set %1 to %2").arg(paramLabel(key), value);
+    return QCoreApplication::translate("marbles", "Set %1 to %2").arg(paramLabel(key), shownValue(key, value));
 }
 
 } // namespace

@@ -738,13 +738,18 @@ void TestSceneDocument::paramEditsAreNamedAsTheDockNamesThem()
     SceneDocument doc;
     doc.resetScene(preset("four-marbles"));
     QVERIFY(doc.setParam(QStringLiteral("zeroThreshold"), QStringLiteral("0.5")).isEmpty());
-    QCOMPARE(doc.undoStack()->text(0), QStringLiteral("Set zero threshold to 0.5"));
+    QCOMPARE(doc.undoStack()->text(0), QStringLiteral("Set zero threshold to 0.5 px/frame"));
     QVERIFY(doc.setParam(QStringLiteral("frameMs"), QStringLiteral("40")).isEmpty());
     QVERIFY(doc.setParam(QStringLiteral("frameMs"), QStringLiteral("25")).isEmpty());
     QCOMPARE(doc.undoStack()->count(), 2);
-    QCOMPARE(doc.undoStack()->text(1), QStringLiteral("Set frame interval to 25"));
+    QCOMPARE(doc.undoStack()->text(1), QStringLiteral("Set frame interval to 25 ms")); // with its unit
     QVERIFY(doc.setParam(QStringLiteral("model"), QStringLiteral("exact")).isEmpty());
     QCOMPARE(doc.undoStack()->text(2), QStringLiteral("Set model to exact"));
+    QVERIFY(doc.setParam(QStringLiteral("gravity"), QStringLiteral("0,0.15")).isEmpty());
+    QCOMPARE(doc.undoStack()->text(3), QStringLiteral("Set gravity to (0, 0.15) px/frame\u00b2"));
+    QVERIFY(doc.setParam(QStringLiteral("massScale"), QStringLiteral("2")).isEmpty());
+    QCOMPARE(doc.undoStack()->text(4), QStringLiteral("Set mass scale to 2 per px"));
+    doc.undoStack()->setIndex(3);
     // A marble's edits name the marble and the value ("Set marble radius" told neither).
     QVERIFY(doc.setMarbleRadius(1, 22.5).isEmpty());
     QCOMPARE(doc.undoStack()->text(3), QStringLiteral("Set marble 1's radius to 22.5 px"));
