@@ -221,8 +221,8 @@ void StageView::updateVectorNote()
 void StageView::setTrailsVisible(bool visible)
 {
     m_trailsVisible = visible;
-    m_trail->clear();
     updateTrailSuppression();
+    resetTrail();
 }
 
 int StageView::trailLength() const
@@ -419,7 +419,10 @@ void StageView::sampleTrail()
 
 void StageView::resetTrail()
 {
+    // Started from where the marbles are: sampled only after each frame, a trail began a frame
+    // late, without its first segment.
     m_trail->clear();
+    sampleTrail();
 }
 
 void StageView::updateHighlights()

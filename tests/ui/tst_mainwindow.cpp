@@ -529,7 +529,7 @@ void TestMainWindow::presetOpensWithItsView()
     QVERIFY(trail);
     QCOMPARE(trail->followed(), 0);
     QCOMPARE(m_window->document()->advance(5), 5);
-    QCOMPARE(trail->followedPoints().size(), std::size_t(5));
+    QCOMPARE(trail->followedPoints().size(), std::size_t(6)); // frames 0 to 5
     // Another scene gives the teacher's view back (a new scene has nothing selected)...
     QVERIFY(m_window->openPreset(QStringLiteral("pins")));
     QVERIFY(vectors->isChecked());

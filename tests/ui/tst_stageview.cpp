@@ -696,40 +696,44 @@ void TestStageView::stepBackCutsTrails()
     QCOMPARE(trails.size(), 1);
     const TrailItem *trail = trails.front();
     std::vector<Vec2> atFrame[13];
+    atFrame[0] = m_document->world().position; // the trails start where the marbles are
     for (int f = 1; f <= 12; ++f) {
         m_document->advance(1);
         atFrame[f] = m_document->world().position;
     }
     const int marbles = m_document->world().marbleCount();
-    QCOMPARE(static_cast<int>(trail->points(0).size()), 12);
+    QCOMPARE(static_cast<int>(trail->points(0).size()), 13);
     for (int k = 0; k < 3; ++k)
         QVERIFY(m_document->stepBack());
     QCOMPARE(m_document->world().frame, std::int64_t(9));
     for (int i = 0; i < marbles; ++i) {
         const std::vector<QPointF> points = trail->points(i);
-        QCOMPARE(static_cast<int>(points.size()), 9);
-        for (int f = 1; f <= 9; ++f) {
+        QCOMPARE(static_cast<int>(points.size()), 10);
+        for (int f = 0; f <= 9; ++f) {
             const Vec2 p = atFrame[f][static_cast<std::size_t>(i)];
-            const QPointF q = points[static_cast<std::size_t>(f - 1)];
+            const QPointF q = points[static_cast<std::size_t>(f)];
             QVERIFY(q.x() == p.x && q.y() == p.y); // copies of the positions: the same bits
         }
     }
     m_document->advance(2);
-    QCOMPARE(static_cast<int>(trail->points(0).size()), 11);
+    QCOMPARE(static_cast<int>(trail->points(0).size()), 12);
     const Vec2 newest = m_document->world().position[0];
     QVERIFY(trail->points(0).back().x() == newest.x && trail->points(0).back().y() == newest.y);
     QVERIFY(m_document->rewind());
-    QVERIFY(trail->points(0).empty());
+    QCOMPARE(static_cast<int>(trail->points(0).size()), 1); // frame 0's place
     m_document->advance(3);
-    QCOMPARE(static_cast<int>(trail->points(0).size()), 3);
-    // A parameter changed mid-run keeps the trails (the path bends from there, as the plot's
-    // lines do); a marble moved or changed starts them over (it may have jumped).
-    QVERIFY(m_document->setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
-    QCOMPARE(static_cast<int>(trail->points(0).size()), 3);
-    m_document->advance(1);
     QCOMPARE(static_cast<int>(trail->points(0).size()), 4);
+    // A parameter changed mid-run keeps the trails (the path bends from there, as the plot's
+    // lines do); a marble moved or changed starts them over (it may have jumped), from where
+    // the marbles are.
+    QVERIFY(m_document->setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
+    QCOMPARE(static_cast<int>(trail->points(0).size()), 4);
+    m_document->advance(1);
+    QCOMPARE(static_cast<int>(trail->points(0).size()), 5);
     QVERIFY(m_document->setMarbleVelocity(1, {1.0, 0.0}).isEmpty());
-    QVERIFY(trail->points(0).empty());
+    QCOMPARE(static_cast<int>(trail->points(0).size()), 1);
+    const Vec2 now = m_document->world().position[0];
+    QVERIFY(trail->points(0).front().x() == now.x && trail->points(0).front().y() == now.y);
 }
 
 void TestStageView::selectedMarbleKeepsLongTrail()
@@ -743,26 +747,27 @@ void TestStageView::selectedMarbleKeepsLongTrail()
     const int shortLength = m_view->trailLength();
     QCOMPARE(shortLength, StageView::kTrailSegmentBudget / 400);
     QCOMPARE(trail->followed(), -1);
-    std::vector<Vec2> seen;
+    // From where the marbles are when the trails are turned on (frame 0 was left out).
+    std::vector<Vec2> seen{m_document->world().position[5]};
     for (int f = 1; f <= 10; ++f) {
         m_document->advance(1);
         seen.push_back(m_document->world().position[5]);
     }
     m_view->selectMarble(5);
     QCOMPARE(trail->followed(), 5);
-    QCOMPARE(static_cast<int>(trail->followedPoints().size()), 10); // its trail so far
+    QCOMPARE(static_cast<int>(trail->followedPoints().size()), 11); // its trail so far, frames 0 to 10
     for (int f = 11; f <= 100; ++f) {
         m_document->advance(1);
         seen.push_back(m_document->world().position[5]);
     }
     QCOMPARE(static_cast<int>(trail->points(5).size()), shortLength);
     std::vector<QPointF> path = trail->followedPoints();
-    QCOMPARE(static_cast<int>(path.size()), 100);
+    QCOMPARE(static_cast<int>(path.size()), 101);
     for (std::size_t k = 0; k < path.size(); ++k)
         QVERIFY(path[k].x() == seen[k].x && path[k].y() == seen[k].y); // copies: the same bits
     for (int k = 0; k < 4; ++k)
         QVERIFY(m_document->stepBack());
-    QCOMPARE(static_cast<int>(trail->followedPoints().size()), 96);
+    QCOMPARE(static_cast<int>(trail->followedPoints().size()), 97);
     QCOMPARE(static_cast<int>(trail->points(5).size()), shortLength - 4);
     // Another marble: its own trail so far, as long as the others'.
     m_view->selectMarble(7);
@@ -779,9 +784,9 @@ void TestStageView::selectedMarbleKeepsLongTrail()
     m_document->advance(3);
     QCOMPARE(static_cast<int>(trail->followedPoints().size()), shortLength - 4 + 3);
     QVERIFY(m_document->setMarbleRadius(7, m_document->world().radius[7] * 0.9).isEmpty());
-    QVERIFY(trail->followedPoints().empty());
+    QCOMPARE(static_cast<int>(trail->followedPoints().size()), 1); // from where it is now
     m_document->advance(2);
-    QCOMPARE(static_cast<int>(trail->followedPoints().size()), 2);
+    QCOMPARE(static_cast<int>(trail->followedPoints().size()), 3);
     QCOMPARE(trail->followed(), 7);
     // At most kFollowedLength frames.
     m_document->advance(TrailItem::kFollowedLength + 5);
