@@ -785,6 +785,28 @@ void StageView::drawForeground(QPainter *painter, const QRectF &rect)
         if (x != free)
             y += u.y() > 0.0 ? box.height() + 6 : -(box.height() + 6); // beside the arrow's head, not over it
         y = std::clamp(y, inside.top() - box.top(), std::max(inside.top() - box.top(), inside.bottom() - box.bottom()));
+        // Where the head's side covers a marble (Figure 11.8's push ends at the small marble, and
+        // its label sat on it): above the pushed marble, below it, or beside the arrow's middle,
+        // whichever is clear first.
+        if (labelCoversMarble(box.translated(x, y))) {
+            const QPointF middle = (tail + head) / 2.0;
+            const auto offLine = [&](double side) {
+                // The box's nearer edge 8 px off the arrow, on that side of it.
+                return middle + across * side * (8.0 + std::abs(across.x()) * box.width() / 2.0
+                                                  + std::abs(across.y()) * box.height() / 2.0);
+            };
+            const QPointF centres[] = {centre - QPointF(0, rim + 6.0 + box.height() / 2.0),
+                                       centre + QPointF(0, rim + 6.0 + box.height() / 2.0), offLine(-1.0), offLine(1.0)};
+            for (const QPointF &boxCentre : centres) {
+                const double cx = boxCentre.x() - box.width() / 2.0 - box.left();
+                const double cy = boxCentre.y() - box.height() / 2.0 - box.top();
+                if (inside.contains(box.translated(cx, cy)) && !labelCoversMarble(box.translated(cx, cy))) {
+                    x = cx;
+                    y = cy;
+                    break;
+                }
+            }
+        }
         // On a light backing: over a crowd the label would cross marbles.
         const QRectF backing = box.translated(x, y).adjusted(-3, -1, 3, 1);
         painter->setPen(Qt::NoPen);
@@ -794,6 +816,27 @@ void StageView::drawForeground(QPainter *painter, const QRectF &rect)
         painter->drawText(QPointF(x, y), label);
     }
     painter->restore();
+}
+
+bool StageView::labelCoversMarble(const QRectF &label) const
+{
+    // In viewport pixels; a marble's disc against the rectangle (nearest point within its radius).
+    const World &world = m_document->world();
+    const double scale = transform().m11();
+    const QRectF area = mapToScene(label.toAlignedRect()).boundingRect();
+    for (int i = 0; i < world.marbleCount(); ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const double r = world.radius[k];
+        const Vec2 p = world.position[k];
+        if (p.x + r < area.left() || p.x - r > area.right() || p.y + r < area.top() || p.y - r > area.bottom())
+            continue;
+        const QPointF c = mapFromScene(QPointF(p.x, p.y));
+        const double nx = std::clamp(c.x(), label.left(), label.right());
+        const double ny = std::clamp(c.y(), label.top(), label.bottom());
+        if (std::hypot(c.x() - nx, c.y() - ny) < r * scale)
+            return true;
+    }
+    return false;
 }
 
 void StageView::paintEvent(QPaintEvent *event)

@@ -134,6 +134,8 @@ public:
     QList<int> pendingPushes() const;
     /// Of pendingPushes(), those pushed by a click.
     QList<int> clickedPushes() const;
+    /// Whether a rectangle of the viewport (a push's label) covers part of a marble.
+    bool labelCoversMarble(const QRectF &label) const;
 
 Q_SIGNALS:
     /// The selection changed.

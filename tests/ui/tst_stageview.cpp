@@ -62,6 +62,7 @@ private Q_SLOTS:
     void shortMoveIsStillAClick();
     void pushIsShownUntilItActs();
     void scriptedPushIsShownWhenDue();
+    void pushLabelKeepsOffMarbles();
     void batchedAboveTheThreshold_data();
     void batchedAboveTheThreshold();
     void batchedClickSelectsAndPushes_data();
@@ -476,6 +477,38 @@ void TestStageView::pushIsShownUntilItActs()
     QCOMPARE(w.acceleration[marble], both);
     QCOMPARE(m_view->pendingPushes(), QList<int>{marble});
     QCOMPARE_GE(inkOnRay(+1), 10);
+}
+
+void TestStageView::pushLabelKeepsOffMarbles()
+{
+    // Figure 11.8's scripted push ends at the small marble, and its label was written over it:
+    // where the head's side covers a marble, the label goes above the pushed one.
+    const Vec2 pinsMarble = m_document->world().position[0];
+    QVERIFY(m_view->labelCoversMarble(QRectF(m_view->viewportPoint(pinsMarble), QSizeF(4, 4))));
+    QVERIFY(!m_view->labelCoversMarble(QRectF(m_view->viewportPoint({2, 2}), QSizeF(2, 2))));
+    World w;
+    QVERIFY(makePreset("four-marbles", w));
+    m_document->resetScene(w);
+    m_view->fitToStage();
+    QCOMPARE(m_view->pendingPushes(), QList<int>{0});
+    const QImage image = m_view->viewport()->grab().toImage();
+    const auto ink = [&](const QRect &area) {
+        int count = 0;
+        for (int y = area.top(); y <= area.bottom(); ++y) {
+            for (int x = area.left(); x <= area.right(); ++x) {
+                const QColor c = image.pixelColor(x, y);
+                count += c.red() > 140 && c.green() < 110 && c.blue() > 80 && c.blue() < 170 ? 1 : 0;
+            }
+        }
+        return count;
+    };
+    const double scale = m_view->transform().m11();
+    const QPoint large = m_view->viewportPoint(w.position[0]);
+    const int above = static_cast<int>(w.radius[0] * scale) + 4;
+    QCOMPARE_GE(ink(QRect(large.x() - 60, large.y() - above - 20, 120, 20)), 30); // the label's text
+    const QPoint small = m_view->viewportPoint(w.position[1]);
+    const int r = static_cast<int>(w.radius[1] * scale);
+    QCOMPARE(ink(QRect(small.x() + 4, small.y() - r, r - 4, 2 * r)), 0); // nothing over the small one past the arrow
 }
 
 void TestStageView::scriptedPushIsShownWhenDue()
