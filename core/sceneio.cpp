@@ -1114,6 +1114,12 @@ bool parseInteger(std::string_view text, std::int64_t &out)
     if (text.empty())
         return false;
     const auto result = std::from_chars(text.data(), text.data() + text.size(), out);
+    if (result.ec == std::errc::result_out_of_range && result.ptr == text.data() + text.size()) {
+        // An integer all the same, beyond int64: its sign keeps it past the rule's bound ("must be
+        // an integer" was wrong for 99999999999999999999).
+        out = text.front() == '-' ? std::numeric_limits<std::int64_t>::min() : std::numeric_limits<std::int64_t>::max();
+        return true;
+    }
     return result.ec == std::errc() && result.ptr == text.data() + text.size();
 }
 

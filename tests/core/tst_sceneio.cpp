@@ -1124,6 +1124,11 @@ void TestSceneIo::setParamRejects_data()
     QTest::addRow("substeps zero") << "substeps" << "0" << "substeps=0: must be >= 1";
     QTest::addRow("substeps fraction") << "substeps" << "2.5" << "substeps=2.5: must be an integer";
     QTest::addRow("substeps huge") << "substeps" << "99999999999" << "substeps=99999999999: must be <= 1000000";
+    // Beyond int64 still an integer: too large, not "must be an integer".
+    QTest::addRow("substeps beyond int64") << "substeps" << "99999999999999999999"
+                                           << "substeps=99999999999999999999: must be <= 1000000";
+    QTest::addRow("substeps below int64") << "substeps" << "-99999999999999999999"
+                                          << "substeps=-99999999999999999999: must be >= 1";
     QTest::addRow("shortCircuit yes") << "shortCircuit" << "yes" << "shortCircuit=yes: must be true, false, 1 or 0";
     QTest::addRow("walls maybe") << "walls" << "maybe" << "walls=maybe: must be true, false, 1 or 0";
     QTest::addRow("width zero") << "width" << "0" << "width=0: must be > 0";
