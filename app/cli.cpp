@@ -13,11 +13,11 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
-#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <sstream>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace marbles::cli {
@@ -117,7 +117,9 @@ Options parseOptions(const std::vector<std::string> &args, std::initializer_list
         if (std::find(valued.begin(), valued.end(), name) == valued.end())
             throw InvalidInput{name + ": unknown option" + takes()};
         if (!hasValue) {
-            if (k + 1 >= args.size())
+            // The next word is its value unless it is an option itself ("--frames --every 3"
+            // took "--every" as the frame count; a value may start with one dash: "-1").
+            if (k + 1 >= args.size() || args[k + 1].starts_with("--"))
                 throw InvalidInput{name + ": missing value"};
             value = args[++k];
         }
@@ -155,6 +157,8 @@ std::string readStandardInput()
 
 World loadWorld(const std::string &scene, const std::vector<std::string> &settings)
 {
+    if (scene.empty())
+        throw InvalidInput{"SCENE: an empty file name"};
     World world;
     constexpr std::string_view presetPrefix = "preset:";
     if (scene.rfind(presetPrefix, 0) == 0) {
@@ -179,7 +183,7 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
     for (const std::string &setting : settings) {
         const auto eq = setting.find('=');
         if (eq == std::string::npos || eq == 0)
-            throw InvalidInput{"--set " + setting + ": expected KEY=VALUE"};
+            throw InvalidInput{"--set" + (setting.empty() ? std::string() : " " + setting) + ": expected KEY=VALUE"};
         const std::string error = setParam(world, setting.substr(0, eq), setting.substr(eq + 1));
         if (!error.empty())
             throw InvalidInput{"--set " + error}; // the error names the setting ("KEY=VALUE: rule")
@@ -227,21 +231,6 @@ void OutputFile::throwIfFailed() const
     if (m_writer.failedWhileWriting())
         throw WriteFailed{message};
     throw InvalidInput{message};
-}
-
-bool sameFile(const std::string &a, const std::string &b)
-{
-    namespace fs = std::filesystem;
-    std::error_code error;
-    if (fs::exists(a, error) && fs::exists(b, error)) {
-        const bool same = fs::equivalent(a, b, error);
-        return !error && same;
-    }
-    const fs::path canonicalA = fs::weakly_canonical(fs::absolute(a, error), error);
-    if (error)
-        return a == b;
-    const fs::path canonicalB = fs::weakly_canonical(fs::absolute(b, error), error);
-    return error ? a == b : canonicalA == canonicalB;
 }
 
 std::string formatNumber(double x, const char *spec, const char *missing)
@@ -293,6 +282,26 @@ void appendRows(std::string &out, const World &w)
     }
 }
 
+// Whether run's output would land on its own SCENE: --out naming it by any spelling or link, a
+// scene read from standard input that is the --out file ("run - --out m.json < m.json"), or
+// standard output going to the scene ("run m.json >> m.json").
+bool writesOverScene(const std::string &scene, const std::string *outPath)
+{
+    if (scene.starts_with("preset:"))
+        return false;
+    const auto streamIs = [](int fd, const std::string &path) {
+        struct stat stream {};
+        struct stat file {};
+        return ::fstat(fd, &stream) == 0 && S_ISREG(stream.st_mode) && ::stat(path.c_str(), &file) == 0
+            && stream.st_dev == file.st_dev && stream.st_ino == file.st_ino;
+    };
+    if (isStandardStream(scene))
+        return outPath && streamIs(STDIN_FILENO, *outPath);
+    if (!outPath)
+        return streamIs(STDOUT_FILENO, scene);
+    return namesSameFile(scene, *outPath);
+}
+
 int runCommand(const std::vector<std::string> &args)
 {
     const Options o = parseOptions(args, {"--frames", "--every", "--set", "--out"});
@@ -305,16 +314,18 @@ int runCommand(const std::vector<std::string> &args)
     const std::string *outPath = o.last("--out");
     if (outPath && isStandardStream(*outPath))
         outPath = nullptr;
-    // The CSV would replace the scene being read, once the run was over.
-    if (outPath && !isStandardStream(scene) && !scene.starts_with("preset:") && sameFile(scene, *outPath))
-        throw InvalidInput{"--out " + *outPath + ": is SCENE, the file being read; name another file"};
-    World world = loadWorld(scene, o.all("--set"));
+    // The CSV would replace (or, on standard output, be added to) the scene being read.
+    if (writesOverScene(scene, outPath))
+        throw InvalidInput{(outPath ? "--out " + *outPath : std::string("standard output"))
+                           + ": is SCENE, the file being read; name another file"};
 
     // The rows go out a megabyte at a time, to --out as to standard output: a long run's CSV is
-    // never held whole in memory. --out is replaced only once the run is over.
+    // never held whole in memory. --out is opened before the scene is read (a mistyped path
+    // failed after a large scene had loaded) and replaced only once the run is over.
     std::optional<OutputFile> file;
     if (outPath)
         file.emplace("--out", *outPath);
+    World world = loadWorld(scene, o.all("--set"));
     std::string csv = "frame,marble,x,y,vx,vy\n";
     auto flush = [&](bool force) {
         if (force || csv.size() > (1 << 20)) {
@@ -417,9 +428,9 @@ int presetCommand(const std::vector<std::string> &args)
             std::cout << p.id << '\t' << p.title << '\t' << p.description << '\n';
         return ExitOk;
     }
+    const World w = loadWorld("preset:" + o.positional.front(), {}); // an unknown ID is said first
     std::optional<OutputFile> file;
     openSceneOutput(o, file);
-    const World w = loadWorld("preset:" + o.positional.front(), {});
     writeScene(file, w);
     return ExitOk;
 }
@@ -431,7 +442,10 @@ int genCommand(const std::vector<std::string> &args)
         throw InvalidInput{"gen: expected 'crowd', got " + given(o.positional)};
     if (!o.last("--n"))
         throw InvalidInput{"gen crowd: --n is required"};
-    const long long n = parseInteger("--n", *o.last("--n"), 0, kMaxCrowd);
+    // At most what a scene file can hold: 2M marbles made a 329 MB file the loader refuses (its
+    // limit is 256 MiB, about 165 bytes a marble), which gen wrote without a word.
+    constexpr long long kMaxSceneCrowd = 1'500'000;
+    const long long n = parseInteger("--n", *o.last("--n"), 0, kMaxSceneCrowd);
     const long long seed = o.last("--seed") ? parseInteger("--seed", *o.last("--seed"), 0) : 1;
     double moving = 1.0;
     if (const std::string *m = o.last("--moving")) {
@@ -502,7 +516,8 @@ int main(int argc, char **argv)
             return written(benchCommand(args));
         if (command == "stress")
             return written(stressCommand(args));
-        throw InvalidInput{"unknown command '" + command + "'\n" + usageText};
+        throw InvalidInput{"unknown command '" + command
+                           + "' (the commands are run, check, preset, gen, bench and stress; 'marbles-cli --help' shows how to use them)"};
     } catch (const InvalidInput &e) {
         std::cerr << "marbles-cli: " << e.message << '\n';
         return ExitInvalid;

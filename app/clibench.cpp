@@ -564,7 +564,7 @@ int benchCommand(const std::vector<std::string> &given)
         csvFile.emplace("--csv", *path);
     if (const std::string *path = o.last("--plot"))
         plotFile.emplace("--plot", *path);
-    if (csvFile && plotFile && sameFile(*o.last("--csv"), *o.last("--plot")))
+    if (csvFile && plotFile && namesSameFile(*o.last("--csv"), *o.last("--plot")))
         throw InvalidInput{"--csv and --plot name the same file, " + *o.last("--plot")};
     const std::vector<Row> rows = scale ? scaleBench(frames, repeats, maxN) : precisionBench(repeats, crowd);
     if (csvFile)

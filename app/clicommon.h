@@ -88,9 +88,7 @@ private:
     WholeFileWriter m_writer;
 };
 
-/// Whether two paths name one file (links and spellings such as "./x" followed); for paths that
-/// do not exist yet, whether they would.
-bool sameFile(const std::string &a, const std::string &b);
+
 /// `x` printed with the printf `spec`, or `missing` when x is NaN (a figure that does not apply).
 std::string formatNumber(double x, const char *spec = "%.3g", const char *missing = "n/a");
 

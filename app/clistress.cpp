@@ -334,6 +334,8 @@ int stressCommand(const std::vector<std::string> &given)
         throw InvalidInput{"stress: unexpected argument '" + o.positional.front() + "'"};
     const bool quick = o.has("--quick");
     const std::string only = o.last("--only") ? *o.last("--only") : std::string();
+    if (o.has("--only") && only.empty())
+        throw InvalidInput{"--only: an empty text matches every row; leave --only out to run them all"};
 
     std::vector<StressRow> rows = stressRows(quick);
     if (!only.empty()) {

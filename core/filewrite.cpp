@@ -76,6 +76,36 @@ void forgetTemporary(const std::string &path)
 
 } // namespace
 
+void WholeFileWriter::writeInPlace(SpecialFiles special)
+{
+    if (special == SpecialFiles::Refuse) {
+        m_error = "not a regular file (a device or a pipe)";
+        return;
+    }
+    m_fd = ::open(m_path.c_str(), O_WRONLY | O_CLOEXEC);
+    if (m_fd < 0)
+        fail("cannot open it", errno, false);
+}
+
+bool namesSameFile(const std::string &a, const std::string &b)
+{
+    namespace fs = std::filesystem;
+    struct stat statA {};
+    struct stat statB {};
+    if (::stat(a.c_str(), &statA) == 0 && ::stat(b.c_str(), &statB) == 0)
+        return statA.st_dev == statB.st_dev && statA.st_ino == statB.st_ino;
+    // One not there yet: where the links lead, as a writer follows them (a dangling link names
+    // the file it would create), then the same place by its absolute, normal spelling.
+    std::error_code error;
+    const auto place = [&error](const std::string &path) {
+        const fs::path target = followLinks(fs::path(path), error);
+        return fs::weakly_canonical(fs::absolute(target, error), error);
+    };
+    const fs::path placeA = place(a);
+    const fs::path placeB = place(b);
+    return error ? a == b : placeA == placeB;
+}
+
 void removeUnfinishedTemporaries() noexcept
 {
     for (Slot &slot : g_slots) {
@@ -87,6 +117,16 @@ void removeUnfinishedTemporaries() noexcept
 WholeFileWriter::WholeFileWriter(const std::string &path, SpecialFiles special)
 {
     namespace fs = std::filesystem;
+    // A device or a pipe is taken by the name given, whatever links lead to it: /dev/stdout is a
+    // link to /proc/self/fd/1, whose own link text ("pipe:[1234]") names no file, so following
+    // the links by hand ended in "cannot create a file in /proc/self/fd" (--out /dev/stdout piped
+    // into another command, or a shell's >(...)).
+    struct stat given {};
+    if (::stat(path.c_str(), &given) == 0 && !S_ISREG(given.st_mode) && !S_ISDIR(given.st_mode)) {
+        m_path = path;
+        writeInPlace(special);
+        return;
+    }
     std::error_code linkError;
     const fs::path target = followLinks(fs::path(path), linkError);
     if (linkError) {
@@ -108,13 +148,7 @@ WholeFileWriter::WholeFileWriter(const std::string &path, SpecialFiles special)
         return;
     }
     if (exists && !S_ISREG(existing.st_mode)) {
-        if (special == SpecialFiles::Refuse) {
-            m_error = "not a regular file (a device or a pipe)";
-            return;
-        }
-        m_fd = ::open(m_path.c_str(), O_WRONLY | O_CLOEXEC);
-        if (m_fd < 0)
-            fail("cannot open it", errno, false);
+        writeInPlace(special);
         return;
     }
     // A read-only file is not replaced behind its owner's back (the rename would need only the

@@ -43,6 +43,8 @@ public:
 
 private:
     void fail(const std::string &what, int error, bool whileWriting);
+    // Opens m_path to write in place, or refuses it, as `special` says.
+    void writeInPlace(SpecialFiles special);
 
     std::string m_path;      // the file replaced (a link's target) or written in place
     std::string m_folder;    // where it is (synced after the rename)
@@ -52,6 +54,11 @@ private:
     bool m_failedWhileWriting = false;
     std::string m_error;
 };
+
+/// Whether two paths name one file: the same file where both exist, else the same place once
+/// links are followed as a WholeFileWriter follows them ("x", "./x", "d/../x", a dangling link
+/// to "x" name the same file to be).
+bool namesSameFile(const std::string &a, const std::string &b);
 
 /// Removes the temporary files of the writers not yet committed or destroyed. Safe to call from a
 /// signal handler (it only calls unlink()): a program stopped by Ctrl+C or SIGTERM calls it so

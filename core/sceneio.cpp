@@ -1095,7 +1095,7 @@ namespace {
 /// Reads a whole decimal number the way JSON and C write it, whatever the locale; "" or the rule broken.
 std::string parseDouble(std::string_view text, double &out)
 {
-    if (!text.empty() && text.front() == '+')
+    if (text.size() > 1 && text.front() == '+' && text[1] != '-') // "+-1" is no number
         text.remove_prefix(1);
     if (text.empty())
         return "must be a number";
@@ -1109,7 +1109,7 @@ std::string parseDouble(std::string_view text, double &out)
 
 bool parseInteger(std::string_view text, std::int64_t &out)
 {
-    if (!text.empty() && text.front() == '+')
+    if (text.size() > 1 && text.front() == '+' && text[1] != '-')
         text.remove_prefix(1);
     if (text.empty())
         return false;
@@ -1203,8 +1203,15 @@ std::string setParam(World &world, std::string_view key, std::string_view value)
     }
     if (key == "substeps") {
         std::int64_t n = 0;
-        if (!parseInteger(value, n))
-            return head + "must be an integer";
+        double whole = 0.0;
+        // "1.0" and "1e3" are whole numbers too, as the loader takes them in a file.
+        if (!parseInteger(value, n)) {
+            if (!parseDouble(value, whole).empty() || whole != std::trunc(whole))
+                return head + "must be an integer";
+            n = whole >= 9.2e18 ? std::numeric_limits<std::int64_t>::max()
+                : whole <= -9.2e18 ? std::numeric_limits<std::int64_t>::min()
+                                   : static_cast<std::int64_t>(whole);
+        }
         if (std::string broken = ruleSubsteps(n); !broken.empty())
             return head + broken;
         p.substeps = static_cast<int>(n);

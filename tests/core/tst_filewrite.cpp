@@ -197,6 +197,43 @@ private slots:
         struct stat info {};
         QVERIFY(::stat(pipe.constData(), &info) == 0 && S_ISFIFO(info.st_mode));
     }
+
+    void anAnonymousPipeIsReachedThroughItsLinks()
+    {
+        // /dev/stdout piped into another command is /proc/self/fd/1, a link whose text
+        // ("pipe:[1234]") names no file: followed by hand it ended in "cannot create a file in
+        // /proc/self/fd". The pipe is written by the name given.
+        int ends[2];
+        QVERIFY(::pipe(ends) == 0);
+        const std::string path = "/proc/self/fd/" + std::to_string(ends[1]);
+        QCOMPARE(writeFileWhole(path, "rows\n", SpecialFiles::WriteInPlace), std::string());
+        char bytes[16] = {};
+        QCOMPARE(::read(ends[0], bytes, sizeof bytes), ssize_t(5));
+        QCOMPARE(QByteArray(bytes), QByteArray("rows\n"));
+        QCOMPARE(writeFileWhole(path, "x", SpecialFiles::Refuse), std::string("not a regular file (a device or a pipe)"));
+        ::close(ends[0]);
+        ::close(ends[1]);
+    }
+
+    void sameFileByAnyName()
+    {
+        // Two names of one file, existing or to be: spellings, links, and a dangling link to
+        // the other name (which a writer would create: two outputs there lose one).
+        QTemporaryDir dir;
+        const std::string d = dir.path().toStdString();
+        QVERIFY(QDir(dir.path()).mkdir("sub"));
+        QVERIFY(namesSameFile(d + "/x", d + "/./x"));
+        QVERIFY(namesSameFile(d + "/x", d + "/sub/../x"));
+        QVERIFY(!namesSameFile(d + "/x", d + "/y"));
+        QVERIFY(QFile::link(dir.filePath("later"), dir.filePath("dangling")));
+        QVERIFY(namesSameFile(d + "/dangling", d + "/later"));
+        QVERIFY(QFile::link(dir.filePath("dangling"), dir.filePath("chain")));
+        QVERIFY(namesSameFile(d + "/chain", d + "/later"));
+        QCOMPARE(writeFileWhole(d + "/x", "a", SpecialFiles::Refuse), std::string());
+        QVERIFY(QFile::link(dir.filePath("x"), dir.filePath("sub/link")));
+        QVERIFY(namesSameFile(d + "/sub/link", d + "/x"));
+        QVERIFY(!namesSameFile(d + "/sub/link", d + "/later"));
+    }
 };
 
 QTEST_APPLESS_MAIN(TestFileWrite)

@@ -1074,6 +1074,9 @@ void TestSceneIo::setParamAccepts_data()
     QTest::addRow("gravity") << "gravity" << "0,0.5" << "0,0.5";
     QTest::addRow("gravity negative") << "gravity" << "-1.5,2" << "-1.5,2";
     QTest::addRow("substeps") << "substeps" << "8" << "8";
+    // Whole numbers written as decimals, as a file may hold them ("substeps": 4.0 loads).
+    QTest::addRow("substeps 4.0") << "substeps" << "4.0" << "4";
+    QTest::addRow("substeps 1e3") << "substeps" << "1e3" << "1000";
     QTest::addRow("substeps limit") << "substeps" << "1000000" << "1000000";
     QTest::addRow("shortCircuit true") << "shortCircuit" << "true" << "true";
     QTest::addRow("shortCircuit 1") << "shortCircuit" << "1" << "true";
@@ -1123,6 +1126,8 @@ void TestSceneIo::setParamRejects_data()
     QTest::addRow("gravity nan") << "gravity" << "nan,0" << "gravity=nan,0: must be two finite numbers";
     QTest::addRow("substeps zero") << "substeps" << "0" << "substeps=0: must be >= 1";
     QTest::addRow("substeps fraction") << "substeps" << "2.5" << "substeps=2.5: must be an integer";
+    QTest::addRow("substeps plus minus") << "substeps" << "+-1" << "substeps=+-1: must be an integer";
+    QTest::addRow("friction plus minus") << "friction" << "+-0" << "friction=+-0: must be a number";
     QTest::addRow("substeps huge") << "substeps" << "99999999999" << "substeps=99999999999: must be <= 1000000";
     // Beyond int64 still an integer: too large, not "must be an integer".
     QTest::addRow("substeps beyond int64") << "substeps" << "99999999999999999999"
