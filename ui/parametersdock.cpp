@@ -77,6 +77,17 @@ void explainAgain(QLabel *help)
 {
     help->setText(help->property("explanation").toString());
     help->setStyleSheet(QString());
+    help->setForegroundRole(QPalette::PlaceholderText);
+}
+
+// Why a number was refused, in the line under its field: in the Inspector's solid red, not in
+// the explanation's placeholder role, whose half-transparent ink left the red at about 2:1
+// contrast (hard to read on a projector).
+void showRefusal(QLabel *help, const QString &text)
+{
+    help->setText(text);
+    help->setForegroundRole(QPalette::WindowText);
+    help->setStyleSheet(QStringLiteral("QLabel { color: #b00020; }"));
 }
 
 constexpr int kModelRole = Qt::UserRole; ///< model box item data: the setParam() value
@@ -127,8 +138,7 @@ void ParametersDock::buildUi()
             // Shown until the field takes a value (leaving the field does not hide it unread).
             connect(spin, &QAbstractSpinBox::editingFinished, this, [this, spin, box, help] {
                 if (const std::optional<double> refused = box->takeRefused()) {
-                    help->setText(refusalText(spin, *box, *refused));
-                    help->setStyleSheet(QStringLiteral("QLabel { color: #c62828; }"));
+                    showRefusal(help, refusalText(spin, *box, *refused));
                 }
             });
             const auto explain = [help] { explainAgain(help); };

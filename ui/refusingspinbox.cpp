@@ -19,10 +19,12 @@ QString refusalMessage(const Refusing &box, double refused, const QLocale &local
 {
     const QString typed = refusedNumber(box, refused, locale);
     const QString kept = box.shown(box.current());
-    if (box.refusedUnreadable() && box.wholeNumbers())
+    if (box.refusal() == Refusing::Refusal::NotANumber)
+        return QCoreApplication::translate("marbles", "%1 is not a number: it stays %2.").arg(typed, kept);
+    if (box.refusal() == Refusing::Refusal::NotWhole)
         return QCoreApplication::translate("marbles", "%1 is not taken: this field takes whole numbers, typed as digits only. It stays %2.")
             .arg(typed, kept);
-    if (box.refusedUnreadable())
+    if (box.refusal() == Refusing::Refusal::Grouped)
         return QCoreApplication::translate("marbles",
                                            "%1 can be read two ways: type it without group separators, with \"%2\" "
                                            "or \"%3\" for the decimal point. It stays %4.")

@@ -26,11 +26,17 @@ public:
     std::optional<double> takeRefused() { return std::exchange(m_refused, std::nullopt); }
     /// The last refused number as it was typed ("1e400", "1.50").
     QString refusedText() const { return m_refusedText; }
-    /// Whether the last refusal was of a text that is no number the field can take as written,
-    /// rather than of a number beyond its range: digits grouped ("1,000" or "1,000.5", which
-    /// could be read two ways where a decimal comma is taken), or a fraction in a whole-number
-    /// field ("2,5" substeps). Its number is NaN.
-    bool refusedUnreadable() const { return m_refusedUnreadable; }
+    /// Why the last number was refused.
+    enum class Refusal {
+        OutOfRange, ///< a number beyond the field's range ("5000", "1e400")
+        Grouped,    ///< digits that may be grouped, read two ways ("1,000", "1,000.5")
+        NotWhole,   ///< anything but digits in a whole-number field ("2,5", "1e3" substeps)
+        NotANumber, ///< no number at all ("abc", "2x5"): kept as typed, not cut to one
+    };
+    Refusal refusal() const { return m_refusal; }
+    /// Whether the last refusal was of a text the field cannot read as a number as written, rather
+    /// than of a number beyond its range. Its number is NaN.
+    bool refusedUnreadable() const { return m_refusal != Refusal::OutOfRange; }
     /// The box's range and value, and a value as the box shows it (suffix included).
     virtual double low() const = 0;
     virtual double high() const = 0;
@@ -38,13 +44,11 @@ public:
     virtual QString shown(double value) const = 0;
     /// Whether the field holds typing not yet taken (its text is not its value's).
     virtual bool typing() const = 0;
-    /// Whether the field takes whole numbers only.
-    virtual bool wholeNumbers() const = 0;
 
 protected:
     mutable std::optional<double> m_refused;
     mutable QString m_refusedText;
-    mutable bool m_refusedUnreadable = false;
+    mutable Refusal m_refusal = Refusal::OutOfRange;
 };
 
 /// A spin box that keeps a number typed beyond its range as typed, instead of dropping the
@@ -94,7 +98,9 @@ public:
             if (isExponentStart(bare))
                 return QValidator::Intermediate;
         }
-        return state;
+        // Anything else stays as typed and is refused when the edit ends, with why: a keystroke
+        // dropped here turned "1e3" substeps into 13 and "2x5" into 25, without a word.
+        return bareText(input).isEmpty() ? state : QValidator::Intermediate;
     }
 
     bool typing() const override { return this->cleanText() != this->textFromValue(this->value()); }
@@ -104,25 +110,29 @@ public:
         // Called when an edit ends on text that is not a value of the box. Grouped digits are
         // refused before the base class's fixup, which drops group separators ("1,000.5" became
         // 1000.5 and "1,000" 1000, guesses either way).
+        const auto refuse = [this](Refusal why, double value, const QString &text) {
+            m_refusal = why;
+            m_refused = value;
+            m_refusedText = text;
+        };
+        constexpr double unread = std::numeric_limits<double>::quiet_NaN();
         if (marksIn(bareText(input)) == Marks::Unreadable) {
-            m_refused = std::numeric_limits<double>::quiet_NaN();
-            m_refusedText = bareText(input);
-            m_refusedUnreadable = true;
+            refuse(kDecimal ? Refusal::Grouped : Refusal::NotWhole, unread, bareText(input));
             return;
         }
-        m_refusedUnreadable = false;
         input = withLocaleMark(input); // "5,5" would lose its comma to the base class: 55
         Base::fixup(input);
         bool number = false;
         const QString bare = bareText(input);
         const double value = this->locale().toDouble(bare, &number);
-        if ((number && outside(value)) || beyondDoubles(number, value)) {
-            m_refused = value;
-            m_refusedText = bare;
-        }
+        if ((number && outside(value)) || beyondDoubles(number, value))
+            refuse(Refusal::OutOfRange, value, bare);
+        else if (!number && !bare.isEmpty())
+            refuse(Refusal::NotANumber, unread, bare);
+        else if (!kDecimal && number)
+            refuse(Refusal::NotWhole, unread, bare); // "1e3": a number, not as digits
     }
 
-    bool wholeNumbers() const override { return !kDecimal; }
     double low() const override { return static_cast<double>(this->minimum()); }
     double high() const override { return static_cast<double>(this->maximum()); }
     double current() const override { return static_cast<double>(this->value()); }
