@@ -285,6 +285,15 @@ public:
     using RefusingSpinBox<QDoubleSpinBox>::RefusingSpinBox;
     QString shown(double value) const override { return textFromValue(value) + suffix(); }
 
+    // A step lands on the value the box shows: its own step added 0.1 to a double and kept the
+    // rounding (restitution 1, Down twice: 0.8999999999999999 in the Undo History and the file),
+    // where setValue() rounds to the box's decimals.
+    void stepBy(int steps) override
+    {
+        setValue(value() + steps * singleStep());
+        selectAll();
+    }
+
 protected:
     // Reads powers of ten too ("2e1" is 20), which validate() lets through.
     double valueFromText(const QString &text) const override

@@ -40,6 +40,7 @@ private slots:
     void otherLocalesDecimalPoint();
     void unreadableTextIsRefused_data();
     void unreadableTextIsRefused();
+    void stepsLandOnShownValues();
     void fieldsFollowModel_data();
     void fieldsFollowModel();
     void dampedModelsNeedFrictionBelowOne();
@@ -567,6 +568,30 @@ void TestParametersDock::unreadableTextIsRefused()
             darkest = std::min(darkest, drawn.pixelColor(x, y).lightness());
     }
     QCOMPARE_LE(darkest, 110);
+}
+
+void TestParametersDock::stepsLandOnShownValues()
+{
+    // Restitution 1, Down twice (steps of 0.05): 0.9, not 0.8999999999999999.
+    ParametersDock dock;
+    dock.setParams(paramsWithModel(QStringLiteral("exact")));
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    auto *spin = dock.findChild<QDoubleSpinBox *>(QStringLiteral("restitutionEdit"));
+    QVERIFY(spin);
+    QSignalSpy spy(&dock, &ParametersDock::paramEdited);
+    spin->setFocus();
+    QTest::keyClick(spin, Qt::Key_Down);
+    QTest::keyClick(spin, Qt::Key_Down);
+    QCOMPARE(spy.count(), 2);
+    QCOMPARE(spy.at(0).at(1).toString(), QStringLiteral("0.95"));
+    QCOMPARE(spy.at(1).at(1).toString(), QStringLiteral("0.9"));
+    for (int k = 0; k < 4; ++k)
+        QTest::keyClick(spin, Qt::Key_Down);
+    QCOMPARE(spy.last().at(1).toString(), QStringLiteral("0.7"));
+    for (int k = 0; k < 10; ++k)
+        QTest::keyClick(spin, Qt::Key_Up); // stops at the maximum
+    QCOMPARE(spin->value(), 1.0);
 }
 
 void TestParametersDock::fieldsFollowModel_data()
