@@ -120,8 +120,10 @@ void StageView::pushAt(int i, Vec2 p, bool byKey)
     m_document->pushMarble(i, p);
     const Vec2 after = m_document->world().acceleration[static_cast<std::size_t>(i)];
     const Vec2 a{after.x - before.x, after.y - before.y};
-    if (!m_pushed.contains(i))
-        m_pushed.append(i);
+    // Last in the list, as the latest click: its arrow carries the label (a marble clicked again
+    // after another kept its first place, and the other marble kept the label).
+    m_pushed.removeAll(i);
+    m_pushed.append(i);
     const Vec2 scripted = m_document->world().scriptedPushDue(i);
     QString text = (byKey ? tr("Marble %1 pushed: the key's push of (%2, %3) px/frame acts on the next frame")
                           : tr("Marble %1 pushed: the click's push of (%2, %3) px/frame acts on the next frame"))

@@ -63,6 +63,7 @@ private Q_SLOTS:
     void pushIsShownUntilItActs();
     void scriptedPushIsShownWhenDue();
     void pushLabelKeepsOffMarbles();
+    void latestClickIsLast();
     void batchedAboveTheThreshold_data();
     void batchedAboveTheThreshold();
     void batchedClickSelectsAndPushes_data();
@@ -477,6 +478,20 @@ void TestStageView::pushIsShownUntilItActs()
     QCOMPARE(w.acceleration[marble], both);
     QCOMPARE(m_view->pendingPushes(), QList<int>{marble});
     QCOMPARE_GE(inkOnRay(+1), 10);
+}
+
+void TestStageView::latestClickIsLast()
+{
+    // Clicks on A, B, then A again: A's push is the latest, and its arrow carries the label.
+    const World &w = m_document->world();
+    const auto click = [&](int i) {
+        QTest::mouseClick(viewport(), Qt::LeftButton, {}, m_view->viewportPoint(w.position[i]) + QPoint(-6, 0));
+    };
+    click(0);
+    click(1);
+    QCOMPARE(m_view->clickedPushes(), (QList<int>{0, 1}));
+    click(0);
+    QCOMPARE(m_view->clickedPushes(), (QList<int>{1, 0}));
 }
 
 void TestStageView::pushLabelKeepsOffMarbles()
