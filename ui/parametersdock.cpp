@@ -9,6 +9,7 @@
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QLineEdit>
 #include <QLocale>
 #include <QScrollArea>
 #include <QStyle>
@@ -135,11 +136,17 @@ void ParametersDock::buildUi()
             auto *box = dynamic_cast<Refusing *>(spin); // no Q_OBJECT, so no qobject_cast
             if (!box)
                 continue;
-            // Shown until the field takes a value (leaving the field does not hide it unread).
+            // Shown until the field takes a value, the one it had included (typing "0.1" where
+            // 0.1 stayed after a refusal left the refusal up); leaving the field without typing
+            // does not hide it unread.
+            if (auto *edit = spin->findChild<QLineEdit *>())
+                connect(edit, &QLineEdit::textEdited, spin, [spin] { spin->setProperty("typed", true); });
             connect(spin, &QAbstractSpinBox::editingFinished, this, [this, spin, box, help] {
-                if (const std::optional<double> refused = box->takeRefused()) {
+                if (const std::optional<double> refused = box->takeRefused())
                     showRefusal(help, refusalText(spin, *box, *refused));
-                }
+                else if (spin->property("typed").toBool())
+                    explainAgain(help);
+                spin->setProperty("typed", false);
             });
             const auto explain = [help] { explainAgain(help); };
             if (auto *real = qobject_cast<QDoubleSpinBox *>(spin))

@@ -568,6 +568,14 @@ void TestParametersDock::unreadableTextIsRefused()
             darkest = std::min(darkest, drawn.pixelColor(x, y).lightness());
     }
     QCOMPARE_LE(darkest, 110);
+    // The value the field kept, typed and taken, ends the refusal (it stayed up, the value
+    // being unchanged); leaving the field without typing does not.
+    typeInto(spin, typed);
+    QVERIFY(line->text().contains(why));
+    spin->clearFocus();
+    QVERIFY(line->text().contains(why));
+    typeInto(spin, shownBefore.section(QLatin1Char(' '), 0, 0));
+    QCOMPARE(line->text(), line->property("explanation").toString());
 }
 
 void TestParametersDock::stepsLandOnShownValues()
