@@ -97,9 +97,10 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     m_error = new QLabel(body);
     m_error->setWordWrap(true);
     m_error->setStyleSheet(QStringLiteral("color: #b00020;"));
-    // Room for two lines kept at all times: a message that appeared took its room from the
-    // fields, which moved up under the pointer aimed at one of them.
-    m_error->setMinimumHeight(2 * m_error->fontMetrics().lineSpacing());
+    // Room for three lines kept at all times, as the longest refusals take ("... can be read two
+    // ways ..."): a message that appeared took its room from the fields, which moved up under the
+    // pointer aimed at one of them.
+    m_error->setMinimumHeight(3 * m_error->fontMetrics().lineSpacing());
     m_error->setAlignment(Qt::AlignLeft | Qt::AlignTop);
     layout->addWidget(m_error);
     layout->addStretch(1);

@@ -470,7 +470,11 @@ void StageView::report(const QString &text)
 void StageView::drawBackground(QPainter *painter, const QRectF &rect)
 {
     const bool antialias = painter->testRenderHint(QPainter::Antialiasing);
-    painter->fillRect(rect, palette().color(QPalette::Window).darker(112));
+    // Around the stage, filled in device pixels: a scene rectangle near 1e308 px was not filled.
+    painter->save();
+    painter->resetTransform();
+    painter->fillRect(viewport()->rect(), palette().color(QPalette::Window).darker(112)); // within the clip
+    painter->restore();
     const Stage &stage = m_document->world().stage;
     const QRectF stageRect(0, 0, stage.width, stage.height);
     const QRectF area = rect.intersected(stageRect); // what is drawn of the stage (no overflow)
