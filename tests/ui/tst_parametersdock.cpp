@@ -57,6 +57,14 @@ Params paramsWithModel(const QString &model)
     return p;
 }
 
+/// Shows `dock` with the default parameters of `model`; false if it never appeared.
+bool showWithModel(ParametersDock &dock, const QString &model)
+{
+    dock.setParams(paramsWithModel(model));
+    dock.show();
+    return QTest::qWaitForWindowExposed(&dock);
+}
+
 /// Replaces the text of a spin box as a user would: select it all, type, press Enter.
 void typeInto(QAbstractSpinBox *spin, const QString &text)
 {
@@ -119,9 +127,7 @@ void TestParametersDock::typingEmitsEdit()
     QFETCH(QString, value);
 
     ParametersDock dock;
-    dock.setParams(paramsWithModel(model));
-    dock.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    QVERIFY(showWithModel(dock, model));
     auto *spin = dock.findChild<QAbstractSpinBox *>(field);
     QVERIFY(spin);
     QVERIFY(spin->isEnabled());
@@ -283,9 +289,7 @@ void TestParametersDock::invalidValuesRefused()
 
     ParametersDock dock;
     const Params before = paramsWithModel(model);
-    dock.setParams(before);
-    dock.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    QVERIFY(showWithModel(dock, model));
     auto *spin = dock.findChild<QAbstractSpinBox *>(field);
     QVERIFY(spin);
 
@@ -374,9 +378,7 @@ void TestParametersDock::refusalIsExplainedUntilTheNextEdit()
     // A teacher on the exact model types 1.5 for the friction: the field stays 0.1 and says why;
     // typing 0.3 then takes it, and the line under the field explains the field again.
     ParametersDock dock;
-    dock.setParams(paramsWithModel(QStringLiteral("exact")));
-    dock.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    QVERIFY(showWithModel(dock, QStringLiteral("exact")));
     auto *friction = dock.findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit"));
     auto *help = dock.findChild<QLabel *>(QStringLiteral("frictionEditHelp"));
     QVERIFY(friction && help);
@@ -490,9 +492,7 @@ void TestParametersDock::otherLocalesDecimalPoint()
     // separator there: "0.25" read as 25).
     ParametersDock dock;
     dock.setLocale(QLocale(QLocale::German, QLocale::Germany));
-    dock.setParams(paramsWithModel(QStringLiteral("book")));
-    dock.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    QVERIFY(showWithModel(dock, QStringLiteral("book")));
     auto *friction = dock.findChild<QAbstractSpinBox *>(QStringLiteral("frictionEdit"));
     QVERIFY(friction);
     QSignalSpy spy(&dock, &ParametersDock::paramEdited);
@@ -545,10 +545,7 @@ void TestParametersDock::unreadableTextIsRefused()
     ParametersDock dock;
     if (german)
         dock.setLocale(QLocale(QLocale::German, QLocale::Germany));
-    const Params before = paramsWithModel(model);
-    dock.setParams(before);
-    dock.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    QVERIFY(showWithModel(dock, model));
     auto *spin = dock.findChild<QAbstractSpinBox *>(field);
     QVERIFY(spin);
     const QString shownBefore = spin->text();
@@ -582,9 +579,7 @@ void TestParametersDock::stepsLandOnShownValues()
 {
     // Restitution 1, Down twice (steps of 0.05): 0.9, not 0.8999999999999999.
     ParametersDock dock;
-    dock.setParams(paramsWithModel(QStringLiteral("exact")));
-    dock.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    QVERIFY(showWithModel(dock, QStringLiteral("exact")));
     auto *spin = dock.findChild<QDoubleSpinBox *>(QStringLiteral("restitutionEdit"));
     QVERIFY(spin);
     QSignalSpy spy(&dock, &ParametersDock::paramEdited);
