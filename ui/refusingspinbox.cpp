@@ -19,6 +19,8 @@ QString refusalMessage(const Refusing &box, double refused, const QLocale &local
 {
     const QString typed = refusedNumber(box, refused, locale);
     const QString kept = box.shown(box.current());
+    if (box.refusal() == Refusing::Refusal::TooSmall)
+        return QCoreApplication::translate("marbles", "%1 is closer to 0 than a number can be here: it stays %2.").arg(typed, kept);
     if (box.refusal() == Refusing::Refusal::NotANumber)
         return QCoreApplication::translate("marbles", "%1 is not a number: it stays %2.").arg(typed, kept);
     if (box.refusal() == Refusing::Refusal::NotWhole)

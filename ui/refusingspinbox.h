@@ -9,7 +9,9 @@
 #include <QValidator>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <optional>
 #include <type_traits>
@@ -32,6 +34,7 @@ public:
         Grouped,    ///< digits that may be grouped, read two ways ("1,000", "1,000.5")
         NotWhole,   ///< anything but digits in a whole-number field ("2,5", "1e3" substeps)
         NotANumber, ///< no number at all ("abc", "2x5"): kept as typed, not cut to one
+        TooSmall,   ///< a number closer to 0 than a double can be ("1e-400")
     };
     Refusal refusal() const { return m_refusal; }
     /// Whether the last refusal was of a text the field cannot read as a number as written, rather
@@ -127,6 +130,8 @@ public:
         const double value = this->locale().toDouble(bare, &number);
         if ((number && outside(value)) || beyondDoubles(number, value))
             refuse(Refusal::OutOfRange, value, bare);
+        else if (!number && kDecimal && belowDoubles(bare))
+            refuse(Refusal::TooSmall, unread, bare);
         else if (!number && !bare.isEmpty())
             refuse(Refusal::NotANumber, unread, bare);
         else if (!kDecimal && number)
@@ -193,6 +198,15 @@ private:
     // A number too large for a double: QLocale gives an infinity and says it is no number. Left
     // Invalid, its last keystroke was dropped ("1e400" stayed "1e40", refused as 1e+40).
     static bool beyondDoubles(bool number, double value) { return !number && std::isinf(value); }
+    // A number too close to 0 for a double ("1e-400"), which QLocale calls no number.
+    bool belowDoubles(const QString &bare) const
+    {
+        const QByteArray c = QString(bare).replace(this->locale().decimalPoint(), QStringLiteral(".")).toLatin1();
+        char *end = nullptr;
+        errno = 0;
+        const double value = std::strtod(c.constData(), &end);
+        return !c.isEmpty() && end == c.constData() + c.size() && errno == ERANGE && value == 0.0;
+    }
 
     static bool isPlainSpace(const QKeyEvent *event)
     {

@@ -532,6 +532,9 @@ void TestParametersDock::unreadableTextIsRefused_data()
     QTest::addRow("massScale 2x5") << false << "book" << "massScaleEdit" << "2x5" << noNumber;
     QTest::addRow("massScale e5") << false << "book" << "massScaleEdit" << "e5" << noNumber;
     QTest::addRow("friction abc") << false << "book" << "frictionEdit" << "abc" << noNumber;
+    // Too small for a double: named as typed (it was cut to "1e-40" while typing).
+    QTest::addRow("zeroThreshold 1e-400") << false << "book" << "zeroThresholdEdit" << "1e-400"
+                                          << "closer to 0 than a number can be";
 }
 
 void TestParametersDock::unreadableTextIsRefused()
