@@ -540,7 +540,14 @@ public:
     bool number_unsigned(Json::number_unsigned_t v) { return admit(0) && m_dom.number_unsigned(v); }
     bool number_float(Json::number_float_t v, const Json::string_t &text)
     {
-        return admit(0) && m_dom.number_float(v, text);
+        if (!admit(0))
+            return false;
+        // A number too small for a double ("1e-400") is read as 0: noted by its place, so that a
+        // rule it then breaks quotes it as written, not as "got 0".
+        if (v == 0.0 && m_underflows.size() < 16
+            && text.substr(0, text.find_first_of("eE")).find_first_of("123456789") != std::string::npos)
+            m_underflows.emplace_back(currentPath(), text);
+        return m_dom.number_float(v, text);
     }
     bool string(Json::string_t &s) { return admit(heapString(s.size())) && m_dom.string(s); }
     bool binary(Json::binary_t &b) { return admit(b.size() + kHeapBlock) && m_dom.binary(b); }
@@ -593,6 +600,15 @@ public:
     int errorId() const { return m_errorId; }
     const std::string &what() const { return m_what; }
     const std::string &failedPath() const { return m_failedPath; }
+    /// The number as written at `place` if it was too small for a double, else "".
+    std::string underflowAt(const std::string &place) const
+    {
+        for (const auto &[where, text] : m_underflows) {
+            if (where == place)
+                return text;
+        }
+        return {};
+    }
 
 private:
     struct Level {
@@ -662,6 +678,7 @@ private:
     int m_errorId = 0;
     std::string m_what;
     std::string m_failedPath;
+    std::vector<std::pair<std::string, std::string>> m_underflows; ///< place, number as written
 };
 
 /// nlohmann's message without its "[json.exception...] parse error at line L, column C: " head.
@@ -772,6 +789,9 @@ std::string parseInto(std::string_view text, World &world)
     try {
         world = readScene(doc);
     } catch (const SceneError &e) {
+        if (const std::string written = builder.underflowAt(e.place); !written.empty())
+            return e.place + ": " + e.rule + " (the file's " + printable(written)
+                + " is too close to 0 for a double, which holds it as 0)";
         return e.place + ": " + e.rule;
     }
     return {};

@@ -402,6 +402,10 @@ void TestSceneIo::malformed_data()
 
     // JSON allows numbers no double can hold; nlohmann refuses them while parsing, and the
     // message still names the place.
+    // Too small for a double: read as 0, and quoted as written when it breaks a rule.
+    QTest::addRow("1e-400 radius")
+        << QByteArray(R"({"format": "marbles-scene", "version": 1, "marbles": [{"x": 50, "y": 50, "radius": 1e-400}]})")
+        << "marbles[0].radius" << "must be > 0, got 0 (the file's 1e-400 is too close to 0 for a double, which holds it as 0)";
     QTest::addRow("1e999 radius")
         << QByteArray(R"({"format": "marbles-scene", "version": 1, "marbles": [{"x": 1}, {"x": 1, "radius": 1e999}]})")
         << "marbles[1].radius (line 1, column 84)" << "must be a finite number, got 1e999";
