@@ -555,16 +555,29 @@ public:
     {
         if (!admit(kObjectCost))
             return false;
-        m_path.push_back({false, 0, {}});
+        m_path.push_back({false, 0, {}, m_keys.size()});
         return m_dom.start_object(n);
     }
     bool key(Json::string_t &k)
     {
-        m_path.back().key = k;
+        // A key given twice in one object: the parser keeps the last value, so a file with two
+        // "friction" keys (a hand edit) loaded one of them without a word. Checked among an
+        // object's first 256 keys (a scene's objects hold a dozen; more are extra keys).
+        Level &level = m_path.back();
+        if (m_keys.size() - level.firstKey < 256) {
+            if (std::find(m_keys.begin() + static_cast<std::ptrdiff_t>(level.firstKey), m_keys.end(), k) != m_keys.end()) {
+                level.key = k;
+                m_duplicateKey = currentPath();
+                return false;
+            }
+            m_keys.push_back(k);
+        }
+        level.key = k;
         return m_dom.key(k);
     }
     bool end_object()
     {
+        m_keys.resize(m_path.back().firstKey);
         m_path.pop_back();
         return m_dom.end_object();
     }
@@ -572,7 +585,7 @@ public:
     {
         if (!admit(kArrayCost))
             return false;
-        m_path.push_back({true, 0, {}});
+        m_path.push_back({true, 0, {}, m_keys.size()});
         return m_dom.start_array(n);
     }
     bool end_array()
@@ -600,6 +613,8 @@ public:
     int errorId() const { return m_errorId; }
     const std::string &what() const { return m_what; }
     const std::string &failedPath() const { return m_failedPath; }
+    /// The place of a key given twice in one object ("params.friction"), or "".
+    const std::string &duplicateKey() const { return m_duplicateKey; }
     /// The number as written at `place` if it was too small for a double, else "".
     std::string underflowAt(const std::string &place) const
     {
@@ -615,6 +630,7 @@ private:
         bool isArray = false;
         std::size_t count = 0; ///< elements begun so far (arrays)
         std::string key;       ///< key being read (objects)
+        std::size_t firstKey = 0; ///< its keys' start in m_keys (objects)
     };
 
     // Memory estimate of nlohmann's document, measured with glibc on x86-64 and rounded up:
@@ -679,6 +695,8 @@ private:
     std::string m_what;
     std::string m_failedPath;
     std::vector<std::pair<std::string, std::string>> m_underflows; ///< place, number as written
+    std::vector<std::string> m_keys; ///< the keys of the objects open, outermost first
+    std::string m_duplicateKey;
 };
 
 /// nlohmann's message without its "[json.exception...] parse error at line L, column C: " head.
@@ -767,6 +785,8 @@ std::string parseInto(std::string_view text, World &world)
     if (builder.overBudget())
         return "size: reading this scene would take more than " + std::to_string(kMaxSceneMemoryBytes >> 20)
             + " MiB of memory (it holds too many values)";
+    if (!builder.duplicateKey().empty())
+        return builder.duplicateKey() + ": is given twice in the same object: keep one of them";
     // The parser takes a NUL byte for the end of the text: whatever followed it was never read
     // (a scene with "\0garbage{{{" after its object loaded), and one at the start read as empty.
     // Named where the parse stopped at it, or got past the place where it should have.

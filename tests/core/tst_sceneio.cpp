@@ -200,6 +200,7 @@ private slots:
     void invalidScene();
     void malformed_data();
     void malformed();
+    void manyKeysLoad();
     void placeOfSyntaxError_data();
     void placeOfSyntaxError();
     void garbageIsRefusedQuickly();
@@ -402,6 +403,14 @@ void TestSceneIo::malformed_data()
 
     // JSON allows numbers no double can hold; nlohmann refuses them while parsing, and the
     // message still names the place.
+    // A key given twice: the parser kept the last value without a word.
+    QTest::addRow("friction twice") << QByteArray(R"({"format": "marbles-scene", "version": 1, "params": {"friction": 0.1, "friction": 0.3}})")
+                                    << "params.friction" << "is given twice in the same object: keep one of them";
+    QTest::addRow("format twice") << QByteArray(R"({"format": "nope", "format": "marbles-scene", "version": 1})") << "format"
+                                  << "is given twice";
+    QTest::addRow("a marble's x twice")
+        << QByteArray(R"({"format": "marbles-scene", "version": 1, "marbles": [{"x": 50, "y": 50}, {"x": 90, "y": 50, "x": 91}]})")
+        << "marbles[1].x" << "is given twice";
     // Too small for a double: read as 0, and quoted as written when it breaks a rule.
     QTest::addRow("1e-400 radius")
         << QByteArray(R"({"format": "marbles-scene", "version": 1, "marbles": [{"x": 50, "y": 50, "radius": 1e-400}]})")
@@ -438,6 +447,20 @@ void TestSceneIo::malformed()
     QVERIFY2(error.contains(rule), qPrintable(error));
     QVERIFY2(!error.contains('\n'), qPrintable(error)); // one line
     QVERIFY2(error.size() < 400, qPrintable(error));    // and a readable one
+}
+
+void TestSceneIo::manyKeysLoad()
+{
+    // Keys are unique per object, not per file; an extra object of 300 keys loads (the check for a
+    // key given twice looks at an object's first 256), and so does one with a repeat past those.
+    QByteArray extra = "{";
+    for (int k = 0; k < 300; ++k)
+        extra += (k ? ", \"" : "\"") + QByteArray::number(k) + "\": " + QByteArray::number(k);
+    const QByteArray text = R"({"format": "marbles-scene", "version": 1, "note": )" + extra
+        + R"(, "0": 1}, "marbles": [{"x": 50, "y": 50, "name": "a"}, {"x": 90, "y": 50, "name": "b"}]})";
+    const SceneLoad load = parseScene(view(text), kSource);
+    QVERIFY2(load.ok, load.error.c_str());
+    QCOMPARE(load.world.marbleCount(), 2);
 }
 
 void TestSceneIo::placeOfSyntaxError_data()
