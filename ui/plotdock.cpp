@@ -72,14 +72,15 @@ const QColor kMomentumColour(0x8c, 0x1c, 0x8c);
 /// hues are clearly different from each other (colour-blind safe, after Okabe and Ito, with the
 /// sky blue left out): four shades of blue, which the lines once were, could not be told apart.
 /// No grey either (a cyan took its place): the comparison's legend keys, the kinetic energy's
-/// line and the selection's ring are greys.
+/// line and the selection's ring are greys. A violet and a magenta took the places of a gold and a
+/// dark green, which a class took for the orange (marble 1) and the bluish green (marble 2).
 QColor defaultMarbleColor(int marble)
 {
     // Twelve, as many as lines are plotted at most (kMaxPlottedMarbles): no two lines share one.
     static const QColor hues[] = {
         QColor(0xd5, 0x5e, 0x00), QColor(0xe6, 0x9f, 0x00), QColor(0x00, 0x9e, 0x73), QColor(0xcc, 0x79, 0xa7),
-        QColor(0x4d, 0xd0, 0xe1), QColor(0x99, 0x99, 0x33), QColor(0x88, 0x22, 0x55), QColor(0x1b, 0x78, 0x37),
-        QColor(0xc9, 0xa2, 0x27), QColor(0x8c, 0x51, 0x0a), QColor(0x66, 0xa6, 0x1e), QColor(0xe7, 0x29, 0x8a),
+        QColor(0x4d, 0xd0, 0xe1), QColor(0x99, 0x99, 0x33), QColor(0x88, 0x22, 0x55), QColor(0x55, 0x00, 0xff),
+        QColor(0xff, 0x22, 0xff), QColor(0x8c, 0x51, 0x0a), QColor(0x66, 0xa6, 0x1e), QColor(0xe7, 0x29, 0x8a),
     };
     static_assert(sizeof(hues) / sizeof(hues[0]) >= PlotDock::kMaxPlottedMarbles);
     constexpr int count = sizeof(hues) / sizeof(hues[0]);

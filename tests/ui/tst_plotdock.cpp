@@ -763,6 +763,17 @@ void TestPlotDock::lineColours()
         // No grey at all: the legend's model keys and the kinetic energy's line are greys too.
         QVERIFY2(c.saturation() >= 100, qPrintable(c.name()));
     }
+    // And no two alike: marbles 1 and 8 were an orange and a gold 49 apart in RGB, 2 and 7 two
+    // greens.
+    const QList<QRgb> list(colours.begin(), colours.end());
+    for (qsizetype a = 0; a < list.size(); ++a) {
+        for (qsizetype b = a + 1; b < list.size(); ++b) {
+            const QColor ca = QColor::fromRgb(list[a]);
+            const QColor cb = QColor::fromRgb(list[b]);
+            const double apart = std::hypot(ca.red() - cb.red(), ca.green() - cb.green(), ca.blue() - cb.blue());
+            QVERIFY2(apart >= 55.0, qPrintable(ca.name() + QLatin1Char(' ') + cb.name()));
+        }
+    }
 }
 
 void TestPlotDock::chartGetsSamples()
