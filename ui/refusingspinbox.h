@@ -102,8 +102,11 @@ public:
                 return QValidator::Intermediate;
         }
         // Anything else stays as typed and is refused when the edit ends, with why: a keystroke
-        // dropped here turned "1e3" substeps into 13 and "2x5" into 25, without a word.
-        return bareText(input).isEmpty() ? state : QValidator::Intermediate;
+        // dropped here turned "1e3" substeps into 13 and "2x5" into 25, without a word. Not a
+        // keystroke into the suffix or prefix, which stays dropped ("0.080 px/f4rame" became
+        // "0.08045rame px/frame" once kept).
+        const bool framed = input.startsWith(this->prefix()) && input.endsWith(this->suffix());
+        return framed && !bareText(input).isEmpty() ? QValidator::Intermediate : state;
     }
 
     bool typing() const override { return this->cleanText() != this->textFromValue(this->value()); }

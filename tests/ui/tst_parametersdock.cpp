@@ -41,6 +41,7 @@ private slots:
     void unreadableTextIsRefused_data();
     void unreadableTextIsRefused();
     void stepsLandOnShownValues();
+    void suffixStaysWhole();
     void fieldsFollowModel_data();
     void fieldsFollowModel();
     void dampedModelsNeedFrictionBelowOne();
@@ -576,6 +577,26 @@ void TestParametersDock::unreadableTextIsRefused()
     QVERIFY(line->text().contains(why));
     typeInto(spin, shownBefore.section(QLatin1Char(' '), 0, 0));
     QCOMPARE(line->text(), line->property("explanation").toString());
+}
+
+void TestParametersDock::suffixStaysWhole()
+{
+    // A keystroke into the unit or after it is dropped, as a spin box does (the cursor lands there
+    // when the field is refreshed under it during a run): kept, it broke the unit and the number
+    // ran into it ("0.08045rame px/frame", a tester typing into vx while the run played). Inside
+    // the number, what is typed stays, to be refused with why.
+    ParametersDock dock;
+    QVERIFY(showWithModel(dock, QStringLiteral("book")));
+    auto *spin = dock.findChild<QDoubleSpinBox *>(QStringLiteral("zeroThresholdEdit"));
+    QVERIFY(spin);
+    for (const QString &broken : {QStringLiteral("0.01 px/f4rame"), QStringLiteral("0.01 px/frame4"), QStringLiteral("0.01 p,x/frame")}) {
+        QString text = broken;
+        int pos = 10;
+        QVERIFY2(spin->validate(text, pos) == QValidator::Invalid, qPrintable(broken));
+    }
+    QString inside = QStringLiteral("0.0x1 px/frame");
+    int pos = 4;
+    QCOMPARE(spin->validate(inside, pos), QValidator::Intermediate);
 }
 
 void TestParametersDock::stepsLandOnShownValues()
