@@ -349,6 +349,12 @@ QString SceneDocument::setMarbleRadius(int i, double r)
         return tr("No such marble.");
     if (!(r > 0.0) || !std::isfinite(r))
         return tr("A marble's radius must be > 0.");
+    // Grown into a wall, a pin or a marble, as a move there is refused (it was taken: a radius of
+    // 240 swallowed a pin and two marbles, which then stuck inside each other). A marble that
+    // overlaps already (a file may place it so) may still shrink.
+    if (r > m_world.radius[i] && !isFreeSpot(m_world, m_world.position[i], r, BodyKind::Marble, i))
+        return tr("A radius of %1 px would make the marble overlap the stage edge, a pin or another marble.")
+            .arg(r, 0, 'g', 6);
     const MarbleState before = MarbleState::of(m_world, i);
     MarbleState after = before;
     after.radius = r;

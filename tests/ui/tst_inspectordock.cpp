@@ -54,6 +54,7 @@ private Q_SLOTS:
     void numbersBeyondTheFieldsAreSaid();
     void refusedEditShowsTheMarblesNumber();
     void fieldsFollowUndoAndReadPowersOfTen();
+    void radiusIntoAnotherIsExplained();
 
 private:
     std::unique_ptr<SceneDocument> m_document;
@@ -208,13 +209,23 @@ void TestInspectorDock::refusedEditShowsTheMarblesNumber()
     QCOMPARE_LE(std::abs(x->value() - 150.0), 0.005);
 }
 
+void TestInspectorDock::radiusIntoAnotherIsExplained()
+{
+    // Grown into the large marble beside it: refused, with the reason under the fields.
+    m_dock->setMarble(1);
+    QDoubleSpinBox *field = m_dock->field(QStringLiteral("radius"));
+    typeInto(field, QStringLiteral("240"));
+    QCOMPARE(m_document->world().radius[1], 20.0);
+    QVERIFY2(errorText(*m_dock).contains(QStringLiteral("would make the marble overlap")), qPrintable(errorText(*m_dock)));
+}
+
 void TestInspectorDock::fieldsFollowUndoAndReadPowersOfTen()
 {
     m_dock->setMarble(1);
     const double radius = m_document->world().radius[1];
     QDoubleSpinBox *field = m_dock->field(QStringLiteral("radius"));
-    typeInto(field, QStringLiteral("500"));
-    QCOMPARE(m_document->world().radius[1], 500.0);
+    typeInto(field, QStringLiteral("50")); // room to grow: the large marble is 105 px away, radius 40
+    QCOMPARE(m_document->world().radius[1], 50.0);
     // Undone while the field still has the focus: it shows the radius the marble has again.
     QVERIFY(field->hasFocus());
     m_document->undoStack()->undo();

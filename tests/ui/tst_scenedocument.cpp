@@ -66,6 +66,7 @@ private Q_SLOTS:
     void dropOntoMarbleFindsFreeSpot();
     void scriptedPushesMoveWithTheirMarble();
     void dropWithNoRoomIsRefused();
+    void radiusGrownIntoAnotherIsRefused();
     void nonFiniteStateStopsWithMessage();
     void paramEditsAreNamedAsTheDockNamesThem();
     void saveThenOpenRoundTrips();
@@ -729,6 +730,30 @@ void TestSceneDocument::nonFiniteStateStopsWithMessage()
     const QString message = failed.first().first().toString();
     QVERIFY2(message.contains(QStringLiteral("frame %1").arg(doc.world().frame)), qPrintable(message));
     QVERIFY2(message.contains(QStringLiteral("marble 0")), qPrintable(message));
+}
+
+void TestSceneDocument::radiusGrownIntoAnotherIsRefused()
+{
+    // A radius that makes the marble overlap a wall, a pin or a marble is refused, as a move there
+    // is (a radius of 240 was taken and swallowed a pin and two marbles); shrinking is always taken.
+    World w;
+    w.stage = {400, 300, true};
+    w.addMarble({100, 150}, 20);
+    w.addMarble({200, 150}, 20); // 80 px of room between them
+    w.addPin({100, 210});        // 60 px below
+    SceneDocument doc;
+    doc.resetScene(w);
+    const int entries = doc.undoStack()->count();
+    for (const double r : {60.0, 85.0, 101.0}) { // onto the pin; into the marble; past the wall too
+        const QString refused = doc.setMarbleRadius(0, r);
+        QVERIFY2(refused.contains(QStringLiteral("would make the marble overlap")), qPrintable(refused));
+        QCOMPARE(doc.world().radius[0], 20.0);
+    }
+    QCOMPARE(doc.undoStack()->count(), entries);
+    QVERIFY(doc.setMarbleRadius(0, 55.0).isEmpty()); // touches nothing
+    QCOMPARE(doc.world().radius[0], 55.0);
+    QVERIFY(doc.setMarbleRadius(0, 10.0).isEmpty());
+    QCOMPARE(doc.world().radius[0], 10.0);
 }
 
 void TestSceneDocument::paramEditsAreNamedAsTheDockNamesThem()
