@@ -976,7 +976,7 @@ bool MainWindow::maybeSave()
 {
     if (!m_document->isModified())
         return true;
-    switch (m_prompts->askSaveChanges(this, sceneName())) {
+    switch (m_prompts->askSaveChanges(this, sceneName(), m_document->world().frame)) {
     case Prompts::SaveChoice::Save:
         return save();
     case Prompts::SaveChoice::Discard:
@@ -1089,9 +1089,16 @@ bool MainWindow::saveFile(const QString &path)
     bool pushPending = false;
     for (int i = 0; i < world.marbleCount() && !pushPending; ++i)
         pushPending = world.pushPending(i);
-    showStatus(pushPending ? tr("Saved %1, without the push still to act (a click's push is not kept in the file).")
-                                 .arg(QDir::toNativeSeparators(path))
-                           : tr("Saved %1.").arg(QDir::toNativeSeparators(path)));
+    // Saved mid-run, the file holds the scene as it is now, not the run's start: said, as a
+    // teacher who saved at frame 36 reopened a different lesson without a word.
+    QString text = world.frame > 0 ? tr("Saved %1 as the scene is at frame %2, which it opens at as frame 0 (Home first "
+                                        "to save the run's start)")
+                                         .arg(QDir::toNativeSeparators(path))
+                                         .arg(world.frame)
+                                   : tr("Saved %1").arg(QDir::toNativeSeparators(path));
+    if (pushPending)
+        text += tr(", without the push still to act (a click's push is not kept in the file)");
+    showStatus(text + QLatin1Char('.'));
     return true;
 }
 

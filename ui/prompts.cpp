@@ -22,12 +22,14 @@ QString sceneFilter()
 
 Prompts::~Prompts() = default;
 
-Prompts::SaveChoice Prompts::askSaveChanges(QWidget *parent, const QString &documentName)
+Prompts::SaveChoice Prompts::askSaveChanges(QWidget *parent, const QString &documentName, std::int64_t frame)
 {
-    const auto answer = QMessageBox::warning(parent, tr("Unsaved changes"),
-                                             tr("The scene \"%1\" has changes that are not saved.\n"
-                                                "Save them before they are lost?")
-                                                 .arg(documentName),
+    QString text = tr("The scene \"%1\" has changes that are not saved.\nSave them before they are lost?").arg(documentName);
+    if (frame > 0)
+        text += tr("\n\nIt is saved as it is now, at frame %1, which it opens at as frame 0; the run's start is not "
+                   "kept (Cancel, then Home, to save that).")
+                    .arg(frame);
+    const auto answer = QMessageBox::warning(parent, tr("Unsaved changes"), text,
                                              QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel,
                                              QMessageBox::Save);
     switch (answer) {

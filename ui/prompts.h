@@ -2,6 +2,8 @@
 
 #include <QString>
 
+#include <cstdint>
+
 class QWidget;
 
 namespace marbles {
@@ -16,8 +18,9 @@ public:
 
     virtual ~Prompts();
 
-    /// Asks whether to save the changes to `documentName` before they are lost.
-    virtual SaveChoice askSaveChanges(QWidget *parent, const QString &documentName);
+    /// Asks whether to save the changes to `documentName` before they are lost; `frame` is the
+    /// frame the scene would be saved at (after frame 0, the run's start is not what is saved).
+    virtual SaveChoice askSaveChanges(QWidget *parent, const QString &documentName, std::int64_t frame);
     /// Asks whether to recover the scene described by `details` from the autosave.
     virtual bool askRecover(QWidget *parent, const QString &details);
     /// Asks for a scene file to open, starting in `directory`; empty when cancelled.

@@ -66,11 +66,13 @@ public:
     int recoverQuestions = 0;
     QString recoverDetails; // what the last recovery question said of the scene
     QStringList errors;
+    std::int64_t savedAtFrame = -1; // the frame the last save question named
 
-    SaveChoice askSaveChanges(QWidget *, const QString &name) override
+    SaveChoice askSaveChanges(QWidget *, const QString &name, std::int64_t frame) override
     {
         ++saveQuestions;
         savedSceneName = name;
+        savedAtFrame = frame;
         return saveChoice;
     }
     bool askRecover(QWidget *, const QString &details) override
@@ -459,6 +461,8 @@ void TestMainWindow::saveThenOpenRoundTrips()
     QVERIFY(!doc->isModified());
     QCOMPARE(doc->fileName(), QFileInfo(path).absoluteFilePath());
     QVERIFY(m_window->windowTitle().contains(QStringLiteral("saved.marbles.json")));
+    QCOMPARE(m_window->statusBar()->currentMessage(),
+             QStringLiteral("Saved %1.").arg(QDir::toNativeSeparators(QFileInfo(path).absoluteFilePath())));
 
     // From a preset with a view of its own (Brownian motion: trails on, vectors off, marble 0
     // selected): the file opens with the teacher's view and nothing selected.
@@ -484,8 +488,12 @@ void TestMainWindow::saveThenOpenRoundTrips()
     doc->advance(1); // the push acts
     QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.25")).isEmpty());
     m_window->findChild<QAction *>(QStringLiteral("actionSave"))->trigger();
+    // Saved mid-run (frame 1 now): the status bar says the file opens at this frame.
     QCOMPARE(m_window->statusBar()->currentMessage(),
-             QStringLiteral("Saved %1.").arg(QDir::toNativeSeparators(QFileInfo(path).absoluteFilePath())));
+             QStringLiteral("Saved %1 as the scene is at frame 1, which it opens at as frame 0 (Home first to save the "
+                            "run's start).")
+                 .arg(QDir::toNativeSeparators(QFileInfo(path).absoluteFilePath())));
+
 
     // Open Recent on a file deleted since: its error, and it leaves the list.
     QVERIFY(QFile::remove(path));
@@ -605,6 +613,7 @@ void TestMainWindow::unsavedChangesAreAskedAbout()
     QCOMPARE(m_prompts->saveQuestions, 1);
     // The question names the scene as the title bar did: the preset the window opened on.
     QCOMPARE(m_prompts->savedSceneName, QStringLiteral("Four marbles (Figure 11.8) (preset)"));
+    QCOMPARE(m_prompts->savedAtFrame, std::int64_t(0)); // and the frame it would be saved at
     QCOMPARE(sceneToJson(doc->world()), sceneToJson(opened ? pins : edited));
     if (static_cast<Prompts::SaveChoice>(choice) == Prompts::SaveChoice::Save) {
         QString error;
