@@ -112,7 +112,11 @@ AddMarbleCommand::AddMarbleCommand(SceneDocument *document, const MarbleRecord &
     : m_document(document)
     , m_record(record)
 {
-    setText(QCoreApplication::translate("marbles", "Add marble"));
+    // Named by the number it will have and where (the Undo History said "Add marble" alone).
+    setText(QCoreApplication::translate("marbles", "Add marble %1 at (%2, %3)")
+                .arg(document->world().marbleCount())
+                .arg(record.position.x, 0, 'f', 0)
+                .arg(record.position.y, 0, 'f', 0));
 }
 
 void AddMarbleCommand::redo()
@@ -141,7 +145,7 @@ RemoveMarbleCommand::RemoveMarbleCommand(SceneDocument *document, int marble)
     : m_document(document)
     , m_index(marble)
 {
-    setText(QCoreApplication::translate("marbles", "Delete marble"));
+    setText(QCoreApplication::translate("marbles", "Delete marble %1").arg(marble));
 }
 
 void RemoveMarbleCommand::redo()

@@ -22,7 +22,7 @@ AddPinCommand::AddPinCommand(SceneDocument *document, Vec2 at)
     : m_document(document)
     , m_at(at)
 {
-    setText(QCoreApplication::translate("marbles", "Add pin"));
+    setText(QCoreApplication::translate("marbles", "Add pin at (%1, %2)").arg(at.x, 0, 'f', 0).arg(at.y, 0, 'f', 0));
 }
 
 void AddPinCommand::redo()
@@ -45,7 +45,7 @@ RemovePinCommand::RemovePinCommand(SceneDocument *document, int pin)
     : m_document(document)
     , m_index(pin)
 {
-    setText(QCoreApplication::translate("marbles", "Delete pin"));
+    setText(QCoreApplication::translate("marbles", "Delete pin %1").arg(pin));
 }
 
 void RemovePinCommand::redo()
@@ -72,7 +72,7 @@ MovePinCommand::MovePinCommand(SceneDocument *document, int pin, Vec2 from, Vec2
     , m_from(from)
     , m_to(to)
 {
-    setText(QCoreApplication::translate("marbles", "Move pin"));
+    setText(QCoreApplication::translate("marbles", "Move pin %1 to (%2, %3)").arg(pin).arg(to.x, 0, 'f', 0).arg(to.y, 0, 'f', 0));
 }
 
 void MovePinCommand::redo()

@@ -203,6 +203,7 @@ void SceneDocument::beginHold(int i)
     m_holdStartPosition = m_world.position[i];
     m_holdStartVelocity = m_world.velocity[i];
     m_holdStartAcceleration = m_world.acceleration[i];
+    m_holdStartFrame = m_world.frame;
     applyHold();
     Q_EMIT stepped();
 }
@@ -236,10 +237,21 @@ QString SceneDocument::endHold(Vec2 p)
     after.position = *spot;
     after.velocity = {};
     after.acceleration = {};
-    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Move marble")));
+    m_undoStack.push(new SetMarbleCommand(this, i, before, after,
+                                          tr("Move marble %1 to (%2, %3)").arg(i).arg(spot->x, 0, 'f', 0).arg(spot->y, 0, 'f', 0)));
+    QString note;
     if (spot->x != p.x || spot->y != p.y)
-        return tr("The marble was moved to the nearest free spot.");
-    return {};
+        note = tr("The marble was moved to the nearest free spot.");
+    // Let go where it was held, it is at rest: said, with the velocity it had, when the scene was
+    // paused (a teacher who set velocities and then tidied the places lost them without a word;
+    // a marble caught during a run is seen to stop).
+    if (m_world.frame == m_holdStartFrame && (before.velocity.x != 0.0 || before.velocity.y != 0.0)) {
+        note += (note.isEmpty() ? QString() : QStringLiteral(" "))
+            + tr("It was let go at rest: its velocity (%1, %2) px/frame is 0 now (Ctrl+Z gives it back).")
+                  .arg(before.velocity.x, 0, 'g', 4)
+                  .arg(before.velocity.y, 0, 'g', 4);
+    }
+    return note;
 }
 
 void SceneDocument::beginPinDrag(int j)

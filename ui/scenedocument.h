@@ -178,6 +178,7 @@ private:
     Vec2 m_holdStartPosition;
     Vec2 m_holdStartVelocity;
     Vec2 m_holdStartAcceleration;
+    std::int64_t m_holdStartFrame = 0; ///< the frame the hold began at (paused: the same at the drop)
 
     int m_draggedPin = -1;
     Vec2 m_pinStart;

@@ -67,6 +67,7 @@ private Q_SLOTS:
     void scriptedPushesMoveWithTheirMarble();
     void dropWithNoRoomIsRefused();
     void radiusGrownIntoAnotherIsRefused();
+    void structureEditsAreNamed();
     void nonFiniteStateStopsWithMessage();
     void paramEditsAreNamedAsTheDockNamesThem();
     void saveThenOpenRoundTrips();
@@ -636,6 +637,15 @@ void TestSceneDocument::heldMarbleStaysStill()
     doc.undoStack()->undo();
     QCOMPARE(doc.world().position[0], start);
     QCOMPARE(doc.world().velocity[0], preset("pins").velocity[0]);
+    QCOMPARE(doc.undoStack()->undoText(), QString());
+
+    // Moved while paused, the marble is let go at rest, and the drop says what became of its
+    // velocity; the Undo History names the marble and the place.
+    doc.rewind();
+    doc.beginHold(0);
+    const QString note = doc.endHold(target);
+    QVERIFY2(note.contains(QStringLiteral("let go at rest: its velocity (7.5, 4) px/frame is 0 now")), qPrintable(note));
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Move marble 0 to (%1, %2)").arg(target.x, 0, 'f', 0).arg(target.y, 0, 'f', 0));
 }
 
 void TestSceneDocument::dropOntoMarbleFindsFreeSpot()
@@ -730,6 +740,25 @@ void TestSceneDocument::nonFiniteStateStopsWithMessage()
     const QString message = failed.first().first().toString();
     QVERIFY2(message.contains(QStringLiteral("frame %1").arg(doc.world().frame)), qPrintable(message));
     QVERIFY2(message.contains(QStringLiteral("marble 0")), qPrintable(message));
+}
+
+void TestSceneDocument::structureEditsAreNamed()
+{
+    // The Undo History names the marble or pin and the place ("Add marble" told neither).
+    SceneDocument doc;
+    doc.resetScene(preset("four-marbles"));
+    QVERIFY(doc.addMarble({700.0, 80.0}, 10.0).isEmpty());
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Add marble 4 at (700, 80)"));
+    QVERIFY(doc.addPin({40.0, 560.0}).isEmpty());
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Add pin at (40, 560)"));
+    doc.beginPinDrag(0);
+    doc.movePinDrag({60.0, 540.0});
+    QVERIFY(doc.endPinDrag({60.0, 540.0}).isEmpty());
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Move pin 0 to (60, 540)"));
+    doc.removePin(0);
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete pin 0"));
+    doc.removeMarble(2);
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete marble 2"));
 }
 
 void TestSceneDocument::radiusGrownIntoAnotherIsRefused()
