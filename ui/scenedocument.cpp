@@ -301,6 +301,9 @@ QString SceneDocument::addMarble(Vec2 p, double r)
     record.radius = r;
     record.mass = m_world.params.massScale * r;
     m_undoStack.push(new AddMarbleCommand(this, record));
+    // Said, as a drop there is (the marble appeared beside the one clicked on, without a word).
+    if (spot->x != p.x || spot->y != p.y)
+        return tr("The marble was placed at the nearest free spot.");
     return {};
 }
 
@@ -317,6 +320,8 @@ QString SceneDocument::addPin(Vec2 q)
     if (!spot)
         return tr("No free spot for a pin near (%1, %2).").arg(q.x, 0, 'f', 0).arg(q.y, 0, 'f', 0);
     m_undoStack.push(new AddPinCommand(this, *spot));
+    if (spot->x != q.x || spot->y != q.y)
+        return tr("The pin was placed at the nearest free spot.");
     return {};
 }
 

@@ -112,11 +112,13 @@ public:
     /// Index of the dragged pin, or -1.
     int draggedPin() const { return m_draggedPin; }
 
-    /// Adds a marble of radius `r` px at (or nearest free spot to) `p`; returns "" or why not.
+    /// Adds a marble of radius `r` px at (or nearest free spot to) `p`; returns "", why not, or
+    /// that it was placed at the nearest free spot.
     QString addMarble(Vec2 p, double r);
     /// Removes marble i.
     void removeMarble(int i);
-    /// Adds a pin at (or nearest free spot to) `q`; returns "" or why not.
+    /// Adds a pin at (or nearest free spot to) `q`; returns "", why not, or that it was placed at
+    /// the nearest free spot.
     QString addPin(Vec2 q);
     /// Removes pin j.
     void removePin(int j);

@@ -751,6 +751,11 @@ void TestSceneDocument::structureEditsAreNamed()
     QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Add marble 4 at (700, 80)"));
     QVERIFY(doc.addPin({40.0, 560.0}).isEmpty());
     QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Add pin at (40, 560)"));
+    // Where it was asked for is taken: placed beside, and said.
+    QCOMPARE(doc.addMarble(doc.world().position[0], 10.0), QStringLiteral("The marble was placed at the nearest free spot."));
+    doc.undoStack()->undo();
+    QCOMPARE(doc.addPin(doc.world().position[0]), QStringLiteral("The pin was placed at the nearest free spot."));
+    doc.undoStack()->undo();
     doc.beginPinDrag(0);
     doc.movePinDrag({60.0, 540.0});
     QVERIFY(doc.endPinDrag({60.0, 540.0}).isEmpty());
