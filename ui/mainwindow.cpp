@@ -336,6 +336,12 @@ void MainWindow::createActions()
     m_previousMarbleAction->setObjectName(QStringLiteral("actionPreviousMarble"));
     m_previousMarbleAction->setShortcut(QKeySequence(Qt::Key_BracketLeft));
     connect(m_previousMarbleAction, &QAction::triggered, this, [this] { m_view->selectNextMarble(-1); });
+    // Nothing selected: the plot shows the first twelve marbles again (in a crowd, clicking the
+    // stage's margin was the only way).
+    m_clearSelectionAction = new QAction(tr("Clear Se&lection"), this);
+    m_clearSelectionAction->setObjectName(QStringLiteral("actionClearSelection"));
+    m_clearSelectionAction->setShortcut(QKeySequence(Qt::Key_Escape));
+    connect(m_clearSelectionAction, &QAction::triggered, this, [this] { m_view->clearSelection(); });
     const struct {
         const char *name;
         const char *text;
@@ -457,6 +463,7 @@ void MainWindow::createMenus()
     edit->addSeparator();
     edit->addAction(m_nextMarbleAction);
     edit->addAction(m_previousMarbleAction);
+    edit->addAction(m_clearSelectionAction);
     edit->addSeparator();
     edit->addAction(m_deleteAction);
 

@@ -221,6 +221,7 @@ private:
     QAction *m_slowerAction = nullptr;
     QAction *m_fasterAction = nullptr;
     QAction *m_nextMarbleAction = nullptr;
+    QAction *m_clearSelectionAction = nullptr;
     QAction *m_previousMarbleAction = nullptr;
     QList<QAction *> m_pushActions; // Shift+arrows: push the selected marble
     QAction *m_fitAction = nullptr;

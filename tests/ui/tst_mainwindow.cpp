@@ -880,6 +880,10 @@ void TestMainWindow::keyboardChoosesAndPushesAMarble()
     QTest::keyClick(view, Qt::Key_BracketLeft);
     QTest::keyClick(view, Qt::Key_BracketLeft);
     QCOMPARE(view->selectedMarble(), 3); // round the start
+    QTest::keyClick(view, Qt::Key_Escape); // Edit > Clear Selection
+    QCOMPARE(view->selectedMarble(), -1);
+    QTest::keyClick(view, Qt::Key_BracketLeft);
+    QCOMPARE(view->selectedMarble(), 3);
     const World &w = doc->world();
     const Vec2 before = w.acceleration[3];
     QTest::keyClick(view, Qt::Key_Right, Qt::ShiftModifier);
