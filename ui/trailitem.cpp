@@ -193,7 +193,7 @@ void TrailItem::paint(QPainter *painter, const QStyleOptionGraphicsItem *, QWidg
     startBatches();
     for (const auto &trail : m_trails)
         addToBatches(trail);
-    drawBatches(painter, MarbleItem::defaultColor(), 2.0, 0.0, 0.6);
+    drawBatches(painter, MarbleItem::defaultColor(), 2.5, 0.1, 0.85);
     if (m_long.size() >= 2) {
         // One trail over the others, smooth whatever the crowd, wider, and its oldest part still
         // plain to see: the whole path is the point.
