@@ -20,6 +20,22 @@ MarbleState MarbleState::of(const World &world, int i)
     return s;
 }
 
+void MarbleState::applyChangesTo(World &world, int i, const MarbleState &other) const
+{
+    if (!(position == other.position))
+        world.position[i] = position;
+    if (!(velocity == other.velocity))
+        world.velocity[i] = velocity;
+    if (!(acceleration == other.acceleration))
+        world.acceleration[i] = acceleration;
+    if (radius != other.radius)
+        world.radius[i] = radius;
+    if (mass != other.mass || hasMass != other.hasMass) {
+        world.mass[i] = mass;
+        world.info[i].hasMass = hasMass;
+    }
+}
+
 void MarbleState::applyTo(World &world, int i) const
 {
     world.position[i] = position;
@@ -58,8 +74,24 @@ SetMarbleCommand::SetMarbleCommand(SceneDocument *document, int marble, const Ma
     , m_before(before)
     , m_after(after)
     , m_mergeId(mergeId)
+    , m_frame(document->world().frame)
 {
-    setText(text);
+    // Mid-run, the frame the edit belongs to (undone later in the run, it takes the scene back
+    // there).
+    setText(m_frame > 0 ? QCoreApplication::translate("marbles", "%1 at frame %2").arg(text).arg(m_frame) : text);
+}
+
+void SetMarbleCommand::applyAtItsFrame(const MarbleState &state, const MarbleState &other)
+{
+    // Undone or redone after the run went on, the edit's values belong to its frame: the scene
+    // goes back there first, as Step Back would (applied where the marble is now, they moved it
+    // back to where it was at the edit and set it going again, and a redo did not return to the
+    // state before the undo). Where that frame is no longer kept, only what the edit changed is
+    // set, on the marble as it is now.
+    if (m_document->returnToFrame(m_frame))
+        state.applyTo(m_document->editableWorld(), m_marble);
+    else
+        state.applyChangesTo(m_document->editableWorld(), m_marble, other);
 }
 
 void SetMarbleCommand::redo()
@@ -68,7 +100,7 @@ void SetMarbleCommand::redo()
     assert(m_marble >= 0 && m_marble < world.marbleCount());
     if (m_marble < 0 || m_marble >= world.marbleCount())
         return;
-    m_after.applyTo(world, m_marble);
+    applyAtItsFrame(m_after, m_before);
     if (!m_pushesKept) {
         m_pushesBefore = world.pushes;
         shiftComingPushes(world, m_marble, m_before.position, m_after.position);
@@ -86,7 +118,7 @@ void SetMarbleCommand::undo()
     assert(m_marble >= 0 && m_marble < world.marbleCount());
     if (m_marble < 0 || m_marble >= world.marbleCount())
         return;
-    m_before.applyTo(world, m_marble);
+    applyAtItsFrame(m_before, m_after);
     if (m_pushesKept)
         world.pushes = m_pushesBefore;
     m_document->applyChange(SceneDocument::Change::Marbles);
@@ -100,7 +132,7 @@ int SetMarbleCommand::id() const
 bool SetMarbleCommand::mergeWith(const QUndoCommand *other)
 {
     const auto *next = static_cast<const SetMarbleCommand *>(other);
-    if (next->m_marble != m_marble || next->m_mergeId != m_mergeId)
+    if (next->m_marble != m_marble || next->m_mergeId != m_mergeId || next->m_frame != m_frame)
         return false;
     m_after = next->m_after;
     m_pushesAfter = next->m_pushesAfter;

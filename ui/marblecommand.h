@@ -27,6 +27,9 @@ struct MarbleState {
     static MarbleState of(const World &world, int i);
     /// Writes this state into marble i of `world`.
     void applyTo(World &world, int i) const;
+    /// Writes into marble i of `world` only what this state has that `other` has not (an edit's
+    /// change, where the rest of the marble has moved on).
+    void applyChangesTo(World &world, int i, const MarbleState &other) const;
 };
 
 /// Changes one marble's properties (a drag, an inspector edit). With a merge id, consecutive
@@ -47,6 +50,9 @@ private:
     MarbleState m_before;
     MarbleState m_after;
     std::optional<CommandId> m_mergeId;
+    std::int64_t m_frame = 0; // the frame the edit was made at
+    /// Writes `state` (whose counterpart is `other`) at the edit's frame; see redo().
+    void applyAtItsFrame(const MarbleState &state, const MarbleState &other);
     // The scene's scripted pushes before and after the move (filled on the first redo), so
     // that undo puts the click points back bit for bit.
     bool m_pushesKept = false;

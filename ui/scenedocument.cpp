@@ -186,6 +186,22 @@ bool SceneDocument::rewind()
     return true;
 }
 
+bool SceneDocument::returnToFrame(std::int64_t frame)
+{
+    if (m_world.frame == frame)
+        return true;
+    if (m_world.frame < frame || !m_history.velocitiesAt(frame, m_world))
+        return false;
+    while (m_world.frame > frame && m_history.stepBack(m_world)) {
+    }
+    if (m_world.frame > frame && frame == m_history.startFrame())
+        m_history.rewind(m_world);
+    applyHold();
+    Q_EMIT timelineRewound(m_world.frame);
+    Q_EMIT stepped();
+    return m_world.frame == frame;
+}
+
 void SceneDocument::pushMarble(int i, Vec2 at)
 {
     if (!validMarble(m_world, i))

@@ -63,6 +63,10 @@ public:
     /// Restores the first frame of the timeline (frame 0 unless marbles were added or removed
     /// since), with the edits made while it was shown; an edit at a later frame does not change it.
     bool rewind();
+    /// Goes back to `frame` through the kept frames, as Step Back does, when the run has gone past
+    /// it; true when the scene is at `frame` now (it was there, or went back), false (nothing
+    /// changed) when that frame is not kept or not reached yet.
+    bool returnToFrame(std::int64_t frame);
     /// Whether every marble's position and velocity are finite numbers.
     bool allFinite() const { return m_world.firstNonFiniteMarble() < 0; }
     /// Frame number that rewind() returns to.

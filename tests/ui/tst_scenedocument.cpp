@@ -68,6 +68,7 @@ private Q_SLOTS:
     void dropWithNoRoomIsRefused();
     void radiusGrownIntoAnotherIsRefused();
     void structureEditsAreNamed();
+    void undoLaterInTheRunGoesBackToTheEdit();
     void nonFiniteStateStopsWithMessage();
     void paramEditsAreNamedAsTheDockNamesThem();
     void saveThenOpenRoundTrips();
@@ -740,6 +741,36 @@ void TestSceneDocument::nonFiniteStateStopsWithMessage()
     const QString message = failed.first().first().toString();
     QVERIFY2(message.contains(QStringLiteral("frame %1").arg(doc.world().frame)), qPrintable(message));
     QVERIFY2(message.contains(QStringLiteral("marble 0")), qPrintable(message));
+}
+
+void TestSceneDocument::undoLaterInTheRunGoesBackToTheEdit()
+{
+    // A velocity set at frame 10, undone at frame 30: the scene goes back to frame 10 as it was
+    // before the edit (it moved the marble back to its frame-10 place while the others stayed at
+    // frame 30, and a redo did not give the frame-30 scene back).
+    SceneDocument doc;
+    doc.resetScene(preset("pins"));
+    QCOMPARE(doc.advance(10), 10);
+    const World beforeEdit = doc.world();
+    QVERIFY(doc.setMarbleVelocity(0, {6.0, 1.0}).isEmpty());
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Set marble 0's velocity to (6, 1) px/frame at frame 10"));
+    const World afterEdit = doc.world();
+    QCOMPARE(doc.advance(20), 20);
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().frame, std::int64_t(10));
+    QVERIFY(doc.world().position == beforeEdit.position);
+    QVERIFY(doc.world().velocity == beforeEdit.velocity);
+    doc.undoStack()->redo();
+    QCOMPARE(doc.world().frame, std::int64_t(10));
+    QVERIFY(doc.world().position == afterEdit.position);
+    QVERIFY(doc.world().velocity == afterEdit.velocity);
+    // Stepped on from there, the run is the edited one's.
+    QCOMPARE(doc.advance(5), 5);
+    SceneDocument again;
+    World edited = afterEdit;
+    again.resetScene(edited);
+    QCOMPARE(again.advance(5), 5);
+    QVERIFY(doc.world().position == again.world().position);
 }
 
 void TestSceneDocument::structureEditsAreNamed()
