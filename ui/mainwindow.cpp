@@ -130,6 +130,11 @@ MainWindow::MainWindow(QWidget *parent)
     connect(m_document, &SceneDocument::stepped, this, &MainWindow::expireFrameStatus);
     connect(m_compare, &CompareRun::modelChanged, this, &MainWindow::updateCompareControls);
     connect(m_compare, &CompareRun::restarted, this, &MainWindow::updateCompareReadout);
+    // Its dashed lines jump to the scene's values there: marked, not to be read as a collision.
+    connect(m_compare, &CompareRun::restarted, this, [this] {
+        if (m_compare->isTracking())
+            m_plotDock->markCompareRestart(m_compare->startFrame());
+    });
     connect(m_document, &SceneDocument::stepped, this, &MainWindow::updateCompareReadout);
 
     m_autoSaver = new AutoSaver(m_document, QString(), this);

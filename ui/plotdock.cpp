@@ -349,6 +349,7 @@ void PlotDock::forEachValueBuffer(Apply &&apply)
 void PlotDock::reset(const World &world)
 {
     m_frames.clear();
+    m_compareRestarts.clear();
     forEachValueBuffer([](RingBuffer<double> &values) { values.clear(); });
 
     m_marbleCount = world.marbleCount();
@@ -390,8 +391,20 @@ void PlotDock::resample(const World &world, const World *compare)
     m_hoverLabel->clear();
 }
 
+void PlotDock::markCompareRestart(std::int64_t frame)
+{
+    if (m_compareModel.isEmpty() || m_frames.isEmpty() || frame <= m_frames.at(0))
+        return; // no dashed line before it to jump from
+    if (!m_compareRestarts.empty() && m_compareRestarts.back() + 1 >= frame)
+        m_compareRestarts.back() = frame;
+    else
+        m_compareRestarts.push_back(frame);
+    m_dirty = true;
+}
+
 void PlotDock::cutAfter(std::int64_t frame)
 {
+    std::erase_if(m_compareRestarts, [frame](std::int64_t restart) { return restart > frame; });
     // Frames grow along the buffer: the samples to forget are the newest ones.
     std::size_t later = 0;
     while (later < m_frames.size() && m_frames.at(m_frames.size() - 1 - later) > frame)
@@ -529,6 +542,8 @@ void PlotDock::setCompareModel(const QString &model)
     // instead of listing every marble twice; these two series never hold points.
     deleteSeries(m_modelKey);
     deleteSeries(m_compareKey);
+    deleteSeries(m_restartMarks);
+    m_compareRestarts.clear();
     if (!m_compareModel.isEmpty()) {
         for (Track &t : m_tracks)
             addCompareTrack(t);
@@ -548,6 +563,14 @@ void PlotDock::setCompareModel(const QString &model)
         };
         m_modelKey = addKeySeries(false);
         m_compareKey = addKeySeries(true);
+        m_restartMarks = new QLineSeries;
+        QPen marks(QColor(0x75, 0x75, 0x75), 1.5, Qt::DotLine);
+        marks.setCapStyle(Qt::FlatCap);
+        m_restartMarks->setPen(marks);
+        m_restartMarks->setName(tr("comparison restarted"));
+        m_chart->addSeries(m_restartMarks);
+        m_restartMarks->attachAxis(m_axisX);
+        m_restartMarks->attachAxis(m_axisSpeed);
         // The comparison starts now: no comparison totals for the samples already held.
         startWithGaps(m_compareKinetic);
         startWithGaps(m_compareMomentum);
@@ -683,6 +706,16 @@ void PlotDock::refreshChart()
     applyRange(m_axisSpeed, niceRange(m_rangeScratch, 0.0, top(speedMax)));
     applyRange(m_axisTotals, niceRange(m_rangeScratch, 0.0, top(energy.max)));
     applyRange(m_axisMomentum, niceRange(m_rangeScratch, 0.0, top(momentum.max)));
+    if (m_restartMarks) {
+        // Down and up at each restart, joined along the time axis, where the joins vanish.
+        QList<QPointF> marks;
+        const double top = m_axisSpeed->max();
+        for (const std::int64_t restart : m_compareRestarts)
+            marks << QPointF(xOf(restart), 0.0) << QPointF(xOf(restart), top) << QPointF(xOf(restart), 0.0);
+        m_restartMarks->replace(marks);
+        for (QLegendMarker *marker : m_chart->legend()->markers(m_restartMarks))
+            marker->setVisible(!marks.isEmpty());
+    }
     m_dirty = false;
 }
 

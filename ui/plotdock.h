@@ -107,6 +107,13 @@ public:
     /// Plots the speeds of a comparison model named `model` ("exact") as dashed lines beside the
     /// solid ones; "" removes them. A new name forgets the comparison samples held so far.
     void setCompareModel(const QString &model);
+    /// The comparison started again at `frame` from the scene (an edit, a marble held): its dashed
+    /// lines jump there to the scene's values, which a dotted line across the chart marks, so
+    /// that the jump is not read as a collision. Restarts on consecutive frames (a marble held
+    /// while the run goes on) make one mark, at the last of them.
+    void markCompareRestart(std::int64_t frame);
+    /// The frames marked so, oldest first.
+    const std::vector<std::int64_t> &compareRestarts() const { return m_compareRestarts; }
     /// Name of the comparison model plotted, or "" when none.
     QString compareModel() const { return m_compareModel; }
     /// Speed |v| of `marble` in the comparison model at sample `i`, px/frame; NaN when there was no
@@ -275,6 +282,8 @@ private:
     QLineSeries *m_compareMomentumSeries = nullptr; ///< while comparing
     QLineSeries *m_modelKey = nullptr;   ///< legend entry only, while comparing: "book (solid)"
     QLineSeries *m_compareKey = nullptr; ///< legend entry only, while comparing: "exact (dashed)"
+    QLineSeries *m_restartMarks = nullptr; ///< while comparing: a dotted line at each restart
+    std::vector<std::int64_t> m_compareRestarts;
     QCheckBox *m_showKinetic = nullptr;
     QCheckBox *m_showMomentum = nullptr;
     QRadioButton *m_frameAxis = nullptr;

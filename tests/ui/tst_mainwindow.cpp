@@ -1078,8 +1078,12 @@ void TestMainWindow::compareSteppedBackPastAnEditMeetsAtTheRestart()
     const double largestAt50 = m_window->findChild<CompareRun *>()->largestGapPx();
     QCOMPARE_GT(largestAt50, 0.0);
     doc->advance(10);
+    QVERIFY(plot->compareRestarts().empty()); // none at its start
     QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
     doc->advance(40);
+    // The restart at frame 60 is marked on the plot: its dashed lines jump there to the scene's
+    // values, which a plot tester read as a collision.
+    QCOMPARE(plot->compareRestarts(), std::vector<std::int64_t>{60});
     for (int k = 0; k < 50; ++k)
         QTest::keyClick(m_window->stageView(), Qt::Key_Left);
     QCOMPARE(doc->world().frame, 50);
@@ -1092,6 +1096,7 @@ void TestMainWindow::compareSteppedBackPastAnEditMeetsAtTheRestart()
     QCOMPARE(plot->sampleFrame(last), std::int64_t(50));
     QCOMPARE(plot->sampleCompareSpeed(last, 0), speedAt50);
     QVERIFY(plot->sampleCompareSpeed(last, 0) != plot->sampleSpeed(last, 0));
+    QVERIFY(plot->compareRestarts().empty()); // stepped back past it
 }
 
 void TestMainWindow::homeAfterALongRunPlotsFrameZero()
