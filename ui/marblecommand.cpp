@@ -20,13 +20,13 @@ MarbleState MarbleState::of(const World &world, int i)
     return s;
 }
 
-void MarbleState::applyChangesTo(World &world, int i, const MarbleState &other) const
+void MarbleState::applyChangesTo(World &world, int i, const MarbleState &other, bool motion) const
 {
-    if (!(position == other.position))
+    if (motion && !(position == other.position))
         world.position[i] = position;
-    if (!(velocity == other.velocity))
+    if (motion && !(velocity == other.velocity))
         world.velocity[i] = velocity;
-    if (!(acceleration == other.acceleration))
+    if (motion && !(acceleration == other.acceleration))
         world.acceleration[i] = acceleration;
     if (radius != other.radius)
         world.radius[i] = radius;
@@ -81,17 +81,22 @@ SetMarbleCommand::SetMarbleCommand(SceneDocument *document, int marble, const Ma
     setText(m_frame > 0 ? QCoreApplication::translate("marbles", "%1 at frame %2").arg(text).arg(m_frame) : text);
 }
 
-void SetMarbleCommand::applyAtItsFrame(const MarbleState &state, const MarbleState &other)
+void SetMarbleCommand::applyAtItsFrame(const MarbleState &state, const MarbleState &other, bool mayRunOn)
 {
-    // Undone or redone after the run went on, the edit's values belong to its frame: the scene
-    // goes back there first, as Step Back would (applied where the marble is now, they moved it
-    // back to where it was at the edit and set it going again, and a redo did not return to the
-    // state before the undo). Where that frame is no longer kept, only what the edit changed is
-    // set, on the marble as it is now.
-    if (m_document->returnToFrame(m_frame))
-        state.applyTo(m_document->editableWorld(), m_marble);
+    // Undone or redone at another frame, the edit's values belong to its own (applied where the
+    // marble is now, they moved it back to where it was at the edit and set it going again, and
+    // redoing several edits after undoing them put them all at the first one's frame):
+    // - later in the run, the scene goes back there first, as Step Back would;
+    // - earlier (stepped back before it), a redo runs the scene on to it, as Step would; an undo
+    //   there only takes back the radius or mass it set, the frames kept holding no such thing
+    //   (the edit's motion is not in the run shown);
+    // - where the frame is no longer kept, only what the edit changed is set on the marble as it is.
+    World &world = m_document->editableWorld();
+    const std::int64_t now = world.frame;
+    if (now == m_frame || ((now > m_frame || mayRunOn) && m_document->goToFrame(m_frame)))
+        state.applyTo(world, m_marble);
     else
-        state.applyChangesTo(m_document->editableWorld(), m_marble, other);
+        state.applyChangesTo(world, m_marble, other, now > m_frame);
 }
 
 void SetMarbleCommand::redo()
@@ -100,7 +105,7 @@ void SetMarbleCommand::redo()
     assert(m_marble >= 0 && m_marble < world.marbleCount());
     if (m_marble < 0 || m_marble >= world.marbleCount())
         return;
-    applyAtItsFrame(m_after, m_before);
+    applyAtItsFrame(m_after, m_before, true);
     if (!m_pushesKept) {
         m_pushesBefore = world.pushes;
         shiftComingPushes(world, m_marble, m_before.position, m_after.position);
@@ -118,7 +123,7 @@ void SetMarbleCommand::undo()
     assert(m_marble >= 0 && m_marble < world.marbleCount());
     if (m_marble < 0 || m_marble >= world.marbleCount())
         return;
-    applyAtItsFrame(m_before, m_after);
+    applyAtItsFrame(m_before, m_after, false);
     if (m_pushesKept)
         world.pushes = m_pushesBefore;
     m_document->applyChange(SceneDocument::Change::Marbles);

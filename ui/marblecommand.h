@@ -28,8 +28,9 @@ struct MarbleState {
     /// Writes this state into marble i of `world`.
     void applyTo(World &world, int i) const;
     /// Writes into marble i of `world` only what this state has that `other` has not (an edit's
-    /// change, where the rest of the marble has moved on).
-    void applyChangesTo(World &world, int i, const MarbleState &other) const;
+    /// change, where the rest of the marble has moved on): its motion too (position, velocity,
+    /// acceleration) when `motion`, else only its radius and mass.
+    void applyChangesTo(World &world, int i, const MarbleState &other, bool motion) const;
 };
 
 /// Changes one marble's properties (a drag, an inspector edit). With a merge id, consecutive
@@ -51,8 +52,9 @@ private:
     MarbleState m_after;
     std::optional<CommandId> m_mergeId;
     std::int64_t m_frame = 0; // the frame the edit was made at
-    /// Writes `state` (whose counterpart is `other`) at the edit's frame; see redo().
-    void applyAtItsFrame(const MarbleState &state, const MarbleState &other);
+    /// Writes `state` (whose counterpart is `other`) at the edit's frame, running the scene on to
+    /// it when `mayRunOn`; see the .cpp.
+    void applyAtItsFrame(const MarbleState &state, const MarbleState &other, bool mayRunOn);
     // The scene's scripted pushes before and after the move (filled on the first redo), so
     // that undo puts the click points back bit for bit.
     bool m_pushesKept = false;

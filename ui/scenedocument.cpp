@@ -11,6 +11,7 @@
 #include <QFileInfo>
 
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace marbles {
@@ -186,11 +187,18 @@ bool SceneDocument::rewind()
     return true;
 }
 
-bool SceneDocument::returnToFrame(std::int64_t frame)
+bool SceneDocument::goToFrame(std::int64_t frame)
 {
     if (m_world.frame == frame)
         return true;
-    if (m_world.frame < frame || !m_history.velocitiesAt(frame, m_world))
+    if (m_world.frame < frame) {
+        const std::int64_t ahead = frame - m_world.frame;
+        if (ahead > std::numeric_limits<int>::max())
+            return false;
+        advance(static_cast<int>(ahead));
+        return m_world.frame == frame;
+    }
+    if (!m_history.velocitiesAt(frame, m_world))
         return false;
     while (m_world.frame > frame && m_history.stepBack(m_world)) {
     }

@@ -63,10 +63,11 @@ public:
     /// Restores the first frame of the timeline (frame 0 unless marbles were added or removed
     /// since), with the edits made while it was shown; an edit at a later frame does not change it.
     bool rewind();
-    /// Goes back to `frame` through the kept frames, as Step Back does, when the run has gone past
-    /// it; true when the scene is at `frame` now (it was there, or went back), false (nothing
-    /// changed) when that frame is not kept or not reached yet.
-    bool returnToFrame(std::int64_t frame);
+    /// Takes the scene to `frame`: back through the kept frames, as Step Back does, or on by
+    /// simulating, as Step does (the same bits, the physics being deterministic); true when the
+    /// scene is at `frame` now, false (nothing changed) when it cannot get there: a frame no
+    /// longer kept, or one beyond a run that failed.
+    bool goToFrame(std::int64_t frame);
     /// Whether every marble's position and velocity are finite numbers.
     bool allFinite() const { return m_world.firstNonFiniteMarble() < 0; }
     /// Frame number that rewind() returns to.

@@ -771,6 +771,28 @@ void TestSceneDocument::undoLaterInTheRunGoesBackToTheEdit()
     again.resetScene(edited);
     QCOMPARE(again.advance(5), 5);
     QVERIFY(doc.world().position == again.world().position);
+
+    // Three edits at frames 20, 30 and 40, undone at 50 and redone: each redo runs on to its
+    // edit's frame (all three were put at frame 20), ending where the edits had left the scene.
+    SceneDocument three;
+    three.resetScene(preset("pins"));
+    QCOMPARE(three.advance(20), 20);
+    QVERIFY(three.setMarbleVelocity(1, {-6.0, 0.0}).isEmpty());
+    QCOMPARE(three.advance(10), 10);
+    QVERIFY(three.setMarbleVelocity(1, {-2.0, 4.0}).isEmpty());
+    QCOMPARE(three.advance(10), 10);
+    QVERIFY(three.setMarbleRadius(2, 12.0).isEmpty());
+    const World atForty = three.world();
+    QCOMPARE(three.advance(10), 10);
+    for (int k = 0; k < 3; ++k)
+        three.undoStack()->undo();
+    QCOMPARE(three.world().frame, std::int64_t(20));
+    for (int k = 0; k < 3; ++k)
+        three.undoStack()->redo();
+    QCOMPARE(three.world().frame, std::int64_t(40));
+    QVERIFY(three.world().position == atForty.position);
+    QVERIFY(three.world().velocity == atForty.velocity);
+    QVERIFY(three.world().radius == atForty.radius);
 }
 
 void TestSceneDocument::structureEditsAreNamed()
