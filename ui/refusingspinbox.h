@@ -72,6 +72,8 @@ public:
 
     QValidator::State validate(QString &input, int &pos) const override
     {
+        if (breaksUnit(input))
+            return QValidator::Invalid;
         // The text is left as typed; a decimal comma is read as the locale's mark.
         QString text = input;
         switch (marksIn(bareText(input))) {
@@ -242,6 +244,23 @@ private:
     }
 
     bool outside(double value) const { return value < low() || value > high(); }
+
+    // A keystroke into the unit or after it ("0.01 px/framez", "0.01 px/fame"): dropped, as a spin
+    // box drops it. Qt's own check let it through, and the unit then grew on every Delete ("5.000
+    // px/frame px/frame px/frame") or took the typing ("0.08045rame px/frame"). Whole, the unit
+    // ends the text once; gone whole (all of the text replaced by typing) is fine; a remnant of
+    // it is a unit typed into.
+    bool breaksUnit(const QString &input) const
+    {
+        const QString unit = this->suffix();
+        if (unit.isEmpty())
+            return false;
+        const qsizetype at = input.indexOf(unit);
+        if (at >= 0)
+            return at + unit.size() != input.size() || input.indexOf(unit, at + 1) >= 0;
+        const QString head = unit.trimmed().left(2);
+        return !head.isEmpty() && input.contains(head);
+    }
 
 protected:
     // A decimal comma typed where the locale writes a point, or a point where it writes a comma

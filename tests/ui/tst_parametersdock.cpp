@@ -589,7 +589,9 @@ void TestParametersDock::suffixStaysWhole()
     QVERIFY(showWithModel(dock, QStringLiteral("book")));
     auto *spin = dock.findChild<QDoubleSpinBox *>(QStringLiteral("zeroThresholdEdit"));
     QVERIFY(spin);
-    for (const QString &broken : {QStringLiteral("0.01 px/f4rame"), QStringLiteral("0.01 px/frame4"), QStringLiteral("0.01 p,x/frame")}) {
+    for (const QString &broken : {QStringLiteral("0.01 px/f4rame"), QStringLiteral("0.01 px/frame4"), QStringLiteral("0.01 p,x/frame"),
+                                  QStringLiteral("0.01 px/framez"), QStringLiteral("0.01 px/fame"),
+                                  QStringLiteral("0.01 px/framez px/frame")}) {
         QString text = broken;
         int pos = 10;
         QVERIFY2(spin->validate(text, pos) == QValidator::Invalid, qPrintable(broken));
