@@ -68,20 +68,23 @@ void shiftComingPushes(World &world, int marble, Vec2 from, Vec2 to)
 } // namespace
 
 SetMarbleCommand::SetMarbleCommand(SceneDocument *document, int marble, const MarbleState &before,
-                                   const MarbleState &after, const QString &text, std::optional<CommandId> mergeId)
+                                   const MarbleState &after, const QString &text, std::optional<CommandId> mergeId,
+                                   std::optional<std::int64_t> frame)
     : m_document(document)
     , m_marble(marble)
     , m_before(before)
     , m_after(after)
     , m_mergeId(mergeId)
     , m_frame(document->world().frame)
+    , m_undoFrame(frame.value_or(m_frame))
 {
     // Mid-run, the frame the edit belongs to (undone later in the run, it takes the scene back
     // there).
     setText(m_frame > 0 ? QCoreApplication::translate("marbles", "%1 at frame %2").arg(text).arg(m_frame) : text);
 }
 
-void SetMarbleCommand::applyAtItsFrame(const MarbleState &state, const MarbleState &other, bool mayRunOn)
+void SetMarbleCommand::applyAtItsFrame(std::int64_t frame, const MarbleState &state, const MarbleState &other,
+                                       bool mayRunOn)
 {
     // Undone or redone at another frame, the edit's values belong to its own (applied where the
     // marble is now, they moved it back to where it was at the edit and set it going again, and
@@ -93,10 +96,10 @@ void SetMarbleCommand::applyAtItsFrame(const MarbleState &state, const MarbleSta
     // - where the frame is no longer kept, only what the edit changed is set on the marble as it is.
     World &world = m_document->editableWorld();
     const std::int64_t now = world.frame;
-    if (now == m_frame || ((now > m_frame || mayRunOn) && m_document->goToFrame(m_frame)))
+    if (now == frame || ((now > frame || mayRunOn) && m_document->goToFrame(frame)))
         state.applyTo(world, m_marble);
     else
-        state.applyChangesTo(world, m_marble, other, now > m_frame);
+        state.applyChangesTo(world, m_marble, other, now > frame);
 }
 
 void SetMarbleCommand::redo()
@@ -105,7 +108,7 @@ void SetMarbleCommand::redo()
     assert(m_marble >= 0 && m_marble < world.marbleCount());
     if (m_marble < 0 || m_marble >= world.marbleCount())
         return;
-    applyAtItsFrame(m_after, m_before, true);
+    applyAtItsFrame(m_frame, m_after, m_before, true);
     if (!m_pushesKept) {
         m_pushesBefore = world.pushes;
         shiftComingPushes(world, m_marble, m_before.position, m_after.position);
@@ -123,7 +126,7 @@ void SetMarbleCommand::undo()
     assert(m_marble >= 0 && m_marble < world.marbleCount());
     if (m_marble < 0 || m_marble >= world.marbleCount())
         return;
-    applyAtItsFrame(m_before, m_after, false);
+    applyAtItsFrame(m_undoFrame, m_before, m_after, false);
     if (m_pushesKept)
         world.pushes = m_pushesBefore;
     m_document->applyChange(SceneDocument::Change::Marbles);
@@ -137,7 +140,8 @@ int SetMarbleCommand::id() const
 bool SetMarbleCommand::mergeWith(const QUndoCommand *other)
 {
     const auto *next = static_cast<const SetMarbleCommand *>(other);
-    if (next->m_marble != m_marble || next->m_mergeId != m_mergeId || next->m_frame != m_frame)
+    if (next->m_marble != m_marble || next->m_mergeId != m_mergeId || next->m_frame != m_frame
+        || next->m_undoFrame != m_undoFrame)
         return false;
     m_after = next->m_after;
     m_pushesAfter = next->m_pushesAfter;

@@ -37,9 +37,12 @@ struct MarbleState {
 /// edits of the same field of the same marble merge into one undo step.
 class SetMarbleCommand : public QUndoCommand {
 public:
-    /// `mergeId` is a CommandId, or nothing for a command that never merges (a drag).
+    /// `mergeId` is a CommandId, or nothing for a command that never merges (a drag). `frame` is
+    /// the frame `before` is the state at, when not the current one (a drag during a run: where
+    /// the marble was taken hold of).
     SetMarbleCommand(SceneDocument *document, int marble, const MarbleState &before, const MarbleState &after,
-                     const QString &text, std::optional<CommandId> mergeId = std::nullopt);
+                     const QString &text, std::optional<CommandId> mergeId = std::nullopt,
+                     std::optional<std::int64_t> frame = std::nullopt);
     void redo() override;
     void undo() override;
     int id() const override;
@@ -51,10 +54,11 @@ private:
     MarbleState m_before;
     MarbleState m_after;
     std::optional<CommandId> m_mergeId;
-    std::int64_t m_frame = 0; // the frame the edit was made at
+    std::int64_t m_frame = 0;     // the frame the edit was made at (redo's)
+    std::int64_t m_undoFrame = 0; // the frame `m_before` is the state at (undo's)
     /// Writes `state` (whose counterpart is `other`) at the edit's frame, running the scene on to
     /// it when `mayRunOn`; see the .cpp.
-    void applyAtItsFrame(const MarbleState &state, const MarbleState &other, bool mayRunOn);
+    void applyAtItsFrame(std::int64_t frame, const MarbleState &state, const MarbleState &other, bool mayRunOn);
     // The scene's scripted pushes before and after the move (filled on the first redo), so
     // that undo puts the click points back bit for bit.
     bool m_pushesKept = false;

@@ -261,8 +261,12 @@ QString SceneDocument::endHold(Vec2 p)
     after.position = *spot;
     after.velocity = {};
     after.acceleration = {};
+    // The drag belongs to the frame it began at: undone, the frames the marble was held for go
+    // (they were kept, the marble held in them, while the undo set it going from where it was
+    // taken hold of at the frame of the drop).
     m_undoStack.push(new SetMarbleCommand(this, i, before, after,
-                                          tr("Move marble %1 to (%2, %3)").arg(i).arg(spot->x, 0, 'f', 0).arg(spot->y, 0, 'f', 0)));
+                                          tr("Move marble %1 to (%2, %3)").arg(i).arg(spot->x, 0, 'f', 0).arg(spot->y, 0, 'f', 0),
+                                          std::nullopt, m_holdStartFrame));
     QString note;
     if (spot->x != p.x || spot->y != p.y)
         note = tr("The marble was moved to the nearest free spot.");

@@ -639,6 +639,9 @@ void TestSceneDocument::heldMarbleStaysStill()
     QCOMPARE(doc.world().position[0], start);
     QCOMPARE(doc.world().velocity[0], preset("pins").velocity[0]);
     QCOMPARE(doc.undoStack()->undoText(), QString());
+    // Back at the frame the hold began: the frames it was held for went with the drag (they
+    // stayed, showing it held, while it moved on from where it was taken at frame 30).
+    QCOMPARE(doc.world().frame, std::int64_t(0));
 
     // Moved while paused, the marble is let go at rest, and the drop says what became of its
     // velocity; the Undo History names the marble and the place.
