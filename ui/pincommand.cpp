@@ -22,7 +22,10 @@ AddPinCommand::AddPinCommand(SceneDocument *document, Vec2 at)
     : m_document(document)
     , m_at(at)
 {
-    setText(QCoreApplication::translate("marbles", "Add pin at (%1, %2)").arg(at.x, 0, 'f', 0).arg(at.y, 0, 'f', 0));
+    setText(QCoreApplication::translate("marbles", "Add pin %1 at (%2, %3)")
+                .arg(document->world().pins.size())
+                .arg(at.x, 0, 'f', 0)
+                .arg(at.y, 0, 'f', 0));
 }
 
 void AddPinCommand::redo()

@@ -275,7 +275,8 @@ QString SceneDocument::endHold(Vec2 p)
     // a marble caught during a run is seen to stop).
     if (m_world.frame == m_holdStartFrame && (before.velocity.x != 0.0 || before.velocity.y != 0.0)) {
         note += (note.isEmpty() ? QString() : QStringLiteral(" "))
-            + tr("It was let go at rest: its velocity (%1, %2) px/frame is 0 now (Ctrl+Z gives it back).")
+            + tr("Marble %1 was let go at rest: its velocity (%2, %3) px/frame is 0 now (Ctrl+Z gives it back).")
+                  .arg(i)
                   .arg(before.velocity.x, 0, 'g', 4)
                   .arg(before.velocity.y, 0, 'g', 4);
     }

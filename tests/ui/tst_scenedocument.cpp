@@ -648,7 +648,7 @@ void TestSceneDocument::heldMarbleStaysStill()
     doc.rewind();
     doc.beginHold(0);
     const QString note = doc.endHold(target);
-    QVERIFY2(note.contains(QStringLiteral("let go at rest: its velocity (7.5, 4) px/frame is 0 now")), qPrintable(note));
+    QVERIFY2(note.contains(QStringLiteral("Marble 0 was let go at rest: its velocity (7.5, 4) px/frame is 0 now")), qPrintable(note));
     QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Move marble 0 to (%1, %2)").arg(target.x, 0, 'f', 0).arg(target.y, 0, 'f', 0));
 }
 
@@ -806,7 +806,7 @@ void TestSceneDocument::structureEditsAreNamed()
     QVERIFY(doc.addMarble({700.0, 80.0}, 10.0).isEmpty());
     QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Add marble 4 at (700, 80)"));
     QVERIFY(doc.addPin({40.0, 560.0}).isEmpty());
-    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Add pin at (40, 560)"));
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Add pin 0 at (40, 560)"));
     // Where it was asked for is taken: placed beside, and said.
     QCOMPARE(doc.addMarble(doc.world().position[0], 10.0), QStringLiteral("The marble was placed at the nearest free spot."));
     doc.undoStack()->undo();
