@@ -753,19 +753,25 @@ QString PlotDock::describePoint(const QLineSeries *series, QPointF point) const
     const QString when = tr("frame %1 (%2 s)").arg(f).arg(QString::number(secondsAt(f), 'g', 6));
     // In the units drawn (refreshChart()).
     const double perS = perSecond();
+    // The totals with their units (switched to seconds, the energy went from 1500 to 4e+06 with
+    // nothing to say why; the axis titles have no room for them). Mass is the scene's own unit.
+    const QString energyUnit = m_timeInSeconds ? tr("mass·px²/s²") : tr("mass·px²/frame²");
+    const QString momentumUnit = m_timeInSeconds ? tr("mass·px/s") : tr("mass·px/frame");
     const struct {
         const QLineSeries *line;
         const RingBuffer<double> *values;
         double scale;
+        const QString &unit;
     } totals[] = {
-        {m_kineticSeries, &m_kinetic, perS * perS},
-        {m_momentumSeries, &m_momentum, perS},
-        {m_compareKineticSeries, &m_compareKinetic, perS * perS},
-        {m_compareMomentumSeries, &m_compareMomentum, perS},
+        {m_kineticSeries, &m_kinetic, perS * perS, energyUnit},
+        {m_momentumSeries, &m_momentum, perS, momentumUnit},
+        {m_compareKineticSeries, &m_compareKinetic, perS * perS, energyUnit},
+        {m_compareMomentumSeries, &m_compareMomentum, perS, momentumUnit},
     };
     for (const auto &total : totals) {
         if (total.line && total.line == series)
-            return tr("%1: %2 %3").arg(when, total.line->name(), QString::number(total.values->at(lo) * total.scale, 'g', 6));
+            return tr("%1: %2 %3 %4")
+                .arg(when, total.line->name(), QString::number(total.values->at(lo) * total.scale, 'g', 6), total.unit);
     }
     const QString unit = m_timeInSeconds ? tr("px/s") : tr("px/frame");
     for (const Track &t : m_tracks) {

@@ -908,7 +908,7 @@ void TestCompareRun::plotExportsAndDescribesCompareLines()
              qPrintable(hover));
     const QString energyHover = plot.describePoint(plot.compareKineticSeries(), QPointF(2.0, 0.0));
     QVERIFY2(energyHover.contains(QStringLiteral("frame 2")) && energyHover.contains(QStringLiteral("kinetic energy, impulse"))
-                 && energyHover.contains(QString::number(other.kineticEnergy(), 'g', 6)),
+                 && energyHover.contains(QString::number(other.kineticEnergy(), 'g', 6) + QStringLiteral(" mass·px²/frame²")),
              qPrintable(energyHover));
 }
 
