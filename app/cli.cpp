@@ -361,7 +361,7 @@ int runCommand(const std::vector<std::string> &args)
         file->commit();
     std::fflush(stdout);
     if (status != ExitOk)
-        std::cerr << "marbles-cli: " << sceneLabel(o.positional.front()) << ": " << failure << '\n';
+        std::cerr << "marbles-cli: " << sceneLabel(scene) << ": " << failure << '\n';
     return status;
 }
 

@@ -88,7 +88,6 @@ private:
     WholeFileWriter m_writer;
 };
 
-
 /// `x` printed with the printf `spec`, or `missing` when x is NaN (a figure that does not apply).
 std::string formatNumber(double x, const char *spec = "%.3g", const char *missing = "n/a");
 

@@ -564,15 +564,14 @@ public:
         // "friction" keys (a hand edit) loaded one of them without a word. Checked among an
         // object's first 256 keys (a scene's objects hold a dozen; more are extra keys).
         Level &level = m_path.back();
+        level.key = k;
         if (m_keys.size() - level.firstKey < 256) {
             if (std::find(m_keys.begin() + static_cast<std::ptrdiff_t>(level.firstKey), m_keys.end(), k) != m_keys.end()) {
-                level.key = k;
                 m_duplicateKey = currentPath();
                 return false;
             }
             m_keys.push_back(k);
         }
-        level.key = k;
         return m_dom.key(k);
     }
     bool end_object()
@@ -778,6 +777,7 @@ std::string parseInto(std::string_view text, World &world)
         return "line 1, column 1: the text is empty; a scene file holds a JSON object";
     if (std::string nesting = checkNesting(text); !nesting.empty())
         return nesting;
+
     Json doc;
     TrackingBuilder builder(doc);
     const bool parsed = Json::sax_parse(text.data(), text.data() + text.size(), &builder,
@@ -1147,22 +1147,6 @@ std::string parseDouble(std::string_view text, double &out)
     return result.ec == std::errc() ? std::string() : std::string("must be a number");
 }
 
-bool parseInteger(std::string_view text, std::int64_t &out)
-{
-    if (text.size() > 1 && text.front() == '+' && text[1] != '-')
-        text.remove_prefix(1);
-    if (text.empty())
-        return false;
-    const auto result = std::from_chars(text.data(), text.data() + text.size(), out);
-    if (result.ec == std::errc::result_out_of_range && result.ptr == text.data() + text.size()) {
-        // An integer all the same, beyond int64: its sign keeps it past the rule's bound ("must be
-        // an integer" was wrong for 99999999999999999999).
-        out = text.front() == '-' ? std::numeric_limits<std::int64_t>::min() : std::numeric_limits<std::int64_t>::max();
-        return true;
-    }
-    return result.ec == std::errc() && result.ptr == text.data() + text.size();
-}
-
 bool parseBool(std::string_view text, bool &out)
 {
     if (text == "true" || text == "1") {
@@ -1242,16 +1226,14 @@ std::string setParam(World &world, std::string_view key, std::string_view value)
         return {};
     }
     if (key == "substeps") {
-        std::int64_t n = 0;
+        // A whole number as the loader takes one in a file ("8", "4.0", "1e3"); one beyond int64
+        // (99999999999999999999) is past the rule's bound all the same, not "no integer".
         double whole = 0.0;
-        // "1.0" and "1e3" are whole numbers too, as the loader takes them in a file.
-        if (!parseInteger(value, n)) {
-            if (!parseDouble(value, whole).empty() || whole != std::trunc(whole))
-                return head + "must be an integer";
-            n = whole >= 9.2e18 ? std::numeric_limits<std::int64_t>::max()
-                : whole <= -9.2e18 ? std::numeric_limits<std::int64_t>::min()
-                                   : static_cast<std::int64_t>(whole);
-        }
+        if (!parseDouble(value, whole).empty() || whole != std::trunc(whole))
+            return head + "must be an integer";
+        const std::int64_t n = whole >= 9.2e18 ? std::numeric_limits<std::int64_t>::max()
+            : whole <= -9.2e18                 ? std::numeric_limits<std::int64_t>::min()
+                                               : static_cast<std::int64_t>(whole);
         if (std::string broken = ruleSubsteps(n); !broken.empty())
             return head + broken;
         p.substeps = static_cast<int>(n);

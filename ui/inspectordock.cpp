@@ -96,7 +96,7 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
 
     m_error = new QLabel(body);
     m_error->setWordWrap(true);
-    m_error->setStyleSheet(QStringLiteral("color: #b00020;"));
+    m_error->setStyleSheet(QStringLiteral("color: %1;").arg(QLatin1String(kRefusalColour)));
     // Room for three lines kept at all times, as the longest refusals take ("... can be read two
     // ways ..."): a message that appeared took its room from the fields, which moved up under the
     // pointer aimed at one of them.

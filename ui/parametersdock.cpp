@@ -88,7 +88,7 @@ void showRefusal(QLabel *help, const QString &text)
 {
     help->setText(text);
     help->setForegroundRole(QPalette::WindowText);
-    help->setStyleSheet(QStringLiteral("QLabel { color: #b00020; }"));
+    help->setStyleSheet(QStringLiteral("QLabel { color: %1; }").arg(QLatin1String(kRefusalColour)));
 }
 
 constexpr int kModelRole = Qt::UserRole; ///< model box item data: the setParam() value

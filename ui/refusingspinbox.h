@@ -347,6 +347,9 @@ public:
     QString shown(double value) const override { return textFromValue(static_cast<int>(value)) + suffix(); }
 };
 
+/// The red of a refusal's message, in the Parameters dock and the Inspector alike.
+inline constexpr const char *kRefusalColour = "#b00020";
+
 /// A refused number as the messages write it: without group separators ("5000"), or as typed
 /// where it is beyond the doubles ("1e400").
 QString refusedNumber(const Refusing &box, double refused, const QLocale &locale);

@@ -171,9 +171,7 @@ bool SceneDocument::stepBack()
 {
     if (!m_history.stepBack(m_world))
         return false;
-    applyHold();
-    Q_EMIT timelineRewound(m_world.frame);
-    Q_EMIT stepped();
+    announceRewound();
     return true;
 }
 
@@ -181,10 +179,15 @@ bool SceneDocument::rewind()
 {
     if (!m_history.rewind(m_world))
         return false;
+    announceRewound();
+    return true;
+}
+
+void SceneDocument::announceRewound()
+{
     applyHold();
     Q_EMIT timelineRewound(m_world.frame);
     Q_EMIT stepped();
-    return true;
 }
 
 bool SceneDocument::goToFrame(std::int64_t frame)
@@ -204,9 +207,7 @@ bool SceneDocument::goToFrame(std::int64_t frame)
     }
     if (m_world.frame > frame && frame == m_history.startFrame())
         m_history.rewind(m_world);
-    applyHold();
-    Q_EMIT timelineRewound(m_world.frame);
-    Q_EMIT stepped();
+    announceRewound();
     return m_world.frame == frame;
 }
 

@@ -169,6 +169,9 @@ Q_SIGNALS:
 
 private:
     void applyHold();
+    /// After the world went back to an earlier frame (Step Back, Home, an undo's return): the
+    /// held marble stays held, and the views hear of it.
+    void announceRewound();
     void setFileName(const QString &fileName);
     void emitModification();
 
