@@ -1345,7 +1345,7 @@ void MainWindow::onToolChosen(QAction *action)
 
 void MainWindow::addMarbleHere()
 {
-    showStatus(m_document->addMarble(m_view->contextPoint(), StageView::kNewMarbleRadius));
+    showStatus(m_view->addMarbleAt(m_view->contextPoint()));
 }
 
 void MainWindow::addPinHere()

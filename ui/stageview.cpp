@@ -461,6 +461,15 @@ void StageView::noteLater(const QString &text)
         this, [this, text] { Q_EMIT message(text); }, Qt::QueuedConnection);
 }
 
+QString StageView::addMarbleAt(Vec2 p)
+{
+    const int before = m_document->world().marbleCount();
+    const QString text = m_document->addMarble(p, kNewMarbleRadius);
+    if (m_document->world().marbleCount() > before)
+        selectMarble(before);
+    return text;
+}
+
 void StageView::report(const QString &text)
 {
     if (!text.isEmpty())
@@ -539,14 +548,9 @@ void StageView::mousePressEvent(QMouseEvent *event)
     m_pressPos = event->position();
     m_gesture = Gesture::None;
     switch (m_tool) {
-    case Tool::AddMarble: {
-        // The new marble is selected; where there was no room for one, the selection stays.
-        const int before = m_document->world().marbleCount();
-        report(m_document->addMarble(p, kNewMarbleRadius));
-        if (m_document->world().marbleCount() > before)
-            selectMarble(before);
+    case Tool::AddMarble:
+        report(addMarbleAt(p));
         return;
-    }
     case Tool::AddPin:
         report(m_document->addPin(p));
         return;

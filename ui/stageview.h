@@ -76,6 +76,10 @@ public:
     void selectPin(int j);
     /// Selects nothing.
     void clearSelection();
+    /// Adds a new marble at stage point `p` (or the nearest free spot) and selects it, as the
+    /// Marble tool's click does; where there is no room for one the selection stays. Returns the
+    /// document's message.
+    QString addMarbleAt(Vec2 p);
     /// Selects the marble `step` after the selected one in scene order (1 next, -1 previous,
     /// round the end; the first or last when none is selected): the keyboard's way to choose.
     void selectNextMarble(int step);

@@ -438,11 +438,18 @@ void TestMainWindow::deleteAndAddToolsAreUndoable()
     QTest::mouseClick(viewport(), Qt::LeftButton, {}, viewportPoint({100, 100}));
     QCOMPARE(doc->world().marbleCount(), 4);
     QCOMPARE(doc->world().position[3], (Vec2{view->stagePoint(viewportPoint({100, 100}))}));
+    QCOMPARE(view->selectedMarble(), 3); // the new marble is the one to edit next
     m_window->findChild<QAction *>(QStringLiteral("actionAddPinTool"))->trigger();
     QTest::mouseClick(viewport(), Qt::LeftButton, {}, viewportPoint({400, 500}));
     QCOMPARE(doc->world().pins.size(), std::size_t{1});
-    QCOMPARE(doc->undoStack()->count(), 3);
-    for (int k = 0; k < 3; ++k)
+    // The context menu's Add Marble Here selects its marble as the tool does (it kept the
+    // old selection, so the Inspector showed another marble than the one just added).
+    view->selectMarble(0);
+    m_window->findChild<QAction *>(QStringLiteral("actionAddMarbleHere"))->trigger();
+    QCOMPARE(doc->world().marbleCount(), 5);
+    QCOMPARE(view->selectedMarble(), 4);
+    QCOMPARE(doc->undoStack()->count(), 4);
+    for (int k = 0; k < 4; ++k)
         QTest::keyClick(view, Qt::Key_Z, Qt::ControlModifier);
     QCOMPARE(sceneToJson(doc->world()), before);
 }
