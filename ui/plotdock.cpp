@@ -792,17 +792,21 @@ QString PlotDock::hoverText() const
 
 QString PlotDock::exportCsv(const QString &path) const
 {
+    // Each column names its unit as time_s does, so that a spreadsheet's reader need not guess
+    // (the speeds are per frame whatever the time axis shows).
+    const QByteArray speedUnit = "_px_per_frame";
+    const QByteArray totalsUnits[] = {"_mass_px2_per_frame2", "_mass_px_per_frame"};
     QByteArray text = "frame,time_s";
     for (const Track &t : m_tracks)
-        text += ",speed_" + QByteArray::number(t.marble);
-    text += ",kinetic,momentum";
+        text += ",speed_" + QByteArray::number(t.marble) + speedUnit;
+    text += ",kinetic" + totalsUnits[0] + ",momentum" + totalsUnits[1];
     const QByteArray compareSuffix = '_' + m_compareModel.toUtf8();
     for (const Track &t : m_tracks) {
         if (t.compareSeries)
-            text += ",speed_" + QByteArray::number(t.marble) + compareSuffix;
+            text += ",speed_" + QByteArray::number(t.marble) + compareSuffix + speedUnit;
     }
     if (m_compareKineticSeries)
-        text += ",kinetic" + compareSuffix + ",momentum" + compareSuffix;
+        text += ",kinetic" + compareSuffix + totalsUnits[0] + ",momentum" + compareSuffix + totalsUnits[1];
     text += '\n';
     for (std::size_t i = 0; i < m_frames.size(); ++i) {
         const std::int64_t f = m_frames.at(i);

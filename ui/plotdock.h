@@ -165,10 +165,10 @@ public:
     bool legendIsCompact() const { return m_compactLegend; }
 
     /// Writes every held sample as CSV, speeds in px/frame whatever the time axis shows:
-    /// frame,time_s,speed_<i>...,kinetic,momentum (17 significant
-    /// digits; an empty field where a marble was not plotted), then speed_<i>_<model>...,
-    /// kinetic_<model>,momentum_<model> while a comparison model is plotted. Returns "" or a
-    /// message naming the file.
+    /// frame,time_s,speed_<i>_px_per_frame...,kinetic_mass_px2_per_frame2,momentum_mass_px_per_frame
+    /// (shortest round-trip digits; an empty field where a marble was not plotted), then
+    /// speed_<i>_<model>_px_per_frame..., kinetic_<model>_..., momentum_<model>_... while a
+    /// comparison model is plotted. Returns "" or a message naming the file.
     QString exportCsv(const QString &path) const;
     /// Saves the chart as a PNG, at least kMinPngSize, with exportCaption() above it. Returns "" or
     /// a message naming the file.

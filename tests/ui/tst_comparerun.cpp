@@ -883,8 +883,10 @@ void TestCompareRun::plotExportsAndDescribesCompareLines()
     QVERIFY(file.open(QIODevice::ReadOnly | QIODevice::Text));
     const QStringList lines = QString::fromUtf8(file.readAll()).split(QLatin1Char('\n'));
     QCOMPARE(lines.size(), 5);
-    QCOMPARE(lines[0], QStringLiteral("frame,time_s,speed_0,speed_1,kinetic,momentum,speed_0_impulse,speed_1_impulse,"
-                                      "kinetic_impulse,momentum_impulse"));
+    QCOMPARE(lines[0], QStringLiteral("frame,time_s,speed_0_px_per_frame,speed_1_px_per_frame,"
+                                      "kinetic_mass_px2_per_frame2,momentum_mass_px_per_frame,"
+                                      "speed_0_impulse_px_per_frame,speed_1_impulse_px_per_frame,"
+                                      "kinetic_impulse_mass_px2_per_frame2,momentum_impulse_mass_px_per_frame"));
     QVERIFY2(lines[1].startsWith(QStringLiteral("1,0.02,5,2,")) && lines[1].endsWith(QStringLiteral(",,,,")),
              qPrintable(lines[1]));
     const QStringList second = lines[2].split(QLatin1Char(','));
