@@ -842,6 +842,9 @@ QString PlotDock::exportCaption() const
     const QString models = solidModels();
     parts << (m_compareModel.isEmpty() ? tr("model: %1").arg(models)
                                        : tr("model: %1 (solid), %2 (dashed)").arg(models, m_compareModel));
+    // A picture of twelve lines from a crowd says that the others are not on it.
+    if (!m_capNote->text().isEmpty())
+        parts << m_capNote->text();
     if (!m_frames.isEmpty()) {
         const std::int64_t first = m_frames.at(0);
         const std::int64_t last = m_frames.last();

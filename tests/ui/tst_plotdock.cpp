@@ -1355,6 +1355,14 @@ void TestPlotDock::exportPng()
             ink += qGray(image.pixel(x, y)) < 100 ? 1 : 0;
     }
     QCOMPARE_GT(ink, 30);
+    // From a crowd the picture holds twelve lines, and says so.
+    World crowd = worldWith(20);
+    dock.reset(crowd);
+    runFrames(dock, crowd, 2);
+    QCOMPARE(dock.exportCaption(),
+             QStringLiteral("Pachinko board (preset) \u2014 model: book \u2014 %1 of 20 marbles plotted \u2014 frames 1 to 2, "
+                            "0.02 to 0.04 s")
+                 .arg(PlotDock::kMaxPlottedMarbles));
 }
 
 QTEST_MAIN(TestPlotDock)
