@@ -12,8 +12,10 @@
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QLegendMarker>
+#include <QLineF>
 #include <QLineSeries>
 #include <QMessageBox>
+#include <QMouseEvent>
 #include <QPainter>
 #include <QPixmap>
 #include <QPushButton>
@@ -27,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 
 namespace marbles {
@@ -88,6 +91,15 @@ QColor defaultMarbleColor(int marble)
 }
 
 /// The shortest decimal text that reads back as the same double ("" for NaN: no sample).
+/// Distance from `p` to the segment from `a` to `b`.
+double distanceToSegment(QPointF p, QPointF a, QPointF b)
+{
+    const QPointF ab = b - a;
+    const double lengthSquared = QPointF::dotProduct(ab, ab);
+    const double t = lengthSquared > 0.0 ? std::clamp(QPointF::dotProduct(p - a, ab) / lengthSquared, 0.0, 1.0) : 0.0;
+    return QLineF(p, a + t * ab).length();
+}
+
 QString csvNumber(double value)
 {
     if (std::isnan(value))
@@ -299,6 +311,10 @@ PlotDock::PlotDock(QWidget *parent)
     m_chartView->setRenderHint(QPainter::Antialiasing);
     m_chartView->setMinimumSize(240, kMinimumChartHeight);
     m_chartView->installEventFilter(this);
+    // The readout follows the pointer to the nearest line within kHoverReach px: Qt's own
+    // hovered() signal fired only with the pointer on a line's 2 px pen.
+    m_chartView->setMouseTracking(true);
+    m_chartView->viewport()->installEventFilter(this);
     column->addWidget(m_chartView, 1);
 
     m_hoverLabel = new QLabel(page);
@@ -730,12 +746,10 @@ QLineSeries *PlotDock::speedSeries(int marble) const
     return t ? t->series : nullptr;
 }
 
-QString PlotDock::describePoint(const QLineSeries *series, QPointF point) const
+std::size_t PlotDock::nearestSample(double x) const
 {
-    if (m_frames.isEmpty())
-        return QString();
-    // The sample whose frame is nearest to the hovered x: frames grow along the buffer.
-    const double frame = m_timeInSeconds && m_frameMs > 0.0 ? point.x() * 1000.0 / m_frameMs : point.x();
+    // The sample whose frame is nearest to x (in the time axis' units): frames grow along the buffer.
+    const double frame = m_timeInSeconds && m_frameMs > 0.0 ? x * 1000.0 / m_frameMs : x;
     std::size_t lo = 0;
     std::size_t hi = m_frames.size() - 1;
     while (lo < hi) {
@@ -748,9 +762,11 @@ QString PlotDock::describePoint(const QLineSeries *series, QPointF point) const
     if (lo > 0 && std::abs(static_cast<double>(m_frames.at(lo - 1)) - frame) <=
                       std::abs(static_cast<double>(m_frames.at(lo)) - frame))
         --lo;
+    return lo;
+}
 
-    const std::int64_t f = m_frames.at(lo);
-    const QString when = tr("frame %1 (%2 s)").arg(f).arg(QString::number(secondsAt(f), 'g', 6));
+std::optional<PlotDock::PlottedValue> PlotDock::plottedValue(const QLineSeries *series, std::size_t sample) const
+{
     // In the units drawn (refreshChart()).
     const double perS = perSecond();
     // The totals with their units (switched to seconds, the energy went from 1500 to 4e+06 with
@@ -770,19 +786,82 @@ QString PlotDock::describePoint(const QLineSeries *series, QPointF point) const
     };
     for (const auto &total : totals) {
         if (total.line && total.line == series)
-            return tr("%1: %2 %3 %4")
-                .arg(when, total.line->name(), QString::number(total.values->at(lo) * total.scale, 'g', 6), total.unit);
+            return PlottedValue{total.line->name(), total.values->at(sample) * total.scale, total.unit};
     }
     const QString unit = m_timeInSeconds ? tr("px/s") : tr("px/frame");
     for (const Track &t : m_tracks) {
         if (t.series == series)
-            return tr("%1: %2, speed %3 %4")
-                .arg(when, marbleLabel(t.marble), QString::number(t.speed.at(lo) * perS, 'g', 6), unit);
+            return PlottedValue{tr("%1, speed").arg(marbleLabel(t.marble)), t.speed.at(sample) * perS, unit};
         if (t.compareSeries && t.compareSeries == series)
-            return tr("%1: %2, speed %3 %4")
-                .arg(when, t.compareSeries->name(), QString::number(t.compareSpeed.at(lo) * perS, 'g', 6), unit);
+            return PlottedValue{tr("%1, speed").arg(t.compareSeries->name()), t.compareSpeed.at(sample) * perS, unit};
     }
-    return QString();
+    return std::nullopt;
+}
+
+QString PlotDock::describePoint(const QLineSeries *series, QPointF point) const
+{
+    if (m_frames.isEmpty())
+        return QString();
+    const std::size_t sample = nearestSample(point.x());
+    const std::optional<PlottedValue> plotted = plottedValue(series, sample);
+    if (!plotted)
+        return QString();
+    const std::int64_t f = m_frames.at(sample);
+    return tr("frame %1 (%2 s): %3 %4 %5")
+        .arg(f)
+        .arg(QString::number(secondsAt(f), 'g', 6), plotted->what, QString::number(plotted->value, 'g', 6),
+             plotted->unit);
+}
+
+QLineSeries *PlotDock::seriesNear(QPointF at) const
+{
+    // The visible line passing nearest to `at` (chart coordinates), within kHoverReach px: its
+    // distance is to the segments either side of the sample nearest in time.
+    if (m_frames.isEmpty() || !m_chart->plotArea().contains(at))
+        return nullptr;
+    QLineSeries *nearest = nullptr;
+    double best = kHoverReach;
+    for (QAbstractSeries *abstract : m_chart->series()) {
+        auto *series = qobject_cast<QLineSeries *>(abstract);
+        if (!series || !series->isVisible())
+            continue;
+        const std::size_t sample = nearestSample(m_chart->mapToValue(at, abstract).x());
+        auto pointAt = [&](std::size_t k) -> std::optional<QPointF> {
+            const std::optional<PlottedValue> plotted = plottedValue(series, k);
+            if (!plotted || !std::isfinite(plotted->value)) // a gap: the marble was not plotted then
+                return std::nullopt;
+            return m_chart->mapToPosition(QPointF(xOf(m_frames.at(k)), plotted->value), abstract);
+        };
+        const std::optional<QPointF> here = pointAt(sample);
+        if (!here)
+            continue;
+        double distance = QLineF(*here, at).length();
+        for (const std::size_t k : {sample - 1, sample + 1}) {
+            if (k >= static_cast<std::size_t>(m_frames.size()))
+                continue; // also sample - 1 from 0, which wraps
+            if (const std::optional<QPointF> there = pointAt(k))
+                distance = std::min(distance, distanceToSegment(at, *here, *there));
+        }
+        if (distance <= best) {
+            best = distance;
+            nearest = series;
+        }
+    }
+    return nearest;
+}
+
+void PlotDock::hoverAt(QPoint viewportPos)
+{
+    const QPointF at = m_chart->mapFromScene(m_chartView->mapToScene(viewportPos));
+    QLineSeries *series = seriesNear(at);
+    const QString text = series ? describePoint(series, m_chart->mapToValue(at, series)) : QString();
+    if (text == m_hoverLabel->text())
+        return;
+    m_hoverLabel->setText(text);
+    if (text.isEmpty())
+        QToolTip::hideText();
+    else
+        QToolTip::showText(m_chartView->viewport()->mapToGlobal(viewportPos), text, m_chartView);
 }
 
 QString PlotDock::hoverText() const
@@ -982,8 +1061,6 @@ QLineSeries *PlotDock::addSpeedSeries()
     m_chart->addSeries(series);
     series->attachAxis(m_axisX);
     series->attachAxis(m_axisSpeed);
-    connect(series, &QLineSeries::hovered, this,
-            [this, series](const QPointF &point, bool state) { onHovered(series, point, state); });
     return series;
 }
 
@@ -1050,8 +1127,6 @@ QLineSeries *PlotDock::addTotalSeries(QColor colour, QValueAxis *axis)
     series->attachAxis(m_axisX);
     series->attachAxis(axis);
     showTotal(series, false);
-    connect(series, &QLineSeries::hovered, this,
-            [this, series](const QPointF &point, bool state) { onHovered(series, point, state); });
     return series;
 }
 
@@ -1160,6 +1235,12 @@ qsizetype PlotDock::pointsPerLine() const
 
 bool PlotDock::eventFilter(QObject *watched, QEvent *event)
 {
+    if (watched == m_chartView->viewport()) {
+        if (event->type() == QEvent::MouseMove)
+            hoverAt(static_cast<QMouseEvent *>(event)->position().toPoint());
+        else if (event->type() == QEvent::Leave)
+            hoverAt(QPoint(-1, -1));
+    }
     if (watched == m_chartView && (event->type() == QEvent::Resize || event->type() == QEvent::Show)) {
         updateLegendLabels();
         m_dirty = true; // the lines are thinned to the plot's width
@@ -1213,19 +1294,6 @@ const PlotDock::Track *PlotDock::trackOf(int marble) const
             return &t;
     }
     return nullptr;
-}
-
-void PlotDock::onHovered(const QLineSeries *series, QPointF point, bool state)
-{
-    if (!state) {
-        m_hoverLabel->clear();
-        QToolTip::hideText();
-        return;
-    }
-    const QString text = describePoint(series, point);
-    m_hoverLabel->setText(text);
-    if (!text.isEmpty())
-        QToolTip::showText(QCursor::pos(), text, m_chartView);
 }
 
 void PlotDock::updateTotalsAxis()

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 class QCheckBox;
@@ -159,6 +160,12 @@ public:
     QLineSeries *speedSeries(int marble) const;
     /// Text describing the sample nearest to `point` on `series`: frame, time, what and the exact value.
     QString describePoint(const QLineSeries *series, QPointF point) const;
+    /// Shows in the readout (and a tooltip) the value of the visible line nearest to the chart
+    /// view's viewport pixel `viewportPos`, within kHoverReach px; clears it where none is.
+    /// The view's mouse moves call it.
+    void hoverAt(QPoint viewportPos);
+    /// How far from a line, in px, the pointer still reads its value.
+    static constexpr double kHoverReach = 8.0;
     /// The text the hover label shows now ("" when nothing is hovered).
     QString hoverText() const;
     /// True while the legend gives the marbles short labels ("#3"), the full ones not fitting.
@@ -234,7 +241,17 @@ private:
     QString marbleLabel(int marble) const;
     double xOf(std::int64_t frame) const;
     const Track *trackOf(int marble) const;
-    void onHovered(const QLineSeries *series, QPointF point, bool state);
+    /// A line's value at one sample, in the units drawn, with what it is ("marble 2, speed").
+    struct PlottedValue {
+        QString what;
+        double value;
+        QString unit;
+    };
+    std::optional<PlottedValue> plottedValue(const QLineSeries *series, std::size_t sample) const;
+    /// The sample whose frame is nearest to `x`, in the time axis' units (m_frames not empty).
+    std::size_t nearestSample(double x) const;
+    /// The visible line nearest to chart point `at` within kHoverReach px, or null.
+    QLineSeries *seriesNear(QPointF at) const;
     void updateAxisTitles();
     /// Frames per second while the time axis is in seconds (speeds are drawn in px/s), else 1.
     double perSecond() const;

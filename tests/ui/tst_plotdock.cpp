@@ -1216,9 +1216,28 @@ void TestPlotDock::hoverShowsExactValues()
     QVERIFY(speedAxis);
     QCOMPARE(speedAxis->titleText(), seconds ? QStringLiteral("speed (px/s)") : QStringLiteral("speed (px/frame)"));
     QVERIFY(dock.sampleSpeed(6, 1) == 1.2345678); // held in px/frame either way (and so exported), same bits
-    emit line->hovered(QPointF(hoverX, 1.2), true);
+    QCOMPARE(dock.describePoint(line, QPointF(hoverX, 1.2)), expected);
+
+    // The readout follows the pointer to the nearest line: a few pixels off it still reads it
+    // (Qt's hovered() signal needed the pointer on the 2 px pen), far from every line nothing.
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    dock.refreshChart();
+    QChartView *view = dock.chartView();
+    auto pixelOf = [&](double x, double y) {
+        const QPointF inChart = view->chart()->mapToPosition(QPointF(x, y), line);
+        return view->mapFromScene(view->chart()->mapToScene(inChart));
+    };
+    const QPoint onLine = pixelOf(line->at(6).x(), line->at(6).y()); // the peak at frame 7
+    QTest::mouseMove(view->viewport(), onLine);
     QCOMPARE(dock.hoverText(), expected);
-    emit line->hovered(QPointF(hoverX, 1.2), false);
+    QTest::mouseMove(view->viewport(), onLine - QPoint(0, 5));
+    QCOMPARE(dock.hoverText(), expected);
+    dock.hoverAt(onLine - QPoint(0, 40)); // marble 0's line is at 0, further down
+    QCOMPARE(dock.hoverText(), QString());
+    QTest::mouseMove(view->viewport(), onLine + QPoint(0, 4));
+    QCOMPARE(dock.hoverText(), expected);
+    QTest::mouseMove(view->viewport(), QPoint(1, 1)); // outside the plot area
     QCOMPARE(dock.hoverText(), QString());
 }
 
