@@ -116,6 +116,17 @@ MainWindow::MainWindow(QWidget *parent)
     addShortcutsToToolTips();
     createDocks();
     createStatusBar();
+    // A click on a check box, a radio button, a button or a list box in a dock leaves the
+    // keyboard where it was, as the Compare box does: ticking Kinetic energy and pressing Space
+    // to play ticked the box again instead (a teacher tester's finding). Tabbed to, each still
+    // takes the keys.
+    for (QDockWidget *dock : findChildren<QDockWidget *>()) {
+        for (QWidget *widget : dock->findChildren<QWidget *>()) {
+            const bool clicked = qobject_cast<QAbstractButton *>(widget) || qobject_cast<QComboBox *>(widget);
+            if (clicked && (widget->focusPolicy() & Qt::ClickFocus))
+                widget->setFocusPolicy(Qt::TabFocus);
+        }
+    }
 
     connect(m_document, &SceneDocument::stepped, this, &MainWindow::updateFrameDisplay);
     connect(m_document, &SceneDocument::stepped, this, &MainWindow::updateEditActions);
@@ -584,7 +595,7 @@ void MainWindow::showKeysAndMouse()
     row(tr("Right-click"), tr("add or delete here"));
     row(tr("Wheel"), tr("zoom"));
     rows += QStringLiteral("<tr><td colspan=2>&nbsp;</td></tr>");
-    row(tr("Tab, Shift+Tab"), tr("from control to control; Space presses a button or ticks a box there"));
+    row(tr("Tab, Shift+Tab"), tr("from control to control; Space presses a button or ticks a box tabbed to (one clicked leaves the keys on the stage)"));
     row(tr("Alt + a field's underlined letter"), tr("to that field (Enter takes a number typed; Space takes it and plays)"));
     auto *label = m_keysDialog->findChild<QLabel *>(QStringLiteral("keysText"));
     label->setText(QStringLiteral("<table>%1</table>").arg(rows));

@@ -792,6 +792,17 @@ void TestMainWindow::spaceWorksAFocusedButtonOrCheckBox()
     QVERIFY(run->isRunning());
     QTest::keyClick(m_window->stageView(), Qt::Key_Space);
     QVERIFY(!run->isRunning());
+    // Clicked, a box is ticked and the keyboard stays on the stage: Space plays.
+    m_window->stageView()->setFocus();
+    const bool momentum = m_window->plotDock()->isMomentumShown();
+    auto *momentumCheck = m_window->findChild<QCheckBox *>(QStringLiteral("momentumCheck"));
+    QTest::mouseClick(momentumCheck, Qt::LeftButton, {}, QPoint(momentumCheck->height() / 2, momentumCheck->height() / 2));
+    QCOMPARE(m_window->plotDock()->isMomentumShown(), !momentum);
+    QVERIFY(!momentumCheck->hasFocus());
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_Space);
+    QVERIFY(run->isRunning());
+    QCOMPARE(m_window->plotDock()->isMomentumShown(), !momentum);
+    run->pause();
 }
 
 void TestMainWindow::plotExportsAreInTheFileMenu()
