@@ -97,6 +97,8 @@ Options parseOptions(const std::vector<std::string> &args, std::initializer_list
             wordsOnly = true;
             continue;
         }
+        if (a == "--help" || a == "-h")
+            throw HelpRequested{};
         // "-x" was taken for a second SCENE ("expected exactly one SCENE, got 2").
         if (!a.starts_with("--"))
             throw InvalidInput{a + ": unknown option" + takes()};
@@ -122,6 +124,12 @@ Options parseOptions(const std::vector<std::string> &args, std::initializer_list
             if (k + 1 >= args.size() || args[k + 1].starts_with("--"))
                 throw InvalidInput{name + ": missing value"};
             value = args[++k];
+        }
+        // Only --set adds up; another option given twice was taken at its last value without a
+        // word ("--out a.csv --out b.csv" wrote b.csv alone).
+        if (name != "--set") {
+            if (const std::string *earlier = o.last(name))
+                throw InvalidInput{name + ": given twice ('" + *earlier + "', then '" + value + "')"};
         }
         o.named.emplace_back(name, value);
     }
@@ -188,8 +196,10 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
         if (!error.empty())
             throw InvalidInput{"--set " + error}; // the error names the setting ("KEY=VALUE: rule")
     }
+    // The rule may be broken between the two (the file's friction 2.5 with --set model=exact):
+    // both are named.
     if (const std::string error = validateParams(world.params); !error.empty())
-        throw InvalidInput{(settings.empty() ? sceneLabel(scene) : "--set") + ": " + error};
+        throw InvalidInput{sceneLabel(scene) + (settings.empty() ? "" : " with --set") + ": " + error};
     return world;
 }
 
@@ -331,8 +341,9 @@ int runCommand(const std::vector<std::string> &args)
         if (force || csv.size() > (1 << 20)) {
             if (file) {
                 file->write(csv);
-            } else {
-                std::fwrite(csv.data(), 1, csv.size(), stdout);
+            } else if (std::fwrite(csv.data(), 1, csv.size(), stdout) != csv.size()) {
+                // A full disk or a reader gone (a pipe into head): the run stops here.
+                throw WriteFailed{std::string("writing to standard output failed: ") + std::strerror(errno)};
             }
             csv.clear();
         }
@@ -486,13 +497,9 @@ int main(int argc, char **argv)
     // Past a file size limit a write fails (exit code 1, the old file kept), instead of SIGXFSZ
     // killing the program with its temporary file left behind.
     std::signal(SIGXFSZ, SIG_IGN);
-    const std::vector<std::string> all(argv + 1, argv + argc);
-    if (all.empty() || all.front() == "--help" || all.front() == "-h" || all.front() == "help") {
-        (all.empty() ? std::cerr : std::cout) << usageText;
-        return all.empty() ? ExitInvalid : ExitOk;
-    }
-    const std::string command = all.front();
-    const std::vector<std::string> args(all.begin() + 1, all.end());
+    // A reader that goes away (run ... | head) is output that cannot be written, exit 1 as a full
+    // disk is, not a death by SIGPIPE (exit 141 in a shell, with nothing said).
+    std::signal(SIGPIPE, SIG_IGN);
     // Standard output that could not be written (a full disk behind a redirection) is a failure,
     // not a success with the rows cut short.
     const auto written = [](int code) {
@@ -503,6 +510,17 @@ int main(int argc, char **argv)
         }
         return code;
     };
+    const std::vector<std::string> all(argv + 1, argv + argc);
+    if (all.empty() || all.front() == "--help" || all.front() == "-h" || all.front() == "help") {
+        if (all.empty()) {
+            std::cerr << usageText;
+            return ExitInvalid;
+        }
+        std::cout << usageText;
+        return written(ExitOk);
+    }
+    const std::string command = all.front();
+    const std::vector<std::string> args(all.begin() + 1, all.end());
     try {
         if (command == "run")
             return written(runCommand(args));
@@ -518,6 +536,27 @@ int main(int argc, char **argv)
             return written(stressCommand(args));
         throw InvalidInput{"unknown command '" + command
                            + "' (the commands are run, check, preset, gen, bench and stress; 'marbles-cli --help' shows how to use them)"};
+    } catch (const HelpRequested &) {
+        // "marbles-cli run --help": the usage of that command (it was refused as an unknown option).
+        // Its lines of the usage, and the notes on the words they use (SCENE, --out).
+        std::string usage;
+        std::string notes;
+        const std::string_view text = usageText;
+        const std::string prefix = "  marbles-cli " + command + ' ';
+        for (std::size_t start = 0; start < text.size();) {
+            const std::size_t end = text.find('\n', start);
+            const std::string_view line = text.substr(start, end - start + 1);
+            if (line.starts_with(prefix)) {
+                usage += line;
+            } else if (!line.starts_with(' ') && !line.starts_with("usage:")) {
+                const std::string_view word = line.substr(0, line.find(' '));
+                if (usage.find(word) != std::string::npos)
+                    notes += line;
+            }
+            start = end + 1;
+        }
+        std::cout << "usage:\n" << usage << notes;
+        return written(ExitOk);
     } catch (const InvalidInput &e) {
         std::cerr << "marbles-cli: " << e.message << '\n';
         return ExitInvalid;

@@ -32,6 +32,9 @@ struct WriteFailed {
     std::string message;
 };
 
+/// Thrown by parseOptions() for --help or -h among a command's options: its usage is printed.
+struct HelpRequested {};
+
 /// Parses a whole integer option value in [minimum, maximum]; throws InvalidInput naming the option.
 long long parseInteger(std::string_view option, std::string_view text, long long minimum,
                        long long maximum = std::numeric_limits<long long>::max());
@@ -56,8 +59,9 @@ struct Options {
 
 /// Reads a command's arguments: `valued` options take a value ("--frames 5", "--frames=5"),
 /// `flags` none. "-" is a word (standard input or output), and every word after "--" too. An
-/// option the command does not take, a flag given a value, a value missing: InvalidInput
-/// naming it (and what the command takes).
+/// option the command does not take, a flag given a value, a value missing, an option other than
+/// --set given twice: InvalidInput naming it (and what the command takes). --help or -h:
+/// HelpRequested.
 Options parseOptions(const std::vector<std::string> &args, std::initializer_list<std::string_view> valued,
                      std::initializer_list<std::string_view> flags = {});
 /// Whether a path is "-": standard input as SCENE, standard output as run's or a scene's --out.

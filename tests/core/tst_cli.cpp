@@ -121,6 +121,7 @@ private slots:
     void benchFileThatCannotBeWrittenPrintsNothing();
     void nonFiniteExitsThree();
     void checkPrintsSummary();
+    void commandHelpShowsItsUsage();
     void presetsRoundTripThroughFiles();
     void genCrowdIsDeterministic();
     void benchScaleReportsCostAndMovingShare();
@@ -339,7 +340,12 @@ void TestCli::invalidInputExitsTwo_data()
                                            << QByteArray() << "friction";
     QTest::addRow("set friction 1.5 with exact")
         << QStringList{"run", "preset:pins", "--set", "friction=1.5", "--set", "model=exact"} << QByteArray()
-        << "friction";
+        << "marbles-cli: preset:pins with --set: params.friction: must be < 1 for the exact model, got 1.5";
+    // Taken at its last value without a word, the first was lost (a.csv never written).
+    QTest::addRow("option given twice") << QStringList{"run", "preset:pins", "--out", "a.csv", "--out", "b.csv"}
+                                        << QByteArray() << "marbles-cli: --out: given twice ('a.csv', then 'b.csv')";
+    QTest::addRow("flag value given twice") << QStringList{"gen", "crowd", "--n", "5", "--n=6"} << QByteArray()
+                                            << "--n: given twice ('5', then '6')";
     QTest::addRow("set unknown model") << QStringList{"run", "preset:pins", "--set", "model=verlet"}
                                        << QByteArray() << "model";
     QTest::addRow("check invalid") << QStringList{"check", "-"}
@@ -462,13 +468,29 @@ void TestCli::stoppedRunLeavesNoTemporary()
 
 void TestCli::outputThatCannotBeWrittenFails()
 {
-    // A full disk behind standard output: exit 1 and a message (it exited 0, the rows cut off).
-    QProcess full;
-    full.setStandardOutputFile(QStringLiteral("/dev/full"));
-    full.start(QStringLiteral(MARBLES_CLI_PATH), {"run", "preset:pachinko", "--frames", "50"});
-    QVERIFY(full.waitForFinished(60000));
-    QCOMPARE(full.exitCode(), 1);
-    QVERIFY(full.readAllStandardError().contains("writing to standard output failed"));
+    // A full disk behind standard output: exit 1 and a message (it exited 0, the rows cut off),
+    // the usage included (--help exited 0).
+    for (const QStringList &args : {QStringList{"run", "preset:pachinko", "--frames", "50"}, QStringList{"--help"},
+                                    QStringList{"gen", "--help"}}) {
+        QProcess full;
+        full.setStandardOutputFile(QStringLiteral("/dev/full"));
+        full.start(QStringLiteral(MARBLES_CLI_PATH), args);
+        QVERIFY(full.waitForFinished(60000));
+        QCOMPARE(full.exitCode(), 1);
+        QVERIFY(full.readAllStandardError().contains("writing to standard output failed"));
+    }
+
+    // A reader that goes away (run ... | head -1) is the same: exit 1 and a message, the run
+    // stopped (SIGPIPE killed it, exit 141 in a shell, with nothing said).
+    QProcess piped;
+    piped.setChildProcessModifier([] { std::signal(SIGPIPE, SIG_DFL); }); // as a shell leaves it
+    piped.start(QStringLiteral("/bin/bash"),
+                {"-c", "\"$0\" run preset:masses --frames 100000000 | head -c 64 > /dev/null; exit ${PIPESTATUS[0]}",
+                 QStringLiteral(MARBLES_CLI_PATH)});
+    QVERIFY(piped.waitForFinished(60000));
+    QCOMPARE(piped.exitStatus(), QProcess::NormalExit);
+    QCOMPARE(piped.exitCode(), 1);
+    QVERIFY(piped.readAllStandardError().contains("writing to standard output failed: Broken pipe"));
 
     // --out naming what is not a regular file is written to as it is: a named pipe stays a
     // pipe (a temporary file renamed over it replaced it, as it replaced /dev/null as root).
@@ -553,6 +575,24 @@ void TestCli::nonFiniteExitsThree()
     QVERIFY(m.hasMatch());
     const double badFrame = m.captured(1).toDouble();
     QCOMPARE(rows.back()[0], badFrame - 1);
+}
+
+void TestCli::commandHelpShowsItsUsage()
+{
+    // "run --help" was refused as an unknown option, exit 2, with no usage.
+    const CliResult run = runCli({"run", "preset:pins", "--help"});
+    QCOMPARE(run.exitCode, 0);
+    QCOMPARE(run.err, QByteArray());
+    QVERIFY2(run.out.startsWith("usage:\n  marbles-cli run SCENE [--frames N]"), run.out.constData());
+    QVERIFY(run.out.contains("SCENE is a *.marbles.json file"));
+    QVERIFY(!run.out.contains("bench"));
+    const CliResult bench = runCli({"bench", "-h"});
+    QCOMPARE(bench.exitCode, 0);
+    QCOMPARE(bench.out.count("marbles-cli bench"), 2);
+    QVERIFY(!bench.out.contains("SCENE") && !bench.out.contains("--out"));
+    // After "--" it is a word: here a second SCENE.
+    const CliResult word = runCli({"check", "preset:pins", "--", "--help"});
+    QCOMPARE(word.exitCode, 2);
 }
 
 void TestCli::checkPrintsSummary()
