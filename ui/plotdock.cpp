@@ -67,7 +67,7 @@ QPen comparePen(QColor colour)
 /// Colours of the two totals' lines (the comparison model's in the same colour, dashed): apart
 /// from every marble's.
 const QColor kKineticColour(0x33, 0x33, 0x33);
-const QColor kMomentumColour(0x8c, 0x1c, 0x8c);
+const QColor kMomentumColour[2] = {QColor(0x8c, 0x1c, 0x8c), QColor(0x1a, 0x23, 0x7e)}; // x purple, y navy
 
 /// Marbles without a colour of their own are drawn blue on the stage, and the plotted ones in
 /// their lines' colours (StageView::setMarbleTints()): so no line is that blue or near it (marble
@@ -230,9 +230,9 @@ PlotDock::PlotDock(QWidget *parent)
     : QDockWidget(tr("Plot"), parent)
     , m_frames(kDefaultCapacity)
     , m_kinetic(kDefaultCapacity)
-    , m_momentum(kDefaultCapacity)
+    , m_momentum{RingBuffer<double>(kDefaultCapacity), RingBuffer<double>(kDefaultCapacity)}
     , m_compareKinetic(kDefaultCapacity)
-    , m_compareMomentum(kDefaultCapacity)
+    , m_compareMomentum{RingBuffer<double>(kDefaultCapacity), RingBuffer<double>(kDefaultCapacity)}
 {
     setObjectName(QStringLiteral("plotDock"));
 
@@ -254,7 +254,7 @@ PlotDock::PlotDock(QWidget *parent)
     m_showKinetic->setToolTip(tr("Total kinetic energy, \u03a3 m v\u00b2 / 2 (its own axis, on the right)"));
     m_showMomentum = new QCheckBox(tr("Momen&tum"), page);
     m_showMomentum->setObjectName(QStringLiteral("momentumCheck"));
-    m_showMomentum->setToolTip(tr("Size of the total momentum, |\u03a3 m v| (its own axis, on the right).\n"
+    m_showMomentum->setToolTip(tr("The total momentum \u03a3 m v, its x and y components (their own axis, on the right).\n"
                                   "Walls, pins and friction change it in every model; hits between marbles keep it\n"
                                   "in the exact and impulse models, not in the book's."));
     auto *csvButton = new QPushButton(tr("CSV\u2026"), page);
@@ -300,10 +300,11 @@ PlotDock::PlotDock(QWidget *parent)
         m_chart->addAxis(*axis, Qt::AlignRight);
     }
     m_axisTotals->setTitleText(tr("kinetic energy"));
-    m_axisMomentum->setTitleText(tr("|momentum|"));
+    m_axisMomentum->setTitleText(tr("momentum"));
 
     m_kineticSeries = addTotalSeries(kKineticColour, m_axisTotals);
-    m_momentumSeries = addTotalSeries(kMomentumColour, m_axisMomentum);
+    for (int c : {0, 1})
+        m_momentumSeries[c] = addTotalSeries(kMomentumColour[c], m_axisMomentum);
     styleSeries();
 
     m_chartView = new QChartView(m_chart, page);
@@ -351,9 +352,11 @@ template<typename Apply>
 void PlotDock::forEachValueBuffer(Apply &&apply)
 {
     apply(m_kinetic);
-    apply(m_momentum);
     apply(m_compareKinetic);
-    apply(m_compareMomentum);
+    for (int c : {0, 1}) {
+        apply(m_momentum[c]);
+        apply(m_compareMomentum[c]);
+    }
     for (std::vector<Track> *tracks : {&m_tracks, &m_parked}) {
         for (Track &t : *tracks) {
             apply(t.speed);
@@ -455,7 +458,9 @@ void PlotDock::appendFrame(const World &world, const World *compare)
     m_frameMs = world.params.frameMs;
     m_frames.push(world.frame);
     m_kinetic.push(world.kineticEnergy());
-    m_momentum.push(magnitude(world.momentum()));
+    const Vec2 p = world.momentum();
+    m_momentum[0].push(p.x);
+    m_momentum[1].push(p.y);
     for (std::vector<Track> *tracks : {&m_tracks, &m_parked}) {
         for (Track &t : *tracks) {
             const auto i = static_cast<std::size_t>(t.marble);
@@ -466,7 +471,9 @@ void PlotDock::appendFrame(const World &world, const World *compare)
     }
     if (!m_compareModel.isEmpty()) {
         m_compareKinetic.push(compare ? compare->kineticEnergy() : kNaN);
-        m_compareMomentum.push(compare ? magnitude(compare->momentum()) : kNaN);
+        const Vec2 q = compare ? compare->momentum() : Vec2{kNaN, kNaN};
+        m_compareMomentum[0].push(q.x);
+        m_compareMomentum[1].push(q.y);
     }
     m_dirty = true;
 }
@@ -539,9 +546,11 @@ double PlotDock::sampleCompareKineticEnergy(qsizetype i) const
     return m_compareKineticSeries ? m_compareKinetic.at(static_cast<std::size_t>(i)) : kNaN;
 }
 
-double PlotDock::sampleCompareMomentum(qsizetype i) const
+Vec2 PlotDock::sampleCompareMomentum(qsizetype i) const
 {
-    return m_compareMomentumSeries ? m_compareMomentum.at(static_cast<std::size_t>(i)) : kNaN;
+    if (!m_compareMomentumSeries[0])
+        return {kNaN, kNaN};
+    return {m_compareMomentum[0].at(static_cast<std::size_t>(i)), m_compareMomentum[1].at(static_cast<std::size_t>(i))};
 }
 
 void PlotDock::setCompareModel(const QString &model)
@@ -589,11 +598,13 @@ void PlotDock::setCompareModel(const QString &model)
         m_restartMarks->attachAxis(m_axisSpeed);
         // The comparison starts now: no comparison totals for the samples already held.
         startWithGaps(m_compareKinetic);
-        startWithGaps(m_compareMomentum);
         m_compareKineticSeries = addTotalSeries(kKineticColour, m_axisTotals);
-        m_compareMomentumSeries = addTotalSeries(kMomentumColour, m_axisMomentum);
         showTotal(m_compareKineticSeries, m_showKinetic->isChecked());
-        showTotal(m_compareMomentumSeries, m_showMomentum->isChecked());
+        for (int c : {0, 1}) {
+            startWithGaps(m_compareMomentum[c]);
+            m_compareMomentumSeries[c] = addTotalSeries(kMomentumColour[c], m_axisMomentum);
+            showTotal(m_compareMomentumSeries[c], m_showMomentum->isChecked());
+        }
     }
     styleSeries();
     m_dirty = true;
@@ -604,9 +615,9 @@ double PlotDock::sampleKineticEnergy(qsizetype i) const
     return m_kinetic.at(static_cast<std::size_t>(i));
 }
 
-double PlotDock::sampleMomentum(qsizetype i) const
+Vec2 PlotDock::sampleMomentum(qsizetype i) const
 {
-    return m_momentum.at(static_cast<std::size_t>(i));
+    return {m_momentum[0].at(static_cast<std::size_t>(i)), m_momentum[1].at(static_cast<std::size_t>(i))};
 }
 
 bool PlotDock::isKineticEnergyShown() const
@@ -638,8 +649,10 @@ void PlotDock::setMomentumShown(bool shown)
 {
     if (m_showMomentum->isChecked() != shown)
         m_showMomentum->setChecked(shown);
-    showTotal(m_momentumSeries, shown);
-    showTotal(m_compareMomentumSeries, shown);
+    for (int c : {0, 1}) {
+        showTotal(m_momentumSeries[c], shown);
+        showTotal(m_compareMomentumSeries[c], shown);
+    }
     updateTotalsAxis();
     m_dirty = true;
 }
@@ -707,13 +720,16 @@ void PlotDock::refreshChart()
         showPoints(series);
     };
     refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked(), f * f, energy);
-    refreshTotal(m_momentumSeries, m_momentum, m_showMomentum->isChecked(), f, momentum);
     if (m_compareKineticSeries)
         refreshTotal(m_compareKineticSeries, m_compareKinetic, m_showKinetic->isChecked(), f * f, energy);
-    if (m_compareMomentumSeries)
-        refreshTotal(m_compareMomentumSeries, m_compareMomentum, m_showMomentum->isChecked(), f, momentum);
+    for (int c : {0, 1}) {
+        refreshTotal(m_momentumSeries[c], m_momentum[c], m_showMomentum->isChecked(), f, momentum);
+        if (m_compareMomentumSeries[c])
+            refreshTotal(m_compareMomentumSeries[c], m_compareMomentum[c], m_showMomentum->isChecked(), f, momentum);
+    }
 
-    // Speeds and the totals are never negative: both axes start at zero.
+    // Speeds and the energy are never negative: their axes start at zero. The momentum's
+    // components may be: its axis takes in zero and both signs where they occur.
     const AxisRange time = n > 0 ? niceRange(m_rangeScratch, x(0), x(n - 1)) : niceRange(m_rangeScratch, 0.0, xOf(100));
     applyRange(m_axisX, m_timeInSeconds ? time : wholeTicks(time));
     // A little room above the highest point: a line at a round maximum (Newton's cradle's 6
@@ -721,7 +737,8 @@ void PlotDock::refreshChart()
     const auto top = [](double max) { return std::isfinite(max) ? std::max(max, 0.0) * 1.04 : 1.0; };
     applyRange(m_axisSpeed, niceRange(m_rangeScratch, 0.0, top(speedMax)));
     applyRange(m_axisTotals, niceRange(m_rangeScratch, 0.0, top(energy.max)));
-    applyRange(m_axisMomentum, niceRange(m_rangeScratch, 0.0, top(momentum.max)));
+    const auto bottom = [](double min) { return std::isfinite(min) ? std::min(min, 0.0) * 1.04 : 0.0; };
+    applyRange(m_axisMomentum, niceRange(m_rangeScratch, bottom(momentum.min), top(momentum.max)));
     if (m_restartMarks) {
         // Down and up at each restart, joined along the time axis, where the joins vanish.
         QList<QPointF> marks;
@@ -780,9 +797,11 @@ std::optional<PlotDock::PlottedValue> PlotDock::plottedValue(const QLineSeries *
         const QString &unit;
     } totals[] = {
         {m_kineticSeries, &m_kinetic, perS * perS, energyUnit},
-        {m_momentumSeries, &m_momentum, perS, momentumUnit},
+        {m_momentumSeries[0], &m_momentum[0], perS, momentumUnit},
+        {m_momentumSeries[1], &m_momentum[1], perS, momentumUnit},
         {m_compareKineticSeries, &m_compareKinetic, perS * perS, energyUnit},
-        {m_compareMomentumSeries, &m_compareMomentum, perS, momentumUnit},
+        {m_compareMomentumSeries[0], &m_compareMomentum[0], perS, momentumUnit},
+        {m_compareMomentumSeries[1], &m_compareMomentum[1], perS, momentumUnit},
     };
     for (const auto &total : totals) {
         if (total.line && total.line == series)
@@ -874,32 +893,35 @@ QString PlotDock::exportCsv(const QString &path) const
     // Each column names its unit as time_s does, so that a spreadsheet's reader need not guess
     // (the speeds are per frame whatever the time axis shows).
     const QByteArray speedUnit = "_px_per_frame";
-    const QByteArray totalsUnits[] = {"_mass_px2_per_frame2", "_mass_px_per_frame"};
+    const QByteArray energyUnit = "_mass_px2_per_frame2";
+    const QByteArray momentumUnit = "_mass_px_per_frame";
     QByteArray text = "frame,time_s";
     for (const Track &t : m_tracks)
         text += ",speed_" + QByteArray::number(t.marble) + speedUnit;
-    text += ",kinetic" + totalsUnits[0] + ",momentum" + totalsUnits[1];
+    text += ",kinetic" + energyUnit + ",momentum_x" + momentumUnit + ",momentum_y" + momentumUnit;
     const QByteArray compareSuffix = '_' + m_compareModel.toUtf8();
     for (const Track &t : m_tracks) {
         if (t.compareSeries)
             text += ",speed_" + QByteArray::number(t.marble) + compareSuffix + speedUnit;
     }
     if (m_compareKineticSeries)
-        text += ",kinetic" + compareSuffix + totalsUnits[0] + ",momentum" + compareSuffix + totalsUnits[1];
+        text += ",kinetic" + compareSuffix + energyUnit + ",momentum_x" + compareSuffix + momentumUnit + ",momentum_y"
+                + compareSuffix + momentumUnit;
     text += '\n';
     for (std::size_t i = 0; i < m_frames.size(); ++i) {
         const std::int64_t f = m_frames.at(i);
         QString row = QString::number(f) + QLatin1Char(',') + csvNumber(secondsAt(f));
         for (const Track &t : m_tracks)
             row += QLatin1Char(',') + csvNumber(t.speed.at(i));
-        row += QLatin1Char(',') + csvNumber(m_kinetic.at(i)) + QLatin1Char(',') + csvNumber(m_momentum.at(i));
+        row += QLatin1Char(',') + csvNumber(m_kinetic.at(i)) + QLatin1Char(',') + csvNumber(m_momentum[0].at(i))
+               + QLatin1Char(',') + csvNumber(m_momentum[1].at(i));
         for (const Track &t : m_tracks) {
             if (t.compareSeries)
                 row += QLatin1Char(',') + csvNumber(t.compareSpeed.at(i));
         }
         if (m_compareKineticSeries) {
             row += QLatin1Char(',') + csvNumber(m_compareKinetic.at(i)) + QLatin1Char(',')
-                   + csvNumber(m_compareMomentum.at(i));
+                   + csvNumber(m_compareMomentum[0].at(i)) + QLatin1Char(',') + csvNumber(m_compareMomentum[1].at(i));
         }
         text += row.toLatin1() + '\n';
     }
@@ -1133,9 +1155,11 @@ QLineSeries *PlotDock::addTotalSeries(QColor colour, QValueAxis *axis)
 void PlotDock::removeCompareTotals()
 {
     m_compareKinetic.clear();
-    m_compareMomentum.clear();
     deleteSeries(m_compareKineticSeries);
-    deleteSeries(m_compareMomentumSeries);
+    for (int c : {0, 1}) {
+        m_compareMomentum[c].clear();
+        deleteSeries(m_compareMomentumSeries[c]);
+    }
 }
 
 void PlotDock::showTotal(QLineSeries *series, bool shown)
@@ -1144,7 +1168,7 @@ void PlotDock::showTotal(QLineSeries *series, bool shown)
         return;
     series->setVisible(shown);
     // The comparison model's totals stay out of the legend: its "(dashed)" entry stands for them.
-    const bool listed = series == m_kineticSeries || series == m_momentumSeries;
+    const bool listed = series == m_kineticSeries || series == m_momentumSeries[0] || series == m_momentumSeries[1];
     for (QLegendMarker *marker : m_chart->legend()->markers(series))
         marker->setVisible(shown && listed);
     updateLegendLabels();
@@ -1180,12 +1204,16 @@ void PlotDock::styleSeries()
         series->setName(what);
     };
     styleTotal(m_kineticSeries, tr("kinetic energy"), kKineticColour);
-    styleTotal(m_momentumSeries, tr("|momentum|"), kMomentumColour);
+    const QString momentumNames[] = {tr("momentum x"), tr("momentum y")};
+    for (int c : {0, 1})
+        styleTotal(m_momentumSeries[c], momentumNames[c], kMomentumColour[c]);
     if (comparing) {
         m_compareKineticSeries->setPen(comparePen(kKineticColour));
-        m_compareMomentumSeries->setPen(comparePen(kMomentumColour));
         m_compareKineticSeries->setName(tr("kinetic energy, %1").arg(m_compareModel));
-        m_compareMomentumSeries->setName(tr("|momentum|, %1").arg(m_compareModel));
+        for (int c : {0, 1}) {
+            m_compareMomentumSeries[c]->setPen(comparePen(kMomentumColour[c]));
+            m_compareMomentumSeries[c]->setName(tr("%1, %2").arg(momentumNames[c], m_compareModel));
+        }
     }
     updateLegendLabels();
 }
@@ -1218,7 +1246,7 @@ bool PlotDock::fullLegendFits() const
         if (key)
             entry(key->name());
     }
-    for (const QLineSeries *total : {m_kineticSeries, m_momentumSeries}) {
+    for (const QLineSeries *total : {m_kineticSeries, m_momentumSeries[0], m_momentumSeries[1]}) {
         if (total && total->isVisible())
             entry(total->name());
     }

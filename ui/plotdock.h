@@ -11,6 +11,7 @@
 #include <QString>
 #include <QStringList>
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -100,8 +101,8 @@ public:
     double sampleSpeed(qsizetype i, int marble) const;
     /// Total kinetic energy sum m v^2 / 2 at sample `i` (mass px^2/frame^2).
     double sampleKineticEnergy(qsizetype i) const;
-    /// Magnitude of the total momentum |sum m v| at sample `i` (mass px/frame).
-    double sampleMomentum(qsizetype i) const;
+    /// Total momentum sum m v at sample `i` (mass px/frame), both components.
+    Vec2 sampleMomentum(qsizetype i) const;
     /// Seconds of wall clock at `frame`: frame * frameMs / 1000, with the latest frameMs seen.
     double secondsAt(std::int64_t frame) const;
 
@@ -125,20 +126,24 @@ public:
     /// Total kinetic energy in the comparison model at sample `i`; NaN when there was no
     /// comparison sample then (or nothing is compared).
     double sampleCompareKineticEnergy(qsizetype i) const;
-    /// Magnitude of the total momentum in the comparison model at sample `i`; NaN likewise.
-    double sampleCompareMomentum(qsizetype i) const;
+    /// Total momentum in the comparison model at sample `i`; NaNs likewise.
+    Vec2 sampleCompareMomentum(qsizetype i) const;
     /// The comparison model's kinetic energy line, or nullptr when nothing is compared.
     QLineSeries *compareKineticSeries() const { return m_compareKineticSeries; }
-    /// The comparison model's momentum line, or nullptr when nothing is compared.
-    QLineSeries *compareMomentumSeries() const { return m_compareMomentumSeries; }
+    /// The comparison model's line of the momentum's x (0) or y (1) component, or nullptr when
+    /// nothing is compared.
+    QLineSeries *compareMomentumSeries(int component) const { return m_compareMomentumSeries.at(component); }
     /// The document's kinetic energy line (hidden until setKineticEnergyShown(true)).
     QLineSeries *kineticSeries() const { return m_kineticSeries; }
-    /// The document's momentum line (hidden until setMomentumShown(true)).
-    QLineSeries *momentumSeries() const { return m_momentumSeries; }
+    /// The document's line of the total momentum's x (0) or y (1) component (hidden until
+    /// setMomentumShown(true)).
+    QLineSeries *momentumSeries(int component) const { return m_momentumSeries.at(component); }
 
     /// Shows total kinetic energy (on the right-hand axis).
     void setKineticEnergyShown(bool shown);
-    /// Shows the magnitude of the total momentum (on the right-hand axis).
+    /// Shows the total momentum's x and y components, signed (on the right-hand axis): a
+    /// momentum that turns round shows, where its size |sum m v| came back the same (the book
+    /// model's head-on hit sends 25 to -25).
     void setMomentumShown(bool shown);
     /// Whether the totals' lines are shown.
     bool isKineticEnergyShown() const;
@@ -172,10 +177,11 @@ public:
     bool legendIsCompact() const { return m_compactLegend; }
 
     /// Writes every held sample as CSV, speeds in px/frame whatever the time axis shows:
-    /// frame,time_s,speed_<i>_px_per_frame...,kinetic_mass_px2_per_frame2,momentum_mass_px_per_frame
-    /// (shortest round-trip digits; an empty field where a marble was not plotted), then
-    /// speed_<i>_<model>_px_per_frame..., kinetic_<model>_..., momentum_<model>_... while a
-    /// comparison model is plotted. Returns "" or a message naming the file.
+    /// frame,time_s,speed_<i>_px_per_frame...,kinetic_mass_px2_per_frame2,momentum_x_mass_px_per_frame,
+    /// momentum_y_mass_px_per_frame (shortest round-trip digits; an empty field where a marble was
+    /// not plotted), then speed_<i>_<model>_px_per_frame..., kinetic_<model>_...,
+    /// momentum_x_<model>_..., momentum_y_<model>_... while a comparison model is plotted.
+    /// Returns "" or a message naming the file.
     QString exportCsv(const QString &path) const;
     /// Saves the chart as a PNG, at least kMinPngSize, with exportCaption() above it. Returns "" or
     /// a message naming the file.
@@ -260,9 +266,9 @@ private:
     std::size_t m_capacity = kDefaultCapacity;
     RingBuffer<std::int64_t> m_frames;
     RingBuffer<double> m_kinetic;
-    RingBuffer<double> m_momentum;
+    std::array<RingBuffer<double>, 2> m_momentum; ///< x and y
     RingBuffer<double> m_compareKinetic;  ///< while comparing, aligned with m_frames
-    RingBuffer<double> m_compareMomentum; ///< while comparing, aligned with m_frames
+    std::array<RingBuffer<double>, 2> m_compareMomentum; ///< while comparing, aligned with m_frames
     std::vector<Track> m_tracks;
     // The marbles plotted when none is selected (0 to kMaxPlottedMarbles - 1) that are not plotted
     // now: still sampled, without lines, so that taking the selection away brings their lines
@@ -291,12 +297,12 @@ private:
     QValueAxis *m_axisX = nullptr;
     QValueAxis *m_axisSpeed = nullptr;
     QValueAxis *m_axisTotals = nullptr;   // kinetic energy, on the right
-    QValueAxis *m_axisMomentum = nullptr; // |momentum|, on the right beside it: its own scale
+    QValueAxis *m_axisMomentum = nullptr; // momentum x and y, on the right beside it: its own scale
     QValueAxis *m_rangeScratch = nullptr; ///< works out nice ranges away from the chart
     QLineSeries *m_kineticSeries = nullptr;
-    QLineSeries *m_momentumSeries = nullptr;
+    std::array<QLineSeries *, 2> m_momentumSeries{}; ///< x and y
     QLineSeries *m_compareKineticSeries = nullptr;  ///< while comparing
-    QLineSeries *m_compareMomentumSeries = nullptr; ///< while comparing
+    std::array<QLineSeries *, 2> m_compareMomentumSeries{}; ///< while comparing
     QLineSeries *m_modelKey = nullptr;   ///< legend entry only, while comparing: "book (solid)"
     QLineSeries *m_compareKey = nullptr; ///< legend entry only, while comparing: "exact (dashed)"
     QLineSeries *m_restartMarks = nullptr; ///< while comparing: a dotted line at each restart

@@ -787,11 +787,11 @@ void TestCompareRun::plotGetsCompareSeries()
     // The totals of both models: the comparison's dashed in the same colour, the document's solid
     // meanwhile; both follow the checkboxes.
     QLineSeries *kinetic = plot.compareKineticSeries();
-    QLineSeries *momentum = plot.compareMomentumSeries();
-    QVERIFY(kinetic && momentum);
+    QLineSeries *momentum = plot.compareMomentumSeries(0);
+    QVERIFY(kinetic && momentum && plot.compareMomentumSeries(1));
     QVERIFY(std::isnan(plot.sampleCompareKineticEnergy(9)));
     QVERIFY(plot.sampleCompareKineticEnergy(59) == compare.world()->kineticEnergy());
-    QVERIFY(plot.sampleCompareMomentum(59) == length(compare.world()->momentum()));
+    QVERIFY(plot.sampleCompareMomentum(59) == compare.world()->momentum());
     QVERIFY(plot.sampleKineticEnergy(59) == doc.world().kineticEnergy());
     QCOMPARE(kinetic->pen().style(), Qt::CustomDashLine);
     QCOMPARE(kinetic->pen().color(), plot.kineticSeries()->pen().color());
@@ -815,13 +815,16 @@ void TestCompareRun::plotGetsCompareSeries()
     QCOMPARE(plot.kineticSeries()->count(), 60);
     plot.setMomentumShown(true);
     plot.refreshChart();
-    QVERIFY(momentum->isVisible());
+    QVERIFY(momentum->isVisible() && plot.compareMomentumSeries(1)->isVisible());
     QCOMPARE(momentum->count(), 50);
+    QCOMPARE(momentum->name(), QStringLiteral("momentum x, exact"));
+    QCOMPARE(plot.compareMomentumSeries(1)->name(), QStringLiteral("momentum y, exact"));
 
     compare.stop();
     plot.setCompareModel(QString());
     QVERIFY(plot.compareSeries(0) == nullptr);
-    QVERIFY(plot.compareKineticSeries() == nullptr && plot.compareMomentumSeries() == nullptr);
+    QVERIFY(plot.compareKineticSeries() == nullptr && plot.compareMomentumSeries(0) == nullptr
+            && plot.compareMomentumSeries(1) == nullptr);
     QVERIFY(std::isnan(plot.sampleCompareKineticEnergy(59)));
     QCOMPARE(plot.kineticSeries()->pen().style(), Qt::SolidLine); // dashed is the compared model's
     QCOMPARE(plot.kineticSeries()->name(), QStringLiteral("kinetic energy"));
@@ -884,18 +887,20 @@ void TestCompareRun::plotExportsAndDescribesCompareLines()
     const QStringList lines = QString::fromUtf8(file.readAll()).split(QLatin1Char('\n'));
     QCOMPARE(lines.size(), 5);
     QCOMPARE(lines[0], QStringLiteral("frame,time_s,speed_0_px_per_frame,speed_1_px_per_frame,"
-                                      "kinetic_mass_px2_per_frame2,momentum_mass_px_per_frame,"
+                                      "kinetic_mass_px2_per_frame2,momentum_x_mass_px_per_frame,momentum_y_mass_px_per_frame,"
                                       "speed_0_impulse_px_per_frame,speed_1_impulse_px_per_frame,"
-                                      "kinetic_impulse_mass_px2_per_frame2,momentum_impulse_mass_px_per_frame"));
-    QVERIFY2(lines[1].startsWith(QStringLiteral("1,0.02,5,2,")) && lines[1].endsWith(QStringLiteral(",,,,")),
+                                      "kinetic_impulse_mass_px2_per_frame2,momentum_x_impulse_mass_px_per_frame,"
+                                      "momentum_y_impulse_mass_px_per_frame"));
+    QVERIFY2(lines[1].startsWith(QStringLiteral("1,0.02,5,2,")) && lines[1].endsWith(QStringLiteral(",,,,,")),
              qPrintable(lines[1]));
     const QStringList second = lines[2].split(QLatin1Char(','));
-    QCOMPARE(second.size(), 10);
-    QCOMPARE(second.mid(6, 2), QStringList({QStringLiteral("0.5"), QStringLiteral("2.5")}));
+    QCOMPARE(second.size(), 12);
+    QCOMPARE(second.mid(7, 2), QStringList({QStringLiteral("0.5"), QStringLiteral("2.5")}));
     // Shortest round-trip text: the totals read back as the same doubles.
-    QVERIFY(second[8].toDouble() == other.kineticEnergy());
-    QVERIFY(second[9].toDouble() == length(other.momentum()));
-    QVERIFY2(lines[3].endsWith(QStringLiteral(",,,,")), qPrintable(lines[3]));
+    QVERIFY(second[9].toDouble() == other.kineticEnergy());
+    QVERIFY(second[10].toDouble() == other.momentum().x);
+    QVERIFY(second[11].toDouble() == other.momentum().y);
+    QVERIFY2(lines[3].endsWith(QStringLiteral(",,,,,")), qPrintable(lines[3]));
 
     // The legend lists the marbles once and the two models once; the dashed line names its model.
     plot.refreshChart();

@@ -291,7 +291,8 @@ void TestPlotDock::randomTimelineKeepsTheRightSamples()
                 momentum.y += m * vi.y;
             }
             QVERIFY2(close(dock.sampleKineticEnergy(k), energy), qPrintable(where));
-            QVERIFY2(close(dock.sampleMomentum(k), speedOf(momentum)), qPrintable(where));
+            QVERIFY2(close(dock.sampleMomentum(k).x, momentum.x) && close(dock.sampleMomentum(k).y, momentum.y),
+                     qPrintable(where));
             for (int i : expectedPlotted)
                 QVERIFY2(close(dock.sampleSpeed(k, i), speedOf(v[static_cast<std::size_t>(i)])),
                          qPrintable(where + QStringLiteral(": marble %1, sample %2").arg(i).arg(k)));
@@ -442,7 +443,8 @@ void TestPlotDock::speedsAndTotals()
     const double px = 2.0 * vx0 + 1.0 * vx1;
     const double py = 2.0 * vy0 + 1.0 * vy1;
     QVERIFY(close(dock.sampleKineticEnergy(0), kinetic));
-    QVERIFY(close(dock.sampleMomentum(0), std::sqrt(px * px + py * py)));
+    QVERIFY(close(dock.sampleMomentum(0).x, px));
+    QVERIFY(close(dock.sampleMomentum(0).y, py));
     QVERIFY(std::isnan(dock.sampleSpeed(0, 2))); // no such marble
 }
 
@@ -587,8 +589,8 @@ void TestPlotDock::plottedMarbles()
     dock.reset(world);
     dock.setSelectedMarbles(selection);
     QCOMPARE(dock.plottedMarbles(), plotted);
-    // One line per plotted marble, plus the two totals.
-    QCOMPARE(dock.chartView()->chart()->series().size(), plotted.size() + 2);
+    // One line per plotted marble, plus the totals' three (kinetic energy, momentum x and y).
+    QCOMPARE(dock.chartView()->chart()->series().size(), plotted.size() + 3);
     for (int m : plotted)
         QVERIFY(dock.speedSeries(m));
 
@@ -1122,13 +1124,17 @@ void TestPlotDock::totalsOnRequest()
 
     QLineSeries *kinetic = nullptr;
     QLineSeries *momentum = nullptr;
+    QLineSeries *momentumY = nullptr;
     for (QAbstractSeries *s : dock.chartView()->chart()->series()) {
         if (s->name() == QStringLiteral("kinetic energy"))
             kinetic = qobject_cast<QLineSeries *>(s);
-        if (s->name() == QStringLiteral("|momentum|"))
+        if (s->name() == QStringLiteral("momentum x"))
             momentum = qobject_cast<QLineSeries *>(s);
+        if (s->name() == QStringLiteral("momentum y"))
+            momentumY = qobject_cast<QLineSeries *>(s);
     }
-    QVERIFY(kinetic && momentum);
+    QVERIFY(kinetic && momentum && momentumY);
+    QCOMPARE_NE(momentum->pen().color(), momentumY->pen().color());
     QVERIFY(!kinetic->isVisible());
     QCOMPARE(kinetic->count(), 0);
 
@@ -1153,23 +1159,27 @@ void TestPlotDock::totalsOnRequest()
         (value->titleText() == QStringLiteral("kinetic energy") ? energyAxis : momentumAxis) = value;
     }
     QVERIFY(energyAxis && momentumAxis);
-    QCOMPARE(momentumAxis->titleText(), QStringLiteral("|momentum|"));
+    QCOMPARE(momentumAxis->titleText(), QStringLiteral("momentum"));
     QVERIFY(energyAxis->isVisible());
     QVERIFY(!momentumAxis->isVisible());
     QVERIFY(kinetic->attachedAxes().contains(energyAxis));
-    QVERIFY(momentum->attachedAxes().contains(momentumAxis));
+    QVERIFY(momentum->attachedAxes().contains(momentumAxis) && momentumY->attachedAxes().contains(momentumAxis));
 
     box = dock.findChild<QCheckBox *>(QStringLiteral("momentumCheck"));
     QTest::mouseClick(box, Qt::LeftButton, {}, QPoint(box->height() / 2, box->height() / 2));
     dock.refreshChart();
-    QVERIFY(momentum->isVisible());
+    QVERIFY(momentum->isVisible() && momentumY->isVisible());
     QCOMPARE(momentum->count(), 12);
+    // Signed components: |p| hid a momentum turning round (the book's head-on hit, 25 to -25).
     const double px = 12.5 * 0.24;
     const double py = 12.5 * -0.5;
-    QCOMPARE_LE(std::abs(momentum->at(11).y() - std::sqrt(px * px + py * py)), 1e-12);
+    QCOMPARE_LE(std::abs(momentum->at(11).y() - px), 1e-12);
+    QCOMPARE_LE(std::abs(momentumY->at(11).y() - py), 1e-12);
     QVERIFY(energyAxis->isVisible() && momentumAxis->isVisible());
-    // Each axis spans its own total (a shared one flattened the smaller to a line at 0).
-    QVERIFY(momentumAxis->max() >= momentum->at(11).y() && momentumAxis->max() < 2 * momentum->at(11).y());
+    // Each axis spans its own total (a shared one flattened the smaller to a line at 0), the
+    // momentum's both signs.
+    QVERIFY(momentumAxis->max() >= px && momentumAxis->max() < 2 * px);
+    QVERIFY(momentumAxis->min() <= py && momentumAxis->min() > 2 * py);
     QVERIFY(energyAxis->max() >= kinetic->at(11).y() && energyAxis->max() < 2 * kinetic->at(11).y());
     dock.setKineticEnergyShown(false);
     QVERIFY(!energyAxis->isVisible() && momentumAxis->isVisible());
@@ -1267,16 +1277,16 @@ void TestPlotDock::exportCsv()
     QFile file(path);
     QVERIFY(file.open(QIODevice::ReadOnly | QIODevice::Text));
     const QStringList lines = QString::fromUtf8(file.readAll()).split(QLatin1Char('\n'));
-    // KE = 2*25/2 + 1*36/2 = 43 and |p| = |(6, 8) + (-6, 0)| = 8 at frames 1-2;
-    // KE = 25 + 0.005 and |p| = |(5.9, 8)| at frame 3.
+    // KE = 2*25/2 + 1*36/2 = 43 and p = (6, 8) + (-6, 0) = (0, 8) at frames 1-2;
+    // KE = 25 + 0.005 and p = (5.9, 8) at frame 3.
     const QStringList expected = {
         QStringLiteral("frame,time_s,speed_0_px_per_frame,speed_1_px_per_frame,kinetic_mass_px2_per_frame2,"
-                       "momentum_mass_px_per_frame"),
-        QStringLiteral("1,0.02,5,,43,8"),
-        QStringLiteral("2,0.04,5,,43,8"),
-        QStringLiteral("3,0.06,5,0.1,%1,%2")
+                       "momentum_x_mass_px_per_frame,momentum_y_mass_px_per_frame"),
+        QStringLiteral("1,0.02,5,,43,0,8"),
+        QStringLiteral("2,0.04,5,,43,0,8"),
+        QStringLiteral("3,0.06,5,0.1,%1,%2,8")
             .arg(QString::number(25.0 + 0.5 * 0.1 * 0.1, 'g', QLocale::FloatingPointShortest),
-                 QString::number(std::sqrt(5.9 * 5.9 + 64.0), 'g', QLocale::FloatingPointShortest)),
+                 QString::number(6.0 - 0.1, 'g', QLocale::FloatingPointShortest)),
         QString(), // the file ends with a newline
     };
     QCOMPARE(lines.size(), expected.size());
