@@ -1306,7 +1306,7 @@ void MainWindow::onSimulationFailed(const QString &message)
 
 void MainWindow::tintPlottedMarbles()
 {
-    const QList<QPair<int, QColor>> colours = m_plotDock->plottedColours();
+    const QList<QPair<int, QColor>> colours = m_plotDock->stageColours();
     m_view->setMarbleTints(colours);
     m_compare->setTints(colours);
 }

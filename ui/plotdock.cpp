@@ -20,6 +20,7 @@
 #include <QPixmap>
 #include <QPushButton>
 #include <QRadioButton>
+#include <QSet>
 #include <QTimer>
 #include <QToolTip>
 #include <QFontMetrics>
@@ -1074,6 +1075,21 @@ QList<QPair<int, QColor>> PlotDock::plottedColours() const
     QList<QPair<int, QColor>> out;
     for (const Track &t : m_tracks)
         out.append({t.marble, marbleColor(t.marble)});
+    return out;
+}
+
+QList<QPair<int, QColor>> PlotDock::stageColours() const
+{
+    QList<QPair<int, QColor>> out = plottedColours();
+    QSet<QRgb> taken;
+    for (const auto &[marble, colour] : out)
+        taken.insert(colour.rgb());
+    for (int marble = 0; marble < std::min(m_marbleCount, kMaxPlottedMarbles); ++marble) {
+        const QColor colour = marbleColor(marble);
+        if (!trackOf(marble) && !taken.contains(colour.rgb()))
+            out.append({marble, colour});
+    }
+    std::sort(out.begin(), out.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
     return out;
 }
 

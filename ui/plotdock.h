@@ -199,6 +199,11 @@ public:
 
     /// Each plotted marble with its line's colour, in marble order.
     QList<QPair<int, QColor>> plottedColours() const;
+    /// The colours the stage gives marbles without one of their own: the plotted marbles' lines'
+    /// (plottedColours()), and the marbles plotted when none is selected keep theirs while a
+    /// selection plots others, unless a plotted line has that colour (marble 12 selected takes
+    /// marble 0's), so that selecting a marble does not turn the others blue.
+    QList<QPair<int, QColor>> stageColours() const;
 
 signals:
     /// A CSV or PNG was written to `path` by the interactive exports.

@@ -873,10 +873,28 @@ void TestMainWindow::plottedMarblesWearTheirLinesColours()
     };
     for (const auto &[marble, colour] : plotted)
         QCOMPARE(drawn(marble), colour);
+    // A selection plots its marble alone; the others keep their colours (they all turned the
+    // stage's blue, and the class lost track of which marble was which).
     m_window->stageView()->selectMarble(2);
     QCOMPARE(m_window->plotDock()->plottedColours().size(), 1);
     QCOMPARE(drawn(2), m_window->plotDock()->plottedColours().front().second);
-    QCOMPARE(drawn(1), QColor()); // not plotted: the stage's blue
+    for (const auto &[marble, colour] : plotted)
+        QCOMPARE(drawn(marble), colour);
+    // Beyond the twelve colours: marble 12 selected wears marble 0's, which goes blue meanwhile.
+    World crowd;
+    for (int i = 0; i < 14; ++i)
+        crowd.addMarble({40.0 + 50.0 * i, 100.0}, 10.0);
+    m_window->document()->resetScene(crowd);
+    const QColor first = plotted.at(0).second; // the palette's, by marble number
+    const QColor second = plotted.at(1).second;
+    m_window->stageView()->selectMarble(12);
+    QCOMPARE(drawn(12), first);
+    QCOMPARE(drawn(0), QColor()); // the stage's blue
+    QCOMPARE(drawn(1), second);
+    QCOMPARE(drawn(13), QColor()); // never plotted without a selection
+    m_window->stageView()->clearSelection();
+    QCOMPARE(drawn(0), first);
+    QCOMPARE(drawn(12), QColor());
 }
 
 void TestMainWindow::keyboardChoosesAndPushesAMarble()
