@@ -1081,6 +1081,10 @@ QList<QPair<int, QColor>> PlotDock::plottedColours() const
 QList<QPair<int, QColor>> PlotDock::stageColours() const
 {
     QList<QPair<int, QColor>> out = plottedColours();
+    // In a crowd the marbles a selection leaves unplotted go back to the stage's blue: eleven
+    // coloured among the Brownian preset's 804 small marbles would say nothing.
+    if (m_marbleCount > kMaxPlottedMarbles)
+        return out;
     QSet<QRgb> taken;
     for (const auto &[marble, colour] : out)
         taken.insert(colour.rgb());

@@ -200,9 +200,9 @@ public:
     /// Each plotted marble with its line's colour, in marble order.
     QList<QPair<int, QColor>> plottedColours() const;
     /// The colours the stage gives marbles without one of their own: the plotted marbles' lines'
-    /// (plottedColours()), and the marbles plotted when none is selected keep theirs while a
-    /// selection plots others, unless a plotted line has that colour (marble 12 selected takes
-    /// marble 0's), so that selecting a marble does not turn the others blue.
+    /// (plottedColours()), and in a scene of at most kMaxPlottedMarbles marbles the others keep
+    /// theirs while a selection plots some, so that selecting a marble does not turn the others
+    /// blue. In a larger scene only the plotted marbles wear colours.
     QList<QPair<int, QColor>> stageColours() const;
 
 signals:
