@@ -77,13 +77,15 @@ const QColor kMomentumColour[2] = {QColor(0x8c, 0x1c, 0x8c), QColor(0x1a, 0x23, 
 /// sky blue left out): four shades of blue, which the lines once were, could not be told apart.
 /// No grey either (a cyan took its place): the comparison's legend keys, the kinetic energy's
 /// line and the selection's ring are greys. A violet and a magenta took the places of a gold and a
-/// dark green, which a class took for the orange (marble 1) and the bluish green (marble 2).
+/// dark green, which a class took for the orange and the bluish green. Neighbours in the list
+/// differ most, the first two above all (a two-marble collision is the commonest lesson): its
+/// vermilion and orange had been marbles 0 and 1, hard to tell apart on a projector.
 QColor defaultMarbleColor(int marble)
 {
     // Twelve, as many as lines are plotted at most (kMaxPlottedMarbles): no two lines share one.
     static const QColor hues[] = {
-        QColor(0xd5, 0x5e, 0x00), QColor(0xe6, 0x9f, 0x00), QColor(0x00, 0x9e, 0x73), QColor(0xcc, 0x79, 0xa7),
-        QColor(0x4d, 0xd0, 0xe1), QColor(0x99, 0x99, 0x33), QColor(0x88, 0x22, 0x55), QColor(0x55, 0x00, 0xff),
+        QColor(0xd5, 0x5e, 0x00), QColor(0x00, 0x9e, 0x73), QColor(0xcc, 0x79, 0xa7), QColor(0xe6, 0x9f, 0x00),
+        QColor(0x4d, 0xd0, 0xe1), QColor(0x55, 0x00, 0xff), QColor(0x99, 0x99, 0x33), QColor(0x88, 0x22, 0x55),
         QColor(0xff, 0x22, 0xff), QColor(0x8c, 0x51, 0x0a), QColor(0x66, 0xa6, 0x1e), QColor(0xe7, 0x29, 0x8a),
     };
     static_assert(sizeof(hues) / sizeof(hues[0]) >= PlotDock::kMaxPlottedMarbles);

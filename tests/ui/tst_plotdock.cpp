@@ -678,6 +678,16 @@ void TestPlotDock::lineColoursAreNotTheStagesBlue()
         seen.insert(colour.rgb());
     }
     QCOMPARE(seen.size(), 12);
+    // Marbles next to each other in number differ clearly, 0 and 1 (a two-marble lesson) most:
+    // their vermilion and orange were 67 apart.
+    auto apart = [&](int a, int b) {
+        const QColor ca = colours.at(a).second;
+        const QColor cb = colours.at(b).second;
+        return std::hypot(ca.red() - cb.red(), ca.green() - cb.green(), ca.blue() - cb.blue());
+    };
+    QCOMPARE_GT(apart(0, 1), 200.0);
+    for (int i = 0; i + 1 < 12; ++i)
+        QVERIFY2(apart(i, i + 1) > 90.0, qPrintable(QStringLiteral("marbles %1 and %2").arg(i).arg(i + 1)));
 }
 
 void TestPlotDock::newLineTakesEarlierSpeeds()
