@@ -30,6 +30,7 @@
 #include <QMenu>
 #include <QMenuBar>
 #include <QMessageBox>
+#include <QResizeEvent>
 #include <QScreen>
 #include <QScrollArea>
 #include <QSettings>
@@ -1194,25 +1195,41 @@ void MainWindow::showEvent(QShowEvent *event)
     resizeDocks({m_plotDock}, {210}, Qt::Vertical);
 }
 
+void MainWindow::resizeEvent(QResizeEvent *event)
+{
+    QMainWindow::resizeEvent(event);
+    // The window's width may come after its first show (-geometry 1024x700 was applied once the
+    // toolbars had been laid out for 1400 px, and hid seven tools behind the overflow button),
+    // or the teacher narrows it: the rows are laid out again.
+    if (m_shownOnce && width() != m_toolBarsFitWidth)
+        fitToolBars();
+}
+
 void MainWindow::fitToolBars()
 {
     // On a narrow screen a toolbar that would not fit in its row goes to a new row, rather than
-    // its tools behind an overflow menu; on every start, as a kept layout may come from a wider
-    // window.
+    // its tools behind an overflow menu; wide enough again, it goes back beside the others. On
+    // every start, as a kept layout may come from a wider window, and on every change of width.
     const int width = isMaximized() && screen() ? screen()->availableGeometry().width() : this->width();
+    m_toolBarsFitWidth = this->width();
     int row = 0;
+    bool first = true;
     for (const QString &name : {QStringLiteral("fileToolBar"), QStringLiteral("runToolBar"), QStringLiteral("toolsToolBar")}) {
         auto *bar = findChild<QToolBar *>(name);
         if (!bar || bar->isHidden() || toolBarArea(bar) != Qt::TopToolBarArea)
             continue;
-        if (toolBarBreak(bar))
-            row = 0;
         const int barWidth = bar->sizeHint().width();
-        if (row > 0 && row + barWidth > width) {
-            insertToolBarBreak(bar);
-            row = 0;
+        const bool breakBefore = !first && row + barWidth > width;
+        if (!first && toolBarBreak(bar) != breakBefore) {
+            if (breakBefore)
+                insertToolBarBreak(bar);
+            else
+                removeToolBarBreak(bar);
         }
+        if (breakBefore)
+            row = 0;
         row += barWidth;
+        first = false;
     }
 }
 

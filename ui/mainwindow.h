@@ -100,6 +100,7 @@ public:
 protected:
     bool eventFilter(QObject *watched, QEvent *event) override;
     void showEvent(QShowEvent *event) override;
+    void resizeEvent(QResizeEvent *event) override;
     void closeEvent(QCloseEvent *event) override;
 
 private:
@@ -182,6 +183,7 @@ private:
     QString m_presetTitle;
     bool m_firstLayout = false;
     bool m_shownOnce = false;
+    int m_toolBarsFitWidth = -1; ///< the width fitToolBars() last laid the toolbars out for
     QByteArray m_stateToRestore; // the kept layout, restored when the window is first shown
     bool m_warnedNoAutosave = false;
     /// A toggle a preset set for its lesson (PresetView): the teacher's own setting before it,

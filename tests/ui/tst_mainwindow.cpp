@@ -1523,6 +1523,19 @@ void TestMainWindow::toolbarsFitTheWindow()
     QCoreApplication::processEvents();
     QCOMPARE(toolbarActionsHidden(), QString());
     QCOMPARE(m_window->findChild<QAction *>(QStringLiteral("actionFit"))->iconText(), QStringLiteral("Fit"));
+    // Narrowed after it was shown (as -geometry 1024x700 does), a toolbar that no longer fits
+    // takes a row of its own (seven tools were behind the overflow button); widened again, the
+    // rows join.
+    auto *tools = m_window->findChild<QToolBar *>(QStringLiteral("toolsToolBar"));
+    QVERIFY(!m_window->toolBarBreak(tools));
+    m_window->resize(1024, 700);
+    QCoreApplication::processEvents();
+    QVERIFY(m_window->toolBarBreak(tools));
+    QTRY_COMPARE(toolbarActionsHidden(), QString());
+    m_window->resize(1400, 900);
+    QCoreApplication::processEvents();
+    QVERIFY(!m_window->toolBarBreak(tools));
+    QTRY_COMPARE(toolbarActionsHidden(), QString());
 }
 
 void TestMainWindow::firstStartFitsASmallScreen()
