@@ -142,11 +142,22 @@ void ParametersDock::buildUi()
             if (auto *edit = spin->findChild<QLineEdit *>())
                 connect(edit, &QLineEdit::textEdited, spin, [spin] { spin->setProperty("typed", true); });
             connect(spin, &QAbstractSpinBox::editingFinished, this, [this, spin, box, help] {
-                if (const std::optional<double> refused = box->takeRefused())
-                    showRefusal(help, refusalText(spin, *box, *refused));
-                else if (spin->property("typed").toBool())
-                    explainAgain(help);
+                const std::optional<double> refused = box->takeRefused();
+                const bool typed = spin->property("typed").toBool();
                 spin->setProperty("typed", false);
+                if (!refused && !typed)
+                    return;
+                // One refusal at a time, the latest: three fields refused in a row showed three
+                // red lines, each long after it was read (a teacher tester's finding).
+                if (m_refusalShown && m_refusalShown != help)
+                    explainAgain(m_refusalShown);
+                m_refusalShown = nullptr;
+                if (refused) {
+                    showRefusal(help, refusalText(spin, *box, *refused));
+                    m_refusalShown = help;
+                } else {
+                    explainAgain(help);
+                }
             });
             const auto explain = [help] { explainAgain(help); };
             if (auto *real = qobject_cast<QDoubleSpinBox *>(spin))

@@ -72,6 +72,7 @@ private:
     QDoubleSpinBox *m_massScale = nullptr;
     QDoubleSpinBox *m_friction = nullptr;
     QLabel *m_frictionWarning = nullptr;
+    QLabel *m_refusalShown = nullptr; ///< the explanation line showing a refusal now, if any
     QDoubleSpinBox *m_zeroThreshold = nullptr;
     QDoubleSpinBox *m_pushScale = nullptr;
     QDoubleSpinBox *m_frameMs = nullptr;

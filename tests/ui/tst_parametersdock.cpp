@@ -412,6 +412,19 @@ void TestParametersDock::refusalIsExplainedUntilTheNextEdit()
     QCOMPARE(spy.count(), 1);
     QCOMPARE(dock.findChild<QLabel *>(QStringLiteral("massScaleEditHelp"))->text(),
              QStringLiteral("5000 is above this field's maximum (1000 per px): it stays 1.25 per px."));
+
+    // One refusal at a time, the latest: the mass scale's gives way to the zero threshold's
+    // (three refused fields in a row showed three red lines).
+    auto *threshold = dock.findChild<QDoubleSpinBox *>(QStringLiteral("zeroThresholdEdit"));
+    auto *thresholdHelp = dock.findChild<QLabel *>(QStringLiteral("zeroThresholdEditHelp"));
+    const QString thresholdExplanation = thresholdHelp->text();
+    typeInto(threshold, QStringLiteral("-1"));
+    QVERIFY2(thresholdHelp->text().contains(QStringLiteral("it stays")), qPrintable(thresholdHelp->text()));
+    QCOMPARE(dock.findChild<QLabel *>(QStringLiteral("massScaleEditHelp"))->property("explanation").toString(),
+             dock.findChild<QLabel *>(QStringLiteral("massScaleEditHelp"))->text());
+    // A value taken elsewhere clears it too.
+    typeInto(friction, QStringLiteral("0.2"));
+    QCOMPARE(thresholdHelp->text(), thresholdExplanation);
 }
 
 void TestParametersDock::frictionWarning_data()
