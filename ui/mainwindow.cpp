@@ -681,9 +681,15 @@ void MainWindow::createToolBars()
     runBar->addSeparator();
     m_compareBox = new QComboBox(runBar);
     m_compareBox->setObjectName(QStringLiteral("compareBox"));
-    m_compareBox->setToolTip(tr("Run a second model beside this one on the same scene; its marbles are drawn "
-                                "as dashed outlines and its speeds as dashed lines in the plot"));
+    m_compareBoxToolTip = tr("Run a second model beside this one on the same scene; its marbles are drawn "
+                             "as dashed outlines and its speeds as dashed lines in the plot");
+    m_compareBox->setToolTip(m_compareBoxToolTip);
     m_compareBox->setFocusPolicy(Qt::TabFocus);
+    // Wide enough for its longest text, "Compare: impulse (paused)", set once: a box that grew
+    // with its text moved the tools after it under the pointer.
+    m_compareBox->addItem(tr("Compare: %1 (paused)").arg(QStringLiteral("impulse")));
+    m_compareBox->setMinimumWidth(m_compareBox->sizeHint().width());
+    m_compareBox->clear(); // filled by updateCompareControls()
     connect(m_compareBox, &QComboBox::activated, this, [this](int index) {
         const int data = m_compareBox->itemData(index).toInt();
         for (QAction *action : m_compareGroup->actions()) {
@@ -1418,7 +1424,12 @@ void MainWindow::updateCompareControls()
         action->setEnabled(runnable || data == chosen);
         action->setToolTip(runnable ? QString() : needsDamping);
         if (action->isVisible()) {
-            m_compareBox->addItem(tr("Compare: %1").arg(action->text().remove(QLatin1Char('&')).toLower()), data);
+            // The comparison on show that cannot run says so in the box, not only in the status
+            // bar: "Compare: exact" stood over a plot whose dashed lines had stopped.
+            const QString name = action->text().remove(QLatin1Char('&')).toLower();
+            m_compareBox->addItem(!runnable && data == chosen ? tr("Compare: %1 (paused)").arg(name)
+                                                              : tr("Compare: %1").arg(name),
+                                  data);
             if (items && !runnable) {
                 QStandardItem *item = items->item(m_compareBox->count() - 1);
                 item->setEnabled(data == chosen); // the comparison on show stays, its readout says why it waits
@@ -1427,6 +1438,15 @@ void MainWindow::updateCompareControls()
         }
     }
     m_compareBox->setCurrentIndex(m_compareBox->findData(chosen));
+    if (chosen >= 0 && !damped && chosen != static_cast<int>(ModelKind::Book)) {
+        const std::string_view name = modelName(static_cast<ModelKind>(chosen));
+        m_compareBox->setToolTip(tr("Paused: the %1 model needs friction below 1 (the scene's is %2). Lower the "
+                                    "friction to run it again.")
+                                     .arg(QString::fromUtf8(name.data(), static_cast<qsizetype>(name.size())))
+                                     .arg(m_document->world().params.friction));
+    } else {
+        m_compareBox->setToolTip(m_compareBoxToolTip);
+    }
     QString plotted;
     if (m_compare->isActive()) {
         const std::string_view name = modelName(m_compare->model());

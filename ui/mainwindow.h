@@ -183,6 +183,7 @@ private:
     QString m_presetTitle;
     bool m_firstLayout = false;
     bool m_shownOnce = false;
+    QString m_compareBoxToolTip; ///< the Compare box's tooltip while its comparison can run
     int m_toolBarsFitWidth = -1; ///< the width fitToolBars() last laid the toolbars out for
     QByteArray m_stateToRestore; // the kept layout, restored when the window is first shown
     bool m_warnedNoAutosave = false;

@@ -1082,6 +1082,13 @@ void TestMainWindow::compareOffersOnlyModelsThatCanRun()
     QVERIFY(readout->text().contains(QStringLiteral("needs a friction below 1")));
     QVERIFY(readout->toolTip().startsWith(readout->text()));
     QCOMPARE_LE(m_window->minimumSizeHint().width(), narrowest + 2);
+    // The box says so too ("Compare: exact" stood over dashed lines that had stopped).
+    QCOMPARE(box->currentText(), QStringLiteral("Compare: exact (paused)"));
+    QVERIFY2(box->toolTip().contains(QStringLiteral("needs friction below 1 (the scene's is 1.2)")),
+             qPrintable(box->toolTip()));
+    QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("0.5")).isEmpty());
+    QCOMPARE(box->currentText(), QStringLiteral("Compare: exact"));
+    QVERIFY(box->toolTip().startsWith(QStringLiteral("Run a second model")));
 }
 
 void TestMainWindow::comparisonStartsWithItsTotals()
