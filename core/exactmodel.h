@@ -120,6 +120,7 @@ public:
     /// Marbles the guard against endless collision sequences froze in the last frame (0 with e = 1
     /// and no gravity).
     int lastFrozenCount() const { return m_frozenCount; }
+    int lastHeldCount() const override { return m_frozenCount; }
 
 private:
     enum class EventKind : std::uint8_t { Wall, Pin, Pair, Cross, RecheckPin, RecheckPair, None };

@@ -206,6 +206,7 @@ StepResult World::step()
     StepResult result;
     result.badMarble = firstNonFiniteMarble();
     result.finite = result.badMarble < 0;
+    result.heldMarbles = m_stepper->lastHeldCount();
     return result;
 }
 

@@ -34,6 +34,15 @@ struct Params {
     friend bool operator==(const Params &, const Params &) = default;
 };
 
+/// Whether a marble held at rest to finish a frame (StepResult::heldMarbles) is worth a word:
+/// with e = 1 and no gravity the exact model holds one only where it cannot follow it (a marble
+/// too fast for the frame's event budget, or wedged where it cannot fit), and kinetic energy is
+/// then not conserved; with e < 1 or gravity it holds marbles that come to rest, as it should.
+inline bool heldMarblesBreakEnergy(const Params &p)
+{
+    return p.restitution == 1.0 && p.gravity.x == 0.0 && p.gravity.y == 0.0;
+}
+
 /// The stage rectangle [0, width] x [0, height] in px, and whether its edges are walls.
 struct Stage {
     double width = 800.0;
@@ -85,6 +94,7 @@ struct HitRecord {
 struct StepResult {
     bool finite = true;  ///< false when a marble left finite numbers
     int badMarble = -1;  ///< the first such marble, in scene order
+    int heldMarbles = 0; ///< marbles the model held at rest to finish the frame (Stepper::lastHeldCount())
 };
 
 class World;
@@ -99,6 +109,9 @@ public:
     /// added to the marbles' pending acceleration; the stepper consumes it and leaves it zero.
     /// Does not touch world.frame.
     virtual void step(World &world) = 0;
+    /// Marbles the last step() held at rest for the rest of the frame to finish it (the exact
+    /// model's guards against endless collision sequences); 0 for models without such guards.
+    virtual int lastHeldCount() const { return 0; }
 };
 
 /// The simulated world: stage, parameters, marbles (structure of arrays, index = scene order),

@@ -133,6 +133,7 @@ MainWindow::MainWindow(QWidget *parent)
     connect(m_document, &SceneDocument::stepped, this, &MainWindow::updateEditActions);
     connect(m_document, &SceneDocument::sceneChanged, this, &MainWindow::onSceneChanged);
     connect(m_document, &SceneDocument::simulationFailed, this, &MainWindow::onSimulationFailed);
+    connect(m_document, &SceneDocument::marblesHeld, this, &MainWindow::showStatus);
     connect(m_document, &SceneDocument::fileNameChanged, this, &MainWindow::updateTitle);
     connect(m_document, &SceneDocument::modificationChanged, this, &MainWindow::updateTitle);
     connect(m_run, &RunController::runningChanged, this, &MainWindow::onRunningChanged);

@@ -141,6 +141,13 @@ StepResult SceneDocument::step()
     // Exponential moving average over about 30 frames: steady enough to read in the status bar.
     m_physicsMsPerFrame = m_physicsMsPerFrame == 0.0 ? ms : m_physicsMsPerFrame + (ms - m_physicsMsPerFrame) / 30.0;
     Q_EMIT frameAdvanced();
+    if (result.heldMarbles > 0 && heldMarblesBreakEnergy(m_world.params)) {
+        Q_EMIT marblesHeld(tr("Frame %1: the exact model held %n marble(s) at rest to finish the frame: more "
+                              "collisions in one frame than it can follow (a marble near 1e9 px/frame). Kinetic "
+                              "energy was not conserved there.",
+                              nullptr, result.heldMarbles)
+                               .arg(m_world.frame));
+    }
     if (!result.finite) {
         const QString name = QString::fromStdString(m_world.info[result.badMarble].name);
         Q_EMIT simulationFailed(

@@ -162,6 +162,9 @@ Q_SIGNALS:
     void timelineRewound(std::int64_t frame);
     /// The simulation left finite numbers; `message` names the frame and the marble.
     void simulationFailed(const QString &message);
+    /// The exact model held marbles at rest to finish a frame where energy should have been
+    /// kept (heldMarblesBreakEnergy()); `message` says which frame and how many.
+    void marblesHeld(const QString &message);
     /// The file name changed (open, save as, new).
     void fileNameChanged(const QString &fileName);
     /// Whether there are unsaved edits changed.

@@ -744,6 +744,28 @@ void TestSceneDocument::nonFiniteStateStopsWithMessage()
     const QString message = failed.first().first().toString();
     QVERIFY2(message.contains(QStringLiteral("frame %1").arg(doc.world().frame)), qPrintable(message));
     QVERIFY2(message.contains(QStringLiteral("marble 0")), qPrintable(message));
+
+    // The exact model holding marbles at rest where e = 1 should keep their energy (a marble too
+    // fast to follow) is said; marbles coming to rest under gravity are not.
+    World fast;
+    fast.params.model = ModelKind::Exact;
+    fast.params.friction = 0.0;
+    fast.addMarble({100, 300}, 5, {123456.789, 0});
+    fast.addMarble({300, 300}, 5);
+    fast.addMarble({700, 100}, 10, {-1e9, 3e8});
+    fast.addPin({500, 300.5});
+    doc.resetScene(fast);
+    QSignalSpy held(&doc, &SceneDocument::marblesHeld);
+    doc.advance(3);
+    QCOMPARE(held.count(), 1);
+    QVERIFY2(held.first().first().toString().startsWith(
+                 QStringLiteral("Frame 1: the exact model held 3 marble(s) at rest to finish the frame")),
+             qPrintable(held.first().first().toString()));
+    doc.resetScene(preset("pachinko"));
+    doc.setParam(QStringLiteral("model"), QStringLiteral("exact"));
+    held.clear();
+    doc.advance(400);
+    QCOMPARE(held.count(), 0);
 }
 
 void TestSceneDocument::undoLaterInTheRunGoesBackToTheEdit()
