@@ -10,6 +10,7 @@
 #include <QFileDialog>
 #include <QGraphicsLayout>
 #include <QHBoxLayout>
+#include <QHelpEvent>
 #include <QLabel>
 #include <QLegendMarker>
 #include <QLineF>
@@ -101,6 +102,16 @@ double distanceToSegment(QPointF p, QPointF a, QPointF b)
     const double lengthSquared = QPointF::dotProduct(ab, ab);
     const double t = lengthSquared > 0.0 ? std::clamp(QPointF::dotProduct(p - a, ab) / lengthSquared, 0.0, 1.0) : 0.0;
     return QLineF(p, a + t * ab).length();
+}
+
+/// A value for the readout: six significant digits, without a power of ten between 1e5 and
+/// 1e12 (a class read "1.03125e+06" for the energy in seconds).
+QString readableNumber(double value)
+{
+    const double size = std::abs(value);
+    if (size >= 1e5 && size < 1e12)
+        return QString::number(value, 'f', 0);
+    return QString::number(value, 'g', 6);
 }
 
 QString csvNumber(double value)
@@ -218,6 +229,12 @@ void applyRange(QValueAxis *axis, const AxisRange &range)
         axis->setRange(range.min, range.max);
     if (axis->tickCount() != range.ticks)
         axis->setTickCount(range.ticks);
+    // Plain numbers where they stay short, as the readout gives them (readableNumber()): the
+    // energy in seconds read "1.5e+06".
+    const double size = std::max(std::abs(range.min), std::abs(range.max));
+    const QString format = size >= 1e5 && size < 1e9 ? QStringLiteral("%.0f") : QStringLiteral("%g");
+    if (axis->labelFormat() != format)
+        axis->setLabelFormat(format);
 }
 
 // The model's name as the legend gives it ("book (solid)").
@@ -822,29 +839,36 @@ std::optional<PlotDock::PlottedValue> PlotDock::plottedValue(const QLineSeries *
 
 QString PlotDock::describePoint(const QLineSeries *series, QPointF point) const
 {
-    if (m_frames.isEmpty())
-        return QString();
-    const std::size_t sample = nearestSample(point.x());
-    const std::optional<PlottedValue> plotted = plottedValue(series, sample);
-    if (!plotted)
-        return QString();
-    const std::int64_t f = m_frames.at(sample);
-    return tr("frame %1 (%2 s): %3 %4 %5")
-        .arg(f)
-        .arg(QString::number(secondsAt(f), 'g', 6), plotted->what, QString::number(plotted->value, 'g', 6),
-             plotted->unit);
+    return describePoints({series}, point.x());
 }
 
-QLineSeries *PlotDock::seriesNear(QPointF at) const
+QString PlotDock::describePoints(const QList<const QLineSeries *> &lines, double x) const
 {
-    // The visible line passing nearest to `at` (chart coordinates), within kHoverReach px: its
-    // distance is to the segments either side of the sample nearest in time.
+    if (m_frames.isEmpty())
+        return QString();
+    const std::size_t sample = nearestSample(x);
+    QStringList values;
+    for (const QLineSeries *series : lines) {
+        if (const std::optional<PlottedValue> plotted = plottedValue(series, sample))
+            values << tr("%1 %2 %3").arg(plotted->what, readableNumber(plotted->value), plotted->unit);
+    }
+    if (values.isEmpty())
+        return QString();
+    const std::int64_t f = m_frames.at(sample);
+    return tr("frame %1 (%2 s): %3").arg(f).arg(QString::number(secondsAt(f), 'g', 6), values.join(QStringLiteral("; ")));
+}
+
+QList<const QLineSeries *> PlotDock::seriesNear(QPointF at) const
+{
+    // The visible lines passing nearest to `at` (chart coordinates), within kHoverReach px, the
+    // nearest first, with those no more than a pixel further (lines drawn on top of each other: a
+    // comparison that agrees with the scene's model named only one of them). A line's distance
+    // is to the segments either side of the sample nearest in time.
     if (m_frames.isEmpty() || !m_chart->plotArea().contains(at))
-        return nullptr;
-    QLineSeries *nearest = nullptr;
-    double best = kHoverReach;
+        return {};
+    std::vector<std::pair<double, const QLineSeries *>> near;
     for (QAbstractSeries *abstract : m_chart->series()) {
-        auto *series = qobject_cast<QLineSeries *>(abstract);
+        const auto *series = qobject_cast<const QLineSeries *>(abstract);
         if (!series || !series->isVisible())
             continue;
         const std::size_t sample = nearestSample(m_chart->mapToValue(at, abstract).x());
@@ -864,19 +888,23 @@ QLineSeries *PlotDock::seriesNear(QPointF at) const
             if (const std::optional<QPointF> there = pointAt(k))
                 distance = std::min(distance, distanceToSegment(at, *here, *there));
         }
-        if (distance <= best) {
-            best = distance;
-            nearest = series;
-        }
+        if (distance <= kHoverReach)
+            near.emplace_back(distance, series);
     }
-    return nearest;
+    std::stable_sort(near.begin(), near.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
+    QList<const QLineSeries *> out;
+    for (const auto &[distance, series] : near) {
+        if (distance <= near.front().first + 1.0)
+            out.append(series);
+    }
+    return out;
 }
 
 void PlotDock::hoverAt(QPoint viewportPos)
 {
     const QPointF at = m_chart->mapFromScene(m_chartView->mapToScene(viewportPos));
-    QLineSeries *series = seriesNear(at);
-    const QString text = series ? describePoint(series, m_chart->mapToValue(at, series)) : QString();
+    const QList<const QLineSeries *> lines = seriesNear(at);
+    const QString text = lines.isEmpty() ? QString() : describePoints(lines, m_chart->mapToValue(at).x());
     if (text == m_hoverLabel->text())
         return;
     m_hoverLabel->setText(text);
@@ -1286,10 +1314,18 @@ qsizetype PlotDock::pointsPerLine() const
 bool PlotDock::eventFilter(QObject *watched, QEvent *event)
 {
     if (watched == m_chartView->viewport()) {
-        if (event->type() == QEvent::MouseMove)
+        if (event->type() == QEvent::MouseMove) {
             hoverAt(static_cast<QMouseEvent *>(event)->position().toPoint());
-        else if (event->type() == QEvent::Leave)
+        } else if (event->type() == QEvent::Leave) {
             hoverAt(QPoint(-1, -1));
+        } else if (event->type() == QEvent::ToolTip && !m_hoverLabel->text().isEmpty()) {
+            // The view's own help event, a moment after the pointer stops, found no item's tooltip
+            // and hid the readout's: it vanished about a second after it was shown (a regression
+            // tester's finding). The readout's is shown again instead.
+            const auto *help = static_cast<QHelpEvent *>(event);
+            QToolTip::showText(help->globalPos(), m_hoverLabel->text(), m_chartView);
+            return true;
+        }
     }
     if (watched == m_chartView && (event->type() == QEvent::Resize || event->type() == QEvent::Show)) {
         updateLegendLabels();

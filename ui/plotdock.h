@@ -165,6 +165,9 @@ public:
     QLineSeries *speedSeries(int marble) const;
     /// Text describing the sample nearest to `point` on `series`: frame, time, what and the exact value.
     QString describePoint(const QLineSeries *series, QPointF point) const;
+    /// The same for several lines at once, at time-axis value `x` ("frame 7 (0.14 s): marble 1,
+    /// speed 1.2 px/frame; marble 1, exact, speed 1.2 px/frame").
+    QString describePoints(const QList<const QLineSeries *> &lines, double x) const;
     /// Shows in the readout (and a tooltip) the value of the visible line nearest to the chart
     /// view's viewport pixel `viewportPos`, within kHoverReach px; clears it where none is.
     /// The view's mouse moves call it.
@@ -261,8 +264,9 @@ private:
     std::optional<PlottedValue> plottedValue(const QLineSeries *series, std::size_t sample) const;
     /// The sample whose frame is nearest to `x`, in the time axis' units (m_frames not empty).
     std::size_t nearestSample(double x) const;
-    /// The visible line nearest to chart point `at` within kHoverReach px, or null.
-    QLineSeries *seriesNear(QPointF at) const;
+    /// The visible lines nearest to chart point `at` within kHoverReach px (and those within a
+    /// pixel of the nearest, drawn on top of it), nearest first; empty where none is.
+    QList<const QLineSeries *> seriesNear(QPointF at) const;
     void updateAxisTitles();
     /// Frames per second while the time axis is in seconds (speeds are drawn in px/s), else 1.
     double perSecond() const;

@@ -5,11 +5,13 @@
 #include "ui/ringbuffer.h"
 #include "tests/ui/filesizelimit.h"
 
+#include <QApplication>
 #include <QChart>
 #include <QChartView>
 #include <QCheckBox>
 #include <QDir>
 #include <QFile>
+#include <QHelpEvent>
 #include <QImage>
 #include <QLegend>
 #include <QLegendMarker>
@@ -18,6 +20,7 @@
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QToolTip>
 #include <QValueAxis>
 
 #include <cmath>
@@ -65,6 +68,7 @@ private slots:
     void totalsOnRequest();
     void hoverShowsExactValues_data();
     void hoverShowsExactValues();
+    void hoverNamesLinesOnTopOfEachOther();
     void exportCsv();
     void exportCsvError();
     void exportPng();
@@ -1259,6 +1263,60 @@ void TestPlotDock::hoverShowsExactValues()
     QCOMPARE(dock.hoverText(), expected);
     QTest::mouseMove(view->viewport(), QPoint(1, 1)); // outside the plot area
     QCOMPARE(dock.hoverText(), QString());
+
+    // The view's own tooltip event, a moment after the pointer stops, keeps the readout's
+    // tooltip up (it hid it about a second after it was shown).
+    // (Offscreen, the first tooltip goes within half a second anyway; the view's event must
+    // bring it back, not keep it away.)
+    dock.hoverAt(onLine);
+    QVERIFY(QToolTip::isVisible());
+    QTest::qWait(500);
+    QHelpEvent help(QEvent::ToolTip, onLine, view->viewport()->mapToGlobal(onLine));
+    QApplication::sendEvent(view->viewport(), &help);
+    QTest::qWait(500); // a tooltip hidden goes after 300 ms
+    QVERIFY(QToolTip::isVisible());
+    QCOMPARE(QToolTip::text(), expected);
+    QToolTip::hideText();
+}
+
+void TestPlotDock::hoverNamesLinesOnTopOfEachOther()
+{
+    // Two marbles at the same speed draw one line over the other: the readout names both (it
+    // named the one drawn last, as if the other had no value there). Large values are plain
+    // numbers ("1.03125e+06" read badly in class).
+    PlotDock dock;
+    World world = worldWith(2);
+    dock.reset(world);
+    for (int f = 1; f <= 10; ++f) {
+        world.frame = f;
+        world.velocity[0] = {0.5, 0.0};
+        world.velocity[1] = {0.5, 0.0};
+        dock.appendFrame(world);
+    }
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    dock.refreshChart();
+    QChartView *view = dock.chartView();
+    QLineSeries *line = dock.speedSeries(0);
+    const QPoint on = view->mapFromScene(view->chart()->mapToScene(view->chart()->mapToPosition(QPointF(4.0, 0.5), line)));
+    dock.hoverAt(on);
+    QCOMPARE(dock.hoverText(), QStringLiteral("frame 4 (0.08 s): marble 0, speed 0.5 px/frame; marble 1, speed 0.5 px/frame"));
+
+    world.velocity[0] = {4000.0, 0.0};
+    world.frame = 11;
+    dock.appendFrame(world);
+    dock.setKineticEnergyShown(true);
+    dock.refreshChart();
+    // 12.5 x 4000^2 / 2 + 12.5 x 0.5^2 / 2 = 100000001.5625
+    QCOMPARE(dock.describePoint(dock.kineticSeries(), QPointF(11.0, 0.0)),
+             QStringLiteral("frame 11 (0.22 s): kinetic energy 100000002 mass\u00b7px\u00b2/frame\u00b2"));
+    QValueAxis *energyAxis = nullptr;
+    for (QAbstractAxis *axis : view->chart()->axes(Qt::Vertical)) {
+        if (axis->alignment() == Qt::AlignRight && axis->isVisible())
+            energyAxis = qobject_cast<QValueAxis *>(axis);
+    }
+    QVERIFY(energyAxis);
+    QCOMPARE(energyAxis->labelFormat(), QStringLiteral("%.0f"));
 }
 
 void TestPlotDock::exportCsv()
