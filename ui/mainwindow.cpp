@@ -651,7 +651,7 @@ void MainWindow::createToolBars()
     // Play/Pause is the button everyone looks for: it carries its name; the others show it on hover.
     if (auto *play = qobject_cast<QToolButton *>(runBar->widgetForAction(m_playAction))) {
         play->setToolButtonStyle(Qt::ToolButtonTextBesideIcon);
-        play->setMinimumWidth(90);
+        play->setMinimumWidth(80);
     }
     m_speedBox = new QComboBox(runBar);
     m_speedBox->setObjectName(QStringLiteral("speedBox"));
@@ -669,18 +669,19 @@ void MainWindow::createToolBars()
     m_frameDisplay->setObjectName(QStringLiteral("frameDisplay"));
     // Wide enough for "Frame 999999   t = 99999.99 s": the Compare box and the tools after it
     // stayed put as the frame number grew (they moved under the pointer).
-    m_frameDisplay->setMinimumWidth(220);
     m_frameDisplay->setContentsMargins(8, 0, 8, 0);
     QFont font = m_frameDisplay->font();
     font.setPointSizeF(font.pointSizeF() * 1.15);
     font.setBold(true);
     m_frameDisplay->setFont(font);
-    m_frameDisplay->setMinimumWidth(std::max(m_frameDisplay->minimumWidth(),
-                                             QFontMetrics(font).horizontalAdvance(tr("Frame %1   t = %2 s").arg(999999).arg(99999.99, 0, 'f', 2))
-                                                 + 16));
+    m_frameDisplay->setMinimumWidth(
+        QFontMetrics(font).horizontalAdvance(tr("Frame %1   t = %2 s").arg(999999).arg(99999.99, 0, 'f', 2)) + 16);
     runBar->addWidget(m_frameDisplay);
-    runBar->addSeparator();
-    m_compareBox = new QComboBox(runBar);
+    // A bar of its own, so that on a narrow window (half of a 1366-px laptop screen) it takes
+    // the next row rather than the run bar's overflow menu.
+    QToolBar *compareBar = addToolBar(tr("Compare"));
+    compareBar->setObjectName(QStringLiteral("compareToolBar"));
+    m_compareBox = new QComboBox(compareBar);
     m_compareBox->setObjectName(QStringLiteral("compareBox"));
     m_compareBoxToolTip = tr("Run a second model beside this one on the same scene; its marbles are drawn "
                              "as dashed outlines and its speeds as dashed lines in the plot");
@@ -698,7 +699,7 @@ void MainWindow::createToolBars()
                 action->trigger();
         }
     });
-    runBar->addWidget(m_compareBox);
+    compareBar->addWidget(m_compareBox);
 
     QToolBar *toolBar = addToolBar(tr("Tools"));
     toolBar->setObjectName(QStringLiteral("toolsToolBar"));
@@ -1221,7 +1222,8 @@ void MainWindow::fitToolBars()
     m_toolBarsFitWidth = this->width();
     int row = 0;
     bool first = true;
-    for (const QString &name : {QStringLiteral("fileToolBar"), QStringLiteral("runToolBar"), QStringLiteral("toolsToolBar")}) {
+    for (const QString &name : {QStringLiteral("fileToolBar"), QStringLiteral("runToolBar"),
+                                QStringLiteral("compareToolBar"), QStringLiteral("toolsToolBar")}) {
         auto *bar = findChild<QToolBar *>(name);
         if (!bar || bar->isHidden() || toolBarArea(bar) != Qt::TopToolBarArea)
             continue;
