@@ -69,7 +69,22 @@ QPen comparePen(QColor colour)
 /// Colours of the two totals' lines (the comparison model's in the same colour, dashed): apart
 /// from every marble's.
 const QColor kKineticColour(0x33, 0x33, 0x33);
-const QColor kMomentumColour[2] = {QColor(0x8c, 0x1c, 0x8c), QColor(0x1a, 0x23, 0x7e)}; // x purple, y navy
+// The momentum's navy, the farthest colour from every marble's, the greys and the stage's blue
+// (a purple and a navy for x and y were near the wine of marble 7 and the violet of marble 5,
+// and a green for y looked like marble 1's bluish green): x solid, y dotted, each dashed the
+// more for a compared model.
+const QColor kMomentumColour(0x00, 0x00, 0xa0);
+
+/// The pen of the momentum's component `c` (0 x, 1 y), the comparison model's when `compared`.
+QPen momentumPen(int c, bool compared)
+{
+    if (c == 0)
+        return compared ? comparePen(kMomentumColour) : QPen(kMomentumColour, 2.0);
+    QPen pen(kMomentumColour, 2.0, Qt::CustomDashLine);
+    pen.setCapStyle(Qt::FlatCap);
+    pen.setDashPattern(compared ? QList<qreal>{2.5, 1.5, 1.0, 1.5} : QList<qreal>{1.0, 1.5});
+    return pen;
+}
 
 /// Marbles without a colour of their own are drawn blue on the stage, and the plotted ones in
 /// their lines' colours (StageView::setMarbleTints()): so no line is that blue or near it (marble
@@ -324,7 +339,7 @@ PlotDock::PlotDock(QWidget *parent)
 
     m_kineticSeries = addTotalSeries(kKineticColour, m_axisTotals);
     for (int c : {0, 1})
-        m_momentumSeries[c] = addTotalSeries(kMomentumColour[c], m_axisMomentum);
+        m_momentumSeries[c] = addTotalSeries(kMomentumColour, m_axisMomentum);
     styleSeries();
 
     m_chartView = new QChartView(m_chart, page);
@@ -622,7 +637,7 @@ void PlotDock::setCompareModel(const QString &model)
         showTotal(m_compareKineticSeries, m_showKinetic->isChecked());
         for (int c : {0, 1}) {
             startWithGaps(m_compareMomentum[c]);
-            m_compareMomentumSeries[c] = addTotalSeries(kMomentumColour[c], m_axisMomentum);
+            m_compareMomentumSeries[c] = addTotalSeries(kMomentumColour, m_axisMomentum);
             showTotal(m_compareMomentumSeries[c], m_showMomentum->isChecked());
         }
     }
@@ -1255,13 +1270,15 @@ void PlotDock::styleSeries()
     };
     styleTotal(m_kineticSeries, tr("kinetic energy"), kKineticColour);
     const QString momentumNames[] = {tr("momentum x"), tr("momentum y")};
-    for (int c : {0, 1})
-        styleTotal(m_momentumSeries[c], momentumNames[c], kMomentumColour[c]);
+    for (int c : {0, 1}) {
+        m_momentumSeries[c]->setPen(momentumPen(c, false));
+        m_momentumSeries[c]->setName(momentumNames[c]);
+    }
     if (comparing) {
         m_compareKineticSeries->setPen(comparePen(kKineticColour));
         m_compareKineticSeries->setName(tr("kinetic energy, %1").arg(m_compareModel));
         for (int c : {0, 1}) {
-            m_compareMomentumSeries[c]->setPen(comparePen(kMomentumColour[c]));
+            m_compareMomentumSeries[c]->setPen(momentumPen(c, true));
             m_compareMomentumSeries[c]->setName(tr("%1, %2").arg(momentumNames[c], m_compareModel));
         }
     }

@@ -682,6 +682,15 @@ void TestPlotDock::lineColoursAreNotTheStagesBlue()
         seen.insert(colour.rgb());
     }
     QCOMPARE(seen.size(), 12);
+    // The momentum's lines are apart from every marble's (a purple was 55 from marble 7's wine).
+    for (int c : {0, 1}) {
+        const QColor momentum = dock.momentumSeries(c)->pen().color();
+        for (const auto &[marble, colour] : colours) {
+            const double distance = std::hypot(colour.red() - momentum.red(), colour.green() - momentum.green(),
+                                               colour.blue() - momentum.blue());
+            QVERIFY2(distance > 100, qPrintable(QStringLiteral("momentum %1 and marble %2").arg(c).arg(marble)));
+        }
+    }
     // Marbles next to each other in number differ clearly, 0 and 1 (a two-marble lesson) most:
     // their vermilion and orange were 67 apart.
     auto apart = [&](int a, int b) {
@@ -1148,7 +1157,9 @@ void TestPlotDock::totalsOnRequest()
             momentumY = qobject_cast<QLineSeries *>(s);
     }
     QVERIFY(kinetic && momentum && momentumY);
-    QCOMPARE_NE(momentum->pen().color(), momentumY->pen().color());
+    // One colour, apart from the marbles'; y dotted (a second colour came near a marble's).
+    QCOMPARE(momentum->pen().style(), Qt::SolidLine);
+    QCOMPARE(momentumY->pen().style(), Qt::CustomDashLine);
     QVERIFY(!kinetic->isVisible());
     QCOMPARE(kinetic->count(), 0);
 
