@@ -994,6 +994,11 @@ void ExactModel::endFrame(World &world)
     const bool countRest = layerAllowed(world.marbleCount());
     int atRest = 0;
     const double z = world.params.zeroThreshold;
+    // Under a gravity of about 1e33 px/frame^2 or more a falling marble's bounces come closer
+    // together than a double can tell apart, and it ended the frame past the floor, 0.6 to
+    // 10,000 px (marbles-cli run, one marble of radius 25 on the default stage). One that began
+    // the frame inside the walls ends it inside: on the wall it went through, not moving out.
+    const bool keepInside = m_walls && !m_noGravity;
     setNow(1.0);
     for (int i = 0; i < n; ++i) {
         if (i + makeReadyAhead < n) {
@@ -1011,6 +1016,8 @@ void ExactModel::endFrame(World &world)
             v.x = 0.0;
         if (std::abs(v.y) <= z)
             v.y = 0.0;
+        if (keepInside)
+            keepWithinWalls(world.position[m_body[i].id], m_body[i].radius, p, v);
         if (countRest)
             atRest += (std::bit_cast<std::uint64_t>(v.x) | std::bit_cast<std::uint64_t>(v.y)) == 0;
         world.position[m_body[i].id] = p;
@@ -1019,6 +1026,28 @@ void ExactModel::endFrame(World &world)
     m_endedAtRest = countRest ? atRest + lastSleepingCount() : -1;
     m_endedCount = world.marbleCount();
     m_world = nullptr;
+}
+
+void ExactModel::keepWithinWalls(Vec2 start, double r, Vec2 &p, Vec2 &v) const
+{
+    const auto axis = [r](double from, double side, double &x, double &speed) {
+        if (2.0 * r >= side)
+            return; // held between its walls (collideWall())
+        const double tolerance = 1e-9 * (side + r); // collideWall()'s "touching"
+        const double lo = r;
+        const double hi = side - r;
+        if (from < lo - tolerance || from > hi + tolerance)
+            return; // began past a wall (placed so): it leaves by its own motion
+        if (x < lo - tolerance) {
+            x = lo;
+            speed = std::max(speed, 0.0);
+        } else if (x > hi + tolerance) {
+            x = hi;
+            speed = std::min(speed, 0.0);
+        }
+    };
+    axis(start.x, m_width, p.x, v.x);
+    axis(start.y, m_height, p.y, v.y);
 }
 
 std::uint64_t ExactModel::tieOf(int i, const Event &e) const

@@ -175,6 +175,9 @@ private:
     double localSpacing(const World &world, double side);
     void makeReady(int end);
     void endFrame(World &world);
+    /// A marble that began the frame at `start`, within the walls, and would end it at `p`
+    /// past one (a gravity too strong for a double's time), is put on that wall with no speed out.
+    void keepWithinWalls(Vec2 start, double r, Vec2 &p, Vec2 &v) const;
     void setNow(double t);
     Vec2 gravityOf(const Body &body) const;
     void stateAt(const Body &body, Vec2 &p, Vec2 &v) const;
