@@ -218,6 +218,25 @@ std::vector<StressRow> stressRows(bool quick)
             rows.push_back({"spawned overlapping marbles and pins", m, [m] { return withModel(spawnedOverlapping(), m); },
                             1000, expectFor(m, false, maxOverlap(spawned) + 1e-9, 30)});
         }
+        // Gravity far beyond a classroom's 0.5 px/frame^2: up to 1e13 every promise holds. At
+        // 1e34 a falling marble's bounces come closer together than a double's time tells apart:
+        // marbles resting on each other sink in (the exact model's overlap reaches pixels from
+        // about 1e30), so there only finite numbers and the stage are expected (the exact model
+        // let marbles through the floor from about 1e33).
+        auto withGravity = [](ModelKind m, double g) {
+            World w = withModel(smallScene(), m);
+            w.params.gravity = {0.0, g};
+            return w;
+        };
+        rows.push_back({"gravity 1e13 px/frame^2", m, [m, withGravity] { return withGravity(m, 1e13); }, 200,
+                        expectFor(m, false, 0, 55)});
+        {
+            Expect e;
+            if (m == ModelKind::Impulse)
+                e.maxOverlapPx = 2 * 55; // as everywhere: no centre past another disc's far side
+            rows.push_back({"gravity 1e34 (finite, on the stage)", m, [m, withGravity] { return withGravity(m, 1e34); },
+                            200, e});
+        }
         rows.push_back({"dense packing 0.85", m, [m] { return withModel(densePacking(0.85, 40, 40, 3), m); }, 300,
                         expectFor(m, true, 0, 6)});
         {
