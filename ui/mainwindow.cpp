@@ -920,8 +920,14 @@ bool MainWindow::replaceScene(const World &scene, const QString &fileName, const
         return false;
     m_run->pause();
     hideBarMessage();
-    setPresetTitle(presetTitle);
     m_document->resetScene(scene, fileName);
+    // The last scene's changes were saved or discarded: nothing is left to recover, at once (a
+    // crash before the autosave's next tick, up to 30 s on, offered the discarded changes back).
+    m_autoSaver->discard();
+    // After the reset: a discarded change's "not modified" came while the last scene's file
+    // name still stood, and updateTitle() took the title away ('Preset "".' in the status bar).
+    setPresetTitle(presetTitle);
+    updateTitle();
     m_view->clearSelection();
     restoreViewBeforePreset();
     // The keys go to the stage (Right steps, Space plays): a number field that had the focus

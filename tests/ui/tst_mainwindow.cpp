@@ -635,6 +635,11 @@ void TestMainWindow::unsavedChangesAreAskedAbout()
         QVERIFY(!m_window->openPreset(QStringLiteral("pins")));
         QCOMPARE(m_prompts->savedSceneName, QStringLiteral("other.marbles.json"));
         QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("other.marbles.json[*]")));
+        // Its changes discarded for a preset, the preset is named ('Preset "".' it said).
+        m_prompts->saveChoice = Prompts::SaveChoice::Discard;
+        QVERIFY(m_window->openPreset(QStringLiteral("pins")));
+        QCOMPARE(m_window->statusBar()->currentMessage(), QStringLiteral("Preset \"Marbles among pins (Example 2)\"."));
+        QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Marbles among pins (Example 2) (preset)")));
     }
 }
 
@@ -1395,6 +1400,18 @@ void TestMainWindow::autosaveIsRecoveredAfterCrash()
         QStringLiteral("The scene made from the preset \"Pachinko board\" had unsaved changes.")));
     QCOMPARE(m_window->document()->world().params.friction, 0.05);
     QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Pachinko board (preset)[*]")));
+
+    // Changes discarded for another scene leave nothing to recover, at once: a crash before the
+    // next tick brought them back as unsaved changes.
+    QVERIFY(m_window->autoSaver()->saveNow());
+    QVERIFY(QFile::exists(m_window->autoSaver()->scenePath()));
+    m_prompts->saveChoice = Prompts::SaveChoice::Discard;
+    QVERIFY(m_window->openPreset(QStringLiteral("pins")));
+    QVERIFY(!QFile::exists(m_window->autoSaver()->scenePath()));
+    // and the status bar names the preset (it said 'Preset "".' after a Discard).
+    QCOMPARE(m_window->statusBar()->currentMessage(), QStringLiteral("Preset \"Marbles among pins (Example 2)\"."));
+    QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Marbles among pins (Example 2) (preset)")));
+    QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
 
     // A clean exit leaves nothing to recover.
     m_prompts->saveChoice = Prompts::SaveChoice::Discard;
