@@ -23,6 +23,7 @@
 #include <QDialogButtonBox>
 #include <QDir>
 #include <QDockWidget>
+#include <QDoubleSpinBox>
 #include <QFileInfo>
 #include <QFontMetrics>
 #include <QHBoxLayout>
@@ -35,6 +36,7 @@
 #include <QScrollArea>
 #include <QSettings>
 #include <QShowEvent>
+#include <QSpinBox>
 #include <QSignalBlocker>
 #include <QStandardItemModel>
 #include <QStatusBar>
@@ -598,7 +600,7 @@ void MainWindow::showKeysAndMouse()
     row(tr("Wheel"), tr("zoom"));
     rows += QStringLiteral("<tr><td colspan=2>&nbsp;</td></tr>");
     row(tr("Tab, Shift+Tab"), tr("from control to control; Space presses a button or ticks a box tabbed to (one clicked leaves the keys on the stage)"));
-    row(tr("Alt + a field's underlined letter"), tr("to that field (Enter takes a number typed; Space takes it and plays)"));
+    row(tr("Alt + a field's underlined letter"), tr("to that field (Enter takes a number typed; Space takes it and plays; Esc puts the number back and returns to the stage)"));
     auto *label = m_keysDialog->findChild<QLabel *>(QStringLiteral("keysText"));
     label->setText(QStringLiteral("<table>%1</table>").arg(rows));
     // As large as the list asks, within the screen.
@@ -1177,6 +1179,24 @@ bool MainWindow::eventFilter(QObject *watched, QEvent *event)
         if (plainSpace && (qobject_cast<QAbstractButton *>(watched) || qobject_cast<QComboBox *>(watched))) {
             event->accept(); // the control takes its key
             return true;
+        }
+        // Esc in a number field puts back the number it holds and the keys on the stage (it
+        // cleared the stage's selection, the Inspector's marble going with it, and left the
+        // keys in the field: ] typed into it and 14 Tabs led back to the stage).
+        if (key->key() == Qt::Key_Escape && key->modifiers() == Qt::NoModifier) {
+            auto *widget = qobject_cast<QWidget *>(watched);
+            QAbstractSpinBox *field = nullptr;
+            for (QWidget *w = widget; w && !field; w = w->parentWidget())
+                field = qobject_cast<QAbstractSpinBox *>(w);
+            if (field && isAncestorOf(field) && field->window() == this) {
+                if (auto *real = qobject_cast<QDoubleSpinBox *>(field))
+                    real->setValue(real->value());
+                else if (auto *whole = qobject_cast<QSpinBox *>(field))
+                    whole->setValue(whole->value());
+                m_view->setFocus(Qt::ShortcutFocusReason);
+                event->accept();
+                return true;
+            }
         }
     }
     return QMainWindow::eventFilter(watched, event);

@@ -1053,6 +1053,24 @@ void TestMainWindow::undoKeysReachTheSceneFromANumberField()
     QCOMPARE(friction->text(), QStringLiteral("0.7"));
     QCOMPARE(doc->world().params.friction, 0.7);
     QCOMPARE(doc->undoStack()->index(), 1);
+
+    // Esc puts the number held back and the keys on the stage, the selection kept (it cleared
+    // the selection and left the keys in the field, where ] was typed).
+    m_window->stageView()->selectMarble(1);
+    friction->setFocus();
+    friction->selectAll();
+    QTest::keyClicks(friction, QStringLiteral("0.3"));
+    QTest::keyClick(friction, Qt::Key_Escape);
+    QCOMPARE(friction->text(), QStringLiteral("0.7"));
+    QCOMPARE(doc->world().params.friction, 0.7);
+    QCOMPARE(doc->undoStack()->index(), 1);
+    QCOMPARE(m_window->stageView()->selectedMarble(), 1);
+    QVERIFY(m_window->stageView()->hasFocus());
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_BracketRight);
+    QCOMPARE(m_window->stageView()->selectedMarble(), 2);
+    // On the stage, Esc still clears the selection.
+    QTest::keyClick(m_window->stageView(), Qt::Key_Escape);
+    QCOMPARE(m_window->stageView()->selectedMarble(), -1);
 }
 
 void TestMainWindow::compareOffersOnlyModelsThatCanRun()
