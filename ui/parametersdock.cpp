@@ -1,5 +1,6 @@
 #include "ui/parametersdock.h"
 
+#include "ui/quiettext.h"
 #include "ui/refusingspinbox.h"
 
 #include <QApplication>
@@ -68,7 +69,7 @@ QLabel *explanationLabel(const QString &text, QWidget *parent)
     QFont font = label->font();
     font.setPointSizeF(font.pointSizeF() * 0.9);
     label->setFont(font);
-    label->setForegroundRole(QPalette::PlaceholderText);
+    setQuietText(label);
     label->setContentsMargins(0, 0, 0, 6);
     return label;
 }
@@ -78,7 +79,7 @@ void explainAgain(QLabel *help)
 {
     help->setText(help->property("explanation").toString());
     help->setStyleSheet(QString());
-    help->setForegroundRole(QPalette::PlaceholderText);
+    help->setForegroundRole(QPalette::WindowText); // its quiet colour (setQuietText())
 }
 
 // Why a number was refused, in the line under its field: in the Inspector's solid red, not in

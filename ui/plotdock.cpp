@@ -1,5 +1,6 @@
 #include "ui/plotdock.h"
 
+#include "ui/quiettext.h"
 #include "ui/wholefile.h"
 
 #include <QBuffer>
@@ -358,7 +359,7 @@ PlotDock::PlotDock(QWidget *parent)
     m_hoverLabel->setTextInteractionFlags(Qt::TextSelectableByMouse);
     m_capNote = new QLabel(page);
     m_capNote->setObjectName(QStringLiteral("capNote"));
-    m_capNote->setForegroundRole(QPalette::PlaceholderText);
+    setQuietText(m_capNote);
     auto *footer = new QHBoxLayout;
     footer->addWidget(m_hoverLabel, 1);
     footer->addWidget(m_capNote);

@@ -756,6 +756,18 @@ void TestParametersDock::everyFieldExplained()
     QVERIFY(help);
     QVERIFY(help->text().endsWith(QLatin1Char('.')));
     QVERIFY(help->text().size() > 20);
+    // Legible from the back of a classroom: at least 4.5:1 against the dock (the placeholder
+    // colour it had was about 2.9:1).
+    auto luminance = [](QColor c) {
+        auto channel = [](double v) { return v <= 0.03928 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); };
+        return 0.2126 * channel(c.redF()) + 0.7152 * channel(c.greenF()) + 0.0722 * channel(c.blueF());
+    };
+    const QColor ink = help->palette().color(help->foregroundRole());
+    const QColor paper = help->palette().color(QPalette::Window);
+    const double a = luminance(ink);
+    const double b = luminance(paper);
+    const double contrast = (std::max(a, b) + 0.05) / (std::min(a, b) + 0.05);
+    QVERIFY2(contrast >= 4.5 && ink.alpha() == 255, qPrintable(QStringLiteral("%1 on %2: %3:1").arg(ink.name(), paper.name()).arg(contrast)));
 }
 
 QTEST_MAIN(TestParametersDock)
