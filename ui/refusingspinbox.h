@@ -72,6 +72,10 @@ public:
 
     QValidator::State validate(QString &input, int &pos) const override
     {
+        // The unit typed after a number typed over the field ("25px", "0.3 px/frame"): the
+        // field's own, taken ("25px" was refused as no number in a field that showed "px").
+        if (const std::optional<QValidator::State> state = unitTyped(input, pos))
+            return *state;
         if (breaksUnit(input))
             return QValidator::Invalid;
         // The text is left as typed; a decimal comma is read as the locale's mark.
@@ -244,6 +248,35 @@ private:
     }
 
     bool outside(double value) const { return value < low() || value > high(); }
+
+    // A number followed by the field's unit, or by the start of it while it is typed ("25p"),
+    // before the field's own unit or in place of it (typed over the whole text): the text becomes
+    // the number and the unit as the field writes them ("25 px"), validated as such; the start
+    // of a unit is kept.
+    std::optional<QValidator::State> unitTyped(QString &input, int &pos) const
+    {
+        const QString unit = this->suffix().trimmed();
+        if (unit.isEmpty())
+            return std::nullopt;
+        const QString body = input.endsWith(this->suffix()) ? input.chopped(this->suffix().size()) : input;
+        for (qsizetype n = std::min(unit.size(), body.size()); n > 0; --n) {
+            const QString tail = body.right(n);
+            if (!unit.startsWith(tail, Qt::CaseInsensitive))
+                continue;
+            const QString before = body.left(body.size() - n);
+            const QString number = before.trimmed();
+            if (number.isEmpty() || !number.back().isDigit())
+                return std::nullopt;
+            // The start of a unit right after the digits is being typed; after a space it is
+            // what is left of the field's own unit, cut ("0.01 px/fram"), which stays refused.
+            if (n < unit.size())
+                return before.back().isDigit() ? std::optional(QValidator::Intermediate) : std::nullopt;
+            input = number + this->suffix();
+            pos = static_cast<int>(number.size());
+            return validate(input, pos);
+        }
+        return std::nullopt;
+    }
 
     // A keystroke into the unit or after it ("0.01 px/framez", "0.01 px/fame"): dropped, as a spin
     // box drops it. Qt's own check let it through, and the unit then grew on every Delete ("5.000

@@ -612,6 +612,24 @@ void TestParametersDock::suffixStaysWhole()
     QString inside = QStringLiteral("0.0x1 px/frame");
     int pos = 4;
     QCOMPARE(spin->validate(inside, pos), QValidator::Intermediate);
+    // Cut from the end, the unit stays refused.
+    QString cut = QStringLiteral("0.01 px/fram");
+    pos = 12;
+    QCOMPARE(spin->validate(cut, pos), QValidator::Invalid);
+
+    // The unit typed after a number typed over the field is the field's own: "25px" was refused
+    // as no number in a field that showed "px" (a teacher tester's finding).
+    QSignalSpy spy(&dock, &ParametersDock::paramEdited);
+    typeInto(spin, QStringLiteral("0.25px/frame"));
+    QCOMPARE(spin->text(), QStringLiteral("0.25 px/frame"));
+    QCOMPARE(spy.count(), 1);
+    QCOMPARE(spy.last().at(1).toString(), QStringLiteral("0.25"));
+    auto *frameMs = dock.findChild<QDoubleSpinBox *>(QStringLiteral("frameMsEdit"));
+    typeInto(frameMs, QStringLiteral("40MS")); // (Space, in the window, plays)
+    QCOMPARE(spy.count(), 2);
+    QCOMPARE(spy.last().at(1).toString(), QStringLiteral("40"));
+    QCOMPARE(dock.findChild<QLabel *>(QStringLiteral("frameMsEditHelp"))->property("explanation").toString(),
+             dock.findChild<QLabel *>(QStringLiteral("frameMsEditHelp"))->text());
 }
 
 void TestParametersDock::stepsLandOnShownValues()
