@@ -7,6 +7,7 @@
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QLabel>
+#include <QLineEdit>
 #include <QSignalBlocker>
 #include <QStringList>
 #include <QVBoxLayout>
@@ -67,12 +68,20 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     m_y = makeBox(-1.0e6, 1.0e6, 2, tr(" px"), tr("Centre y, px (down is +y)."));
     m_vx = makeBox(-1.0e5, 1.0e5, 3, tr(" px/frame"), tr("Velocity x, px per frame."));
     m_vy = makeBox(-1.0e5, 1.0e5, 3, tr(" px/frame"), tr("Velocity y, px per frame."));
+    // A name a class can call the marble by ("heavy", "cue ball"): the plot's legend and the
+    // saved scene carry it (presets had names, a teacher's own marbles could not get one).
+    m_name = new QLineEdit(m_form);
+    m_name->setObjectName(QStringLiteral("name"));
+    m_name->setMaxLength(40);
+    m_name->setClearButtonEnabled(true);
+    m_name->setToolTip(tr("The marble's name, shown in the plot's legend and kept in the saved scene; empty for none."));
     m_radius->setObjectName(QStringLiteral("radius"));
     m_mass->setObjectName(QStringLiteral("mass"));
     m_x->setObjectName(QStringLiteral("x"));
     m_y->setObjectName(QStringLiteral("y"));
     m_vx->setObjectName(QStringLiteral("vx"));
     m_vy->setObjectName(QStringLiteral("vy"));
+    form->addRow(tr("Name"), m_name);
     form->addRow(tr("Radius"), m_radius);
     form->addRow(tr("Mass"), m_mass);
     form->addRow(QString(), m_autoMass);
@@ -82,7 +91,7 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     form->addRow(tr("vy"), m_vy);
     layout->addWidget(m_form);
     // Down the form, the check box included (Tab went from Mass to x past it).
-    QWidget *order[] = {m_radius, m_mass, m_autoMass, m_x, m_y, m_vx, m_vy};
+    QWidget *order[] = {m_name, m_radius, m_mass, m_autoMass, m_x, m_y, m_vx, m_vy};
     for (std::size_t k = 1; k < std::size(order); ++k)
         QWidget::setTabOrder(order[k - 1], order[k]);
 
@@ -119,6 +128,12 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
             m_reportedThisEdit = false;
         });
     }
+    connect(m_name, &QLineEdit::editingFinished, this, [this] {
+        if (m_marble >= 0 && m_name->isModified()) {
+            m_name->setModified(false);
+            report(m_document->setMarbleName(m_marble, m_name->text()));
+        }
+    });
     connect(m_radius, &QDoubleSpinBox::valueChanged, this, &InspectorDock::onRadius);
     connect(m_mass, &QDoubleSpinBox::valueChanged, this, &InspectorDock::onMass);
     connect(m_autoMass, &QCheckBox::toggled, this, &InspectorDock::onAutoMass);
@@ -165,6 +180,13 @@ void InspectorDock::showMarble(bool overTyping)
     }
     const QString name = QString::fromStdString(world.info[m_marble].name);
     m_title->setText(name.isEmpty() ? tr("Marble %1").arg(m_marble) : tr("Marble %1 — %2").arg(m_marble).arg(name));
+    // A name being typed is left alone, as a number being typed is; Esc puts back "kept".
+    if (!(m_name->hasFocus() && m_name->isModified()) || overTyping) {
+        m_name->setText(name);
+        m_name->setModified(false);
+    }
+    m_name->setProperty("kept", name);
+    m_name->setPlaceholderText(tr("marble %1").arg(m_marble));
     m_form->setEnabled(true);
     m_form->setVisible(true);
     // Each field shows its number; one past the field's range is said in words below them.

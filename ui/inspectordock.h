@@ -5,6 +5,7 @@
 class QCheckBox;
 class QDoubleSpinBox;
 class QLabel;
+class QLineEdit;
 
 namespace marbles {
 
@@ -26,6 +27,8 @@ public:
     /// The marble shown, or -1.
     int marble() const { return m_marble; }
 
+    /// The name field (a marble's name for the Inspector, the plot's legend and the saved scene).
+    QLineEdit *nameField() const { return m_name; }
     /// The fields, for tests: "radius", "mass", "x", "y", "vx", "vy".
     QDoubleSpinBox *field(const QString &name) const;
 
@@ -50,6 +53,7 @@ private:
     SceneDocument *m_document;
     int m_marble = -1;
     QLabel *m_title = nullptr;
+    QLineEdit *m_name = nullptr;
     QDoubleSpinBox *m_radius = nullptr;
     QDoubleSpinBox *m_mass = nullptr;
     QCheckBox *m_autoMass = nullptr;

@@ -28,6 +28,7 @@
 #include <QFontMetrics>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QLineEdit>
 #include <QMenu>
 #include <QMenuBar>
 #include <QMessageBox>
@@ -1197,6 +1198,15 @@ bool MainWindow::eventFilter(QObject *watched, QEvent *event)
                 event->accept();
                 return true;
             }
+            // A text field (the Inspector's name) likewise: its "kept" text back.
+            auto *edit = qobject_cast<QLineEdit *>(watched);
+            if (!field && edit && edit->property("kept").isValid() && isAncestorOf(edit)) {
+                edit->setText(edit->property("kept").toString());
+                edit->setModified(false);
+                m_view->setFocus(Qt::ShortcutFocusReason);
+                event->accept();
+                return true;
+            }
         }
     }
     return QMainWindow::eventFilter(watched, event);
@@ -1383,6 +1393,7 @@ void MainWindow::onParamEdited(const QString &key, const QString &value)
 void MainWindow::onSceneChanged()
 {
     m_parametersDock->setParams(m_document->world().params);
+    m_plotDock->updateMarbleInfo(m_document->world());
     updateEditActions();
     updateStatistics();
     updateCompareControls();

@@ -149,6 +149,35 @@ bool SetMarbleCommand::mergeWith(const QUndoCommand *other)
     return true;
 }
 
+RenameMarbleCommand::RenameMarbleCommand(SceneDocument *document, int marble, const std::string &before,
+                                         const std::string &after, const QString &text)
+    : QUndoCommand(text)
+    , m_document(document)
+    , m_marble(marble)
+    , m_before(before)
+    , m_after(after)
+{
+}
+
+void RenameMarbleCommand::redo()
+{
+    apply(m_after);
+}
+
+void RenameMarbleCommand::undo()
+{
+    apply(m_before);
+}
+
+void RenameMarbleCommand::apply(const std::string &name)
+{
+    World &world = m_document->editableWorld();
+    if (m_marble < 0 || m_marble >= world.marbleCount())
+        return;
+    world.info[static_cast<std::size_t>(m_marble)].name = name;
+    m_document->applyChange(SceneDocument::Change::Marbles);
+}
+
 AddMarbleCommand::AddMarbleCommand(SceneDocument *document, const MarbleRecord &record)
     : m_document(document)
     , m_record(record)

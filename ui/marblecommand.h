@@ -66,6 +66,23 @@ private:
     std::vector<Push> m_pushesAfter;
 };
 
+/// Names a marble ("" takes its name away): what the Inspector, the plot's legend and the saved
+/// scene call it. No physics changes, so no frame is returned to.
+class RenameMarbleCommand : public QUndoCommand {
+public:
+    RenameMarbleCommand(SceneDocument *document, int marble, const std::string &before, const std::string &after,
+                        const QString &text);
+    void redo() override;
+    void undo() override;
+
+private:
+    void apply(const std::string &name);
+    SceneDocument *m_document;
+    int m_marble;
+    std::string m_before;
+    std::string m_after;
+};
+
 /// Adds a marble at the end of the scene order.
 class AddMarbleCommand : public QUndoCommand {
 public:

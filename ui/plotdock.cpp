@@ -1124,6 +1124,26 @@ QList<QPair<int, QColor>> PlotDock::plottedColours() const
     return out;
 }
 
+void PlotDock::updateMarbleInfo(const World &world)
+{
+    if (world.info.size() != m_names.size())
+        return; // marbles added or removed: appendFrame() follows the new count
+    bool changed = false;
+    for (std::size_t i = 0; i < world.info.size(); ++i) {
+        const QString name = QString::fromStdString(world.info[i].name);
+        const QString colour = QString::fromStdString(world.info[i].color);
+        if (name != m_names[i] || colour != m_colors[i]) {
+            m_names[i] = name;
+            m_colors[i] = colour;
+            changed = true;
+        }
+    }
+    if (!changed)
+        return;
+    styleSeries();
+    emit plottedChanged(); // the stage's colours follow the lines'
+}
+
 QList<QPair<int, QColor>> PlotDock::stageColours() const
 {
     QList<QPair<int, QColor>> out = plottedColours();

@@ -200,6 +200,9 @@ public:
     void exportCsvInteractive();
     void exportPngInteractive();
 
+    /// Takes the marbles' names and colours from `world` again (a marble renamed in the
+    /// Inspector): the legend and the readout follow.
+    void updateMarbleInfo(const World &world);
     /// Each plotted marble with its line's colour, in marble order.
     QList<QPair<int, QColor>> plottedColours() const;
     /// The colours the stage gives marbles without one of their own: the plotted marbles' lines'

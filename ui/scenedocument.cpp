@@ -419,6 +419,28 @@ QString SceneDocument::setMarbleRadius(int i, double r)
     return {};
 }
 
+QString SceneDocument::setMarbleName(int i, const QString &name)
+{
+    if (!validMarble(m_world, i))
+        return tr("No such marble.");
+    const QString trimmed = name.trimmed();
+    // A legend entry and the Inspector's title line have room for about this much.
+    constexpr int kMaxNameLength = 40;
+    if (trimmed.size() > kMaxNameLength)
+        return tr("A marble's name may be %1 characters at most; \"%2\" has %3.")
+            .arg(kMaxNameLength)
+            .arg(trimmed)
+            .arg(trimmed.size());
+    const std::string before = m_world.info[static_cast<std::size_t>(i)].name;
+    const std::string after = trimmed.toStdString();
+    if (before == after)
+        return {};
+    const QString text = trimmed.isEmpty() ? tr("Take marble %1's name away").arg(i)
+                                           : tr("Name marble %1 \"%2\"").arg(i).arg(trimmed);
+    m_undoStack.push(new RenameMarbleCommand(this, i, before, after, text));
+    return {};
+}
+
 QString SceneDocument::setMarbleMass(int i, double m)
 {
     if (!validMarble(m_world, i))

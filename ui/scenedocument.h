@@ -133,6 +133,9 @@ public:
     QString setMarbleVelocity(int i, Vec2 v);
     /// Sets marble i's radius (> 0 px); its derived mass follows.
     QString setMarbleRadius(int i, double r);
+    /// Names marble i (spaces at the ends dropped; "" takes the name away), as one undo step.
+    /// Returns "" or why not (no such marble, a name longer than 40 characters).
+    QString setMarbleName(int i, const QString &name);
     /// Gives marble i an explicit mass (> 0), or 0 for massScale * radius.
     QString setMarbleMass(int i, double m);
     /// Applies a setting as setParam() takes it ("friction", "0.2"); refused when invalid.

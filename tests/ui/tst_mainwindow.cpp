@@ -7,6 +7,7 @@
 #include "ui/comparerun.h"
 #include "ui/elidingstatusbar.h"
 #include "ui/history.h"
+#include "ui/inspectordock.h"
 #include "ui/mainwindow.h"
 #include "ui/marbleitem.h"
 #include "ui/parametersdock.h"
@@ -31,6 +32,7 @@
 #include <QKeySequence>
 #include <QCheckBox>
 #include <QLabel>
+#include <QLineEdit>
 #include <QRadioButton>
 #include <QSet>
 #include <QLineSeries>
@@ -127,6 +129,7 @@ private Q_SLOTS:
     void plotExportsAreInTheFileMenu();
     void massScaleSaysWhenNoMarbleUsesIt();
     void plottedMarblesWearTheirLinesColours();
+    void marbleIsNamedInTheInspector();
     void keyboardChoosesAndPushesAMarble();
     void keyboardChangesRunSpeed();
     void spacePausesFromANumberField();
@@ -901,6 +904,42 @@ void TestMainWindow::plottedMarblesWearTheirLinesColours()
     QCOMPARE(drawn(0), first);
     QCOMPARE(drawn(1), second);
     QCOMPARE(drawn(12), QColor()); // the thirteenth is not plotted without a selection
+}
+
+void TestMainWindow::marbleIsNamedInTheInspector()
+{
+    // A teacher's own marbles can be named as the presets' are: the Inspector's Name field, one
+    // undo step, the plot's legend and the saved scene (it could not be done at all).
+    SceneDocument *doc = m_window->document();
+    QVERIFY(m_window->openPreset(QStringLiteral("four-marbles")));
+    m_window->stageView()->selectMarble(1);
+    QLineEdit *name = m_window->inspectorDock()->nameField();
+    QVERIFY(name && name->isVisible());
+    QCOMPARE(name->text(), QString::fromStdString(doc->world().info[1].name));
+    name->setFocus();
+    name->selectAll();
+    QTest::keyClicks(name, QStringLiteral("  cue ball "));
+    QTest::keyClick(name, Qt::Key_Return);
+    QCOMPARE(doc->world().info[1].name, std::string("cue ball"));
+    QCOMPARE(doc->undoStack()->undoText(), QStringLiteral("Name marble 1 \"cue ball\""));
+    QCOMPARE(m_window->plotDock()->speedSeries(1)->name(), QStringLiteral("cue ball (marble 1)"));
+    // Esc puts the name back and the keys on the stage.
+    name->setFocus();
+    name->selectAll();
+    QTest::keyClicks(name, QStringLiteral("eight"));
+    QTest::keyClick(name, Qt::Key_Escape);
+    QCOMPARE(name->text(), QStringLiteral("cue ball"));
+    QCOMPARE(doc->world().info[1].name, std::string("cue ball"));
+    QVERIFY(m_window->stageView()->hasFocus());
+    QCOMPARE(m_window->stageView()->selectedMarble(), 1);
+    // Undone, the old name is back everywhere; emptied, the marble has none.
+    QTest::keyClick(m_window->stageView(), Qt::Key_Z, Qt::ControlModifier);
+    QCOMPARE(doc->world().info[1].name, std::string("small"));
+    QCOMPARE(name->text(), QStringLiteral("small"));
+    QCOMPARE(m_window->plotDock()->speedSeries(1)->name(), QStringLiteral("small (marble 1)"));
+    QVERIFY(doc->setMarbleName(1, QString()).isEmpty());
+    QCOMPARE(m_window->plotDock()->speedSeries(1)->name(), QStringLiteral("marble 1"));
+    QVERIFY(!doc->setMarbleName(1, QString(41, QLatin1Char('x'))).isEmpty());
 }
 
 void TestMainWindow::keyboardChoosesAndPushesAMarble()
