@@ -392,7 +392,11 @@ QString SceneDocument::setMarbleVelocity(int i, Vec2 v)
     const MarbleState before = MarbleState::of(m_world, i);
     MarbleState after = before;
     after.velocity = v;
-    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble %1's velocity to (%2, %3) px/frame").arg(i).arg(v.x, 0, 'g', 6).arg(v.y, 0, 'g', 6),
+    // As the Inspector shows a velocity, to the thousandth (the other component, not typed,
+    // read "0.574696" beside the field's 0.575).
+    const auto shown = [](double x) { return QString::number(std::round(x * 1000.0) / 1000.0, 'g', 12); };
+    m_undoStack.push(new SetMarbleCommand(this, i, before, after,
+                                          tr("Set marble %1's velocity to (%2, %3) px/frame").arg(i).arg(shown(v.x), shown(v.y)),
                                           CommandId::EditMarbleVelocity));
     return {};
 }

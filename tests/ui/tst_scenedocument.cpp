@@ -900,6 +900,9 @@ void TestSceneDocument::paramEditsAreNamedAsTheDockNamesThem()
     QVERIFY(doc.setParam(QStringLiteral("friction"), friction).isEmpty());
     QCOMPARE(doc.undoStack()->count(), 5);
     QCOMPARE(doc.undoStack()->text(4), QStringLiteral("Set marble 1's velocity to (3, -0.25) px/frame"));
+    // To the thousandth, as the Inspector shows it (the untouched component read "0.574696").
+    QVERIFY(doc.setMarbleVelocity(1, {3, 0.574696}).isEmpty());
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Set marble 1's velocity to (3, 0.575) px/frame"));
 }
 
 void TestSceneDocument::saveThenOpenRoundTrips()
