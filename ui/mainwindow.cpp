@@ -1226,9 +1226,7 @@ void MainWindow::showEvent(QShowEvent *event)
         // A kept layout: a Parameters dock narrower than its fields (kept from a narrower window,
         // its fields cut off behind a sideways scroll bar) gets the width they need, as far as
         // the stage keeps its own.
-        const int wanted = m_parametersDock->fieldsWidth();
-        if (m_parametersDock->isVisible() && !m_parametersDock->isFloating() && m_parametersDock->width() < wanted)
-            resizeDocks({m_parametersDock}, {wanted}, Qt::Horizontal);
+        widenParametersToItsFields();
         return;
     }
     // First start (no saved layout): the stage gets most of the room, the plot a strip below it.
@@ -1247,6 +1245,17 @@ void MainWindow::resizeEvent(QResizeEvent *event)
     // or the teacher narrows it: the rows are laid out again.
     if (m_shownOnce && width() != m_toolBarsFitWidth)
         fitToolBars();
+    // Widened again after it was narrowed, the window gave all its new width to the stage and
+    // left the Parameters dock squeezed, its fields cut off (a projector tester's finding).
+    if (m_shownOnce && event->oldSize().isValid() && event->size().width() > event->oldSize().width())
+        QTimer::singleShot(0, this, &MainWindow::widenParametersToItsFields); // once the layout has its size
+}
+
+void MainWindow::widenParametersToItsFields()
+{
+    const int wanted = m_parametersDock->fieldsWidth();
+    if (m_parametersDock->isVisible() && !m_parametersDock->isFloating() && m_parametersDock->width() < wanted)
+        resizeDocks({m_parametersDock}, {wanted}, Qt::Horizontal);
 }
 
 void MainWindow::fitToolBars()

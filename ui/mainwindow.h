@@ -166,6 +166,9 @@ private:
     void fitFirstWindow();
     /// Breaks the toolbars into rows where one would not fit beside the last (on every start).
     void fitToolBars();
+    /// A Parameters dock narrower than its fields gets the width they need, as far as the stage
+    /// keeps its own.
+    void widenParametersToItsFields();
     void showKeysAndMouse();
     void updateEditActions();
     /// Asks to save changes, then opens `scene` in place of the open one; false if cancelled.

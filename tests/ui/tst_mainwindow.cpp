@@ -1617,6 +1617,12 @@ void TestMainWindow::toolbarsFitTheWindow()
     QCoreApplication::processEvents();
     QVERIFY(!m_window->toolBarBreak(tools));
     QTRY_COMPARE(toolbarActionsHidden(), QString());
+    // Narrowed to its narrowest and widened again, the Parameters dock gets its fields' width
+    // back (all the new width went to the stage, the dock left at about 120 px).
+    m_window->resize(m_window->minimumSizeHint().width(), 700);
+    QCoreApplication::processEvents();
+    m_window->resize(1400, 900);
+    QTRY_COMPARE_GE(m_window->parametersDock()->width(), m_window->parametersDock()->fieldsWidth());
     // Half of a 1366-px laptop screen, down to the window's narrowest: the Compare box, at the
     // end of the run bar, went into its overflow menu below 760 px; it has a bar of its own.
     for (const int width : {760, 700, m_window->minimumSizeHint().width()}) {
