@@ -265,30 +265,24 @@ QString SceneDocument::endHold(Vec2 p)
         Q_EMIT stepped();
         return tr("No free spot for the marble near (%1, %2): it went back.").arg(p.x, 0, 'f', 0).arg(p.y, 0, 'f', 0);
     }
+    // Held while the run went on, it was caught: let go at rest. Moved while paused, no time
+    // passed in the hand: it keeps its velocity and any push still to come (a teacher who set
+    // velocities and then tidied the places lost them; the drop said so, but the setting-up of
+    // a scene is moving marbles about).
+    const bool caught = m_world.frame != m_holdStartFrame;
     MarbleState after = MarbleState::of(m_world, i);
     after.position = *spot;
-    after.velocity = {};
-    after.acceleration = {};
+    after.velocity = caught ? Vec2{} : m_holdStartVelocity;
+    after.acceleration = caught ? Vec2{} : m_holdStartAcceleration;
     // The drag belongs to the frame it began at: undone, the frames the marble was held for go
     // (they were kept, the marble held in them, while the undo set it going from where it was
     // taken hold of at the frame of the drop).
     m_undoStack.push(new SetMarbleCommand(this, i, before, after,
                                           tr("Move marble %1 to (%2, %3)").arg(i).arg(spot->x, 0, 'f', 0).arg(spot->y, 0, 'f', 0),
                                           std::nullopt, m_holdStartFrame));
-    QString note;
     if (spot->x != p.x || spot->y != p.y)
-        note = tr("The marble was moved to the nearest free spot.");
-    // Let go where it was held, it is at rest: said, with the velocity it had, when the scene was
-    // paused (a teacher who set velocities and then tidied the places lost them without a word;
-    // a marble caught during a run is seen to stop).
-    if (m_world.frame == m_holdStartFrame && (before.velocity.x != 0.0 || before.velocity.y != 0.0)) {
-        note += (note.isEmpty() ? QString() : QStringLiteral(" "))
-            + tr("Marble %1 was let go at rest: its velocity (%2, %3) px/frame is 0 now (Ctrl+Z gives it back).")
-                  .arg(i)
-                  .arg(before.velocity.x, 0, 'g', 4)
-                  .arg(before.velocity.y, 0, 'g', 4);
-    }
-    return note;
+        return tr("The marble was moved to the nearest free spot.");
+    return {};
 }
 
 void SceneDocument::beginPinDrag(int j)

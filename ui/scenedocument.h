@@ -99,7 +99,8 @@ public:
     void beginHold(int i);
     /// Moves the held marble to `p` (stage px).
     void moveHeld(Vec2 p);
-    /// Drops the held marble at `p`: moved to the nearest free spot and pushed as one undo step.
+    /// Drops the held marble at `p`: moved to the nearest free spot and pushed as one undo step;
+    /// at rest if frames ran while it was held, else with the velocity and push it had.
     /// Returns "" when it lands at `p`, else a line for the status bar: that it was moved to the
     /// nearest free spot, or why the drop was refused (the marble then goes back to where it was
     /// picked up, and no undo step is made).
