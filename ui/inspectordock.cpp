@@ -72,7 +72,6 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     // saved scene carry it (presets had names, a teacher's own marbles could not get one).
     m_name = new QLineEdit(m_form);
     m_name->setObjectName(QStringLiteral("name"));
-    m_name->setMaxLength(40);
     m_name->setClearButtonEnabled(true);
     m_name->setToolTip(tr("The marble's name, shown in the plot's legend and kept in the saved scene; empty for none."));
     m_radius->setObjectName(QStringLiteral("radius"));
@@ -121,10 +120,12 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
             // explained; an edit that changed nothing (a blank, letters) leaves no earlier
             // refusal on show, which would read as this edit's.
             auto *refusing = dynamic_cast<Refusing *>(box);
-            if (const std::optional<double> refused = refusing ? refusing->takeRefused() : std::nullopt)
+            if (const std::optional<double> refused = refusing ? refusing->takeRefused() : std::nullopt) {
                 m_error->setText(refusalMessage(*refusing, *refused, box->locale()));
-            else if (!m_reportedThisEdit)
+                Q_EMIT this->refused();
+            } else if (!m_reportedThisEdit) {
                 m_error->clear();
+            }
             m_reportedThisEdit = false;
         });
     }
@@ -154,6 +155,11 @@ InspectorDock::~InspectorDock()
         disconnect(box, nullptr, this, nullptr);
 }
 
+void InspectorDock::clearRefusal()
+{
+    m_error->clear();
+}
+
 QDoubleSpinBox *InspectorDock::field(const QString &name) const
 {
     return m_form->findChild<QDoubleSpinBox *>(name);
@@ -179,7 +185,9 @@ void InspectorDock::showMarble(bool overTyping)
         return;
     }
     const QString name = QString::fromStdString(world.info[m_marble].name);
-    m_title->setText(name.isEmpty() ? tr("Marble %1").arg(m_marble) : tr("Marble %1 — %2").arg(m_marble).arg(name));
+    // The name is in its field below: a long one in the title wrapped it onto a second line
+    // and moved every field down under the pointer.
+    m_title->setText(tr("Marble %1").arg(m_marble));
     // A name being typed is left alone, as a number being typed is; Esc puts back "kept".
     if (!(m_name->hasFocus() && m_name->isModified()) || overTyping) {
         m_name->setText(name);
@@ -221,6 +229,7 @@ void InspectorDock::report(const QString &error)
     m_reportedThisEdit = true;
     m_error->setText(error);
     if (!error.isEmpty()) {
+        Q_EMIT refused();
         Q_EMIT message(error);
         showMarble(true);
     }

@@ -32,9 +32,14 @@ public:
     /// The fields, for tests: "radius", "mass", "x", "y", "vx", "vy".
     QDoubleSpinBox *field(const QString &name) const;
 
+    /// Clears the refusal shown under the fields (another dock showed one).
+    void clearRefusal();
+
 Q_SIGNALS:
     /// An edit was refused; `text` says why.
     void message(const QString &text);
+    /// A refusal is shown under the fields.
+    void refused();
 
 private:
     void refresh() { showMarble(false); }

@@ -5,6 +5,7 @@
 #include "ui/comparerun.h"
 #include "ui/elidingstatusbar.h"
 #include "ui/inspectordock.h"
+#include "ui/numbertext.h"
 #include "ui/parametersdock.h"
 #include "ui/plotdock.h"
 #include "ui/prompts.h"
@@ -137,6 +138,9 @@ MainWindow::MainWindow(QWidget *parent)
     connect(m_document, &SceneDocument::sceneChanged, this, &MainWindow::onSceneChanged);
     connect(m_document, &SceneDocument::simulationFailed, this, &MainWindow::onSimulationFailed);
     connect(m_document, &SceneDocument::marblesHeld, this, &MainWindow::showStatus);
+    // One refusal on show in the window, the latest, as within a dock.
+    connect(m_parametersDock, &ParametersDock::refused, m_inspectorDock, &InspectorDock::clearRefusal);
+    connect(m_inspectorDock, &InspectorDock::refused, m_parametersDock, &ParametersDock::clearRefusal);
     connect(m_document, &SceneDocument::fileNameChanged, this, &MainWindow::updateTitle);
     connect(m_document, &SceneDocument::modificationChanged, this, &MainWindow::updateTitle);
     connect(m_run, &RunController::runningChanged, this, &MainWindow::onRunningChanged);
@@ -1615,8 +1619,10 @@ void MainWindow::updateStatistics()
     m_lastPaintCount = paints;
     updateSlowLabel();
     const Vec2 p = world.momentum();
-    m_energyLabel->setText(tr("KE %1").arg(world.kineticEnergy(), 0, 'g', 5));
-    m_momentumLabel->setText(tr("p = (%1, %2)").arg(p.x, 0, 'g', 4).arg(p.y, 0, 'g', 4));
+    // Plain numbers up to 1e12, as the plot's readout gives them ("KE 4.5862e+06" beside its
+    // "1336500").
+    m_energyLabel->setText(tr("KE %1").arg(readableNumber(world.kineticEnergy(), 5)));
+    m_momentumLabel->setText(tr("p = (%1, %2)").arg(readableNumber(p.x, 4), readableNumber(p.y, 4)));
 }
 
 void MainWindow::updateSlowLabel()

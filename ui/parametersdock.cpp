@@ -156,6 +156,7 @@ void ParametersDock::buildUi()
                 if (refused) {
                     showRefusal(help, refusalText(spin, *box, *refused));
                     m_refusalShown = help;
+                    Q_EMIT this->refused();
                 } else {
                     explainAgain(help);
                 }
@@ -314,6 +315,13 @@ QString ParametersDock::refusalText(const QAbstractSpinBox *spin, const Refusing
         return tr("Exact and impulse need friction below 1: %1 was refused, it stays %2 (book: up to %3).")
             .arg(refusedNumber(box, refused, spin->locale()), box.shown(box.current()), box.shown(kBookFrictionMax));
     return refusalMessage(box, refused, spin->locale());
+}
+
+void ParametersDock::clearRefusal()
+{
+    if (m_refusalShown)
+        explainAgain(m_refusalShown);
+    m_refusalShown = nullptr;
 }
 
 void ParametersDock::setParams(const Params &params)

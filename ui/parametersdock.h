@@ -41,8 +41,12 @@ public:
     int fieldsWidth() const;
     /// The values the fields show now (what the user sees), as Params.
     Params shownParams() const;
+    /// Takes a refusal shown back to its field's explanation (another dock showed one).
+    void clearRefusal();
 
 signals:
+    /// A number typed was refused and the line under its field says why.
+    void refused();
     /// The user changed one field: `key` and `value` are what marbles::setParam() takes
     /// (e.g. "friction", "0.2"; "gravity", "0,0.5"; "shortCircuit", "true").
     void paramEdited(const QString &key, const QString &value);

@@ -1,5 +1,6 @@
 #include "ui/plotdock.h"
 
+#include "ui/numbertext.h"
 #include "ui/quiettext.h"
 #include "ui/wholefile.h"
 
@@ -118,16 +119,6 @@ double distanceToSegment(QPointF p, QPointF a, QPointF b)
     const double lengthSquared = QPointF::dotProduct(ab, ab);
     const double t = lengthSquared > 0.0 ? std::clamp(QPointF::dotProduct(p - a, ab) / lengthSquared, 0.0, 1.0) : 0.0;
     return QLineF(p, a + t * ab).length();
-}
-
-/// A value for the readout: six significant digits, without a power of ten between 1e5 and
-/// 1e12 (a class read "1.03125e+06" for the energy in seconds).
-QString readableNumber(double value)
-{
-    const double size = std::abs(value);
-    if (size >= 1e5 && size < 1e12)
-        return QString::number(value, 'f', 0);
-    return QString::number(value, 'g', 6);
 }
 
 QString csvNumber(double value)
@@ -357,6 +348,11 @@ PlotDock::PlotDock(QWidget *parent)
     m_hoverLabel = new QLabel(page);
     m_hoverLabel->setObjectName(QStringLiteral("hoverLabel"));
     m_hoverLabel->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    // Its text is cut to the room it has (setHoverText()): a readout naming seven lines, as
+    // long as the window was wide, made the window wider than the screen (a regression
+    // tester's finding: the docks went off its right edge, and stayed there).
+    m_hoverLabel->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
+    m_hoverLabel->setMinimumWidth(1);
     m_capNote = new QLabel(page);
     m_capNote->setObjectName(QStringLiteral("capNote"));
     setQuietText(m_capNote);
@@ -418,7 +414,7 @@ void PlotDock::reset(const World &world)
     m_models = QStringList{modelLabel(world)};
     m_parked.clear(); // another scene's marbles
     rebuildTracks();
-    m_hoverLabel->clear();
+    setHoverText(QString());
     m_dirty = true;
 }
 
@@ -443,7 +439,7 @@ void PlotDock::resample(const World &world, const World *compare)
         m_models.append(model);
         styleSeries();
     }
-    m_hoverLabel->clear();
+    setHoverText(QString());
 }
 
 void PlotDock::markCompareRestart(std::int64_t frame)
@@ -473,7 +469,7 @@ void PlotDock::cutAfter(std::int64_t frame)
         m_models = QStringList{m_models.last()};
         styleSeries();
     }
-    m_hoverLabel->clear();
+    setHoverText(QString());
     m_dirty = true;
 }
 
@@ -921,9 +917,9 @@ void PlotDock::hoverAt(QPoint viewportPos)
     const QPointF at = m_chart->mapFromScene(m_chartView->mapToScene(viewportPos));
     const QList<const QLineSeries *> lines = seriesNear(at);
     const QString text = lines.isEmpty() ? QString() : describePoints(lines, m_chart->mapToValue(at).x());
-    if (text == m_hoverLabel->text())
+    if (text == m_hoverText)
         return;
-    m_hoverLabel->setText(text);
+    setHoverText(text);
     if (text.isEmpty())
         QToolTip::hideText();
     else
@@ -932,7 +928,13 @@ void PlotDock::hoverAt(QPoint viewportPos)
 
 QString PlotDock::hoverText() const
 {
-    return m_hoverLabel->text();
+    return m_hoverText;
+}
+
+void PlotDock::setHoverText(const QString &text)
+{
+    m_hoverText = text;
+    m_hoverLabel->setText(m_hoverLabel->fontMetrics().elidedText(text, Qt::ElideRight, m_hoverLabel->width()));
 }
 
 QString PlotDock::exportCsv(const QString &path) const
@@ -1356,12 +1358,12 @@ bool PlotDock::eventFilter(QObject *watched, QEvent *event)
             hoverAt(static_cast<QMouseEvent *>(event)->position().toPoint());
         } else if (event->type() == QEvent::Leave) {
             hoverAt(QPoint(-1, -1));
-        } else if (event->type() == QEvent::ToolTip && !m_hoverLabel->text().isEmpty()) {
+        } else if (event->type() == QEvent::ToolTip && !m_hoverText.isEmpty()) {
             // The view's own help event, a moment after the pointer stops, found no item's tooltip
             // and hid the readout's: it vanished about a second after it was shown (a regression
             // tester's finding). The readout's is shown again instead.
             const auto *help = static_cast<QHelpEvent *>(event);
-            QToolTip::showText(help->globalPos(), m_hoverLabel->text(), m_chartView);
+            QToolTip::showText(help->globalPos(), m_hoverText, m_chartView);
             return true;
         }
     }

@@ -270,6 +270,8 @@ private:
     /// The visible lines nearest to chart point `at` within kHoverReach px (and those within a
     /// pixel of the nearest, drawn on top of it), nearest first; empty where none is.
     QList<const QLineSeries *> seriesNear(QPointF at) const;
+    /// Shows `text` as the readout, cut to the label's width.
+    void setHoverText(const QString &text);
     void updateAxisTitles();
     /// Frames per second while the time axis is in seconds (speeds are drawn in px/s), else 1.
     double perSecond() const;
@@ -324,6 +326,7 @@ private:
     QRadioButton *m_frameAxis = nullptr;
     QRadioButton *m_secondAxis = nullptr;
     QLabel *m_hoverLabel = nullptr;
+    QString m_hoverText; ///< the readout whole (the label shows as much as fits)
     QLabel *m_capNote = nullptr;
     QTimer *m_refreshTimer = nullptr;
 };

@@ -858,6 +858,14 @@ void TestMainWindow::massScaleSaysWhenNoMarbleUsesIt()
     QTest::keyClick(scale, Qt::Key_Return);
     QCOMPARE(m_window->document()->world().params.massScale, 3.0);
     QVERIFY(!m_window->statusBar()->currentMessage().contains(QStringLiteral("changes none of them")));
+
+    // Large totals are plain numbers in the status bar, as in the plot's readout ("KE 4.5862e+06").
+    QVERIFY(m_window->document()->setMarbleVelocity(0, {30000, 0}).isEmpty());
+    const World &w = m_window->document()->world();
+    auto *energy = m_window->findChild<QLabel *>(QStringLiteral("energyLabel"));
+    auto *momentum = m_window->findChild<QLabel *>(QStringLiteral("momentumLabel"));
+    QCOMPARE(energy->text(), QStringLiteral("KE %1").arg(std::round(w.kineticEnergy()), 0, 'f', 0));
+    QVERIFY2(!momentum->text().contains(QStringLiteral("e+")), qPrintable(momentum->text()));
 }
 
 void TestMainWindow::plottedMarblesWearTheirLinesColours()
@@ -939,7 +947,38 @@ void TestMainWindow::marbleIsNamedInTheInspector()
     QCOMPARE(m_window->plotDock()->speedSeries(1)->name(), QStringLiteral("small (marble 1)"));
     QVERIFY(doc->setMarbleName(1, QString()).isEmpty());
     QCOMPARE(m_window->plotDock()->speedSeries(1)->name(), QStringLiteral("marble 1"));
-    QVERIFY(!doc->setMarbleName(1, QString(41, QLatin1Char('x'))).isEmpty());
+    // One refusal on show in the window: the Parameters dock's gives way to the Inspector's and
+    // back (one of each stayed up side by side).
+    auto *scale = m_window->findChild<QDoubleSpinBox *>(QStringLiteral("massScaleEdit"));
+    auto *scaleHelp = m_window->findChild<QLabel *>(QStringLiteral("massScaleEditHelp"));
+    scale->setFocus();
+    scale->selectAll();
+    QTest::keyClicks(scale, QStringLiteral("0"));
+    QTest::keyClick(scale, Qt::Key_Return);
+    QVERIFY(scaleHelp->text().contains(QStringLiteral("it stays")));
+    QDoubleSpinBox *radius = m_window->inspectorDock()->field(QStringLiteral("radius"));
+    radius->setFocus();
+    radius->selectAll();
+    QTest::keyClicks(radius, QStringLiteral("0"));
+    QTest::keyClick(radius, Qt::Key_Return);
+    QCOMPARE(scaleHelp->text(), scaleHelp->property("explanation").toString());
+    scale->setFocus();
+    scale->selectAll();
+    QTest::keyClicks(scale, QStringLiteral("0"));
+    QTest::keyClick(scale, Qt::Key_Return);
+    QVERIFY(scaleHelp->text().contains(QStringLiteral("it stays")));
+    for (QLabel *label : m_window->inspectorDock()->findChildren<QLabel *>())
+        QVERIFY2(!label->text().contains(QStringLiteral("it stays")), qPrintable(label->text()));
+
+    // A name too long is refused with why, typed as it is (the field had cut it at 40 without a
+    // word).
+    name->setFocus();
+    name->selectAll();
+    QTest::keyClicks(name, QString(45, QLatin1Char('x')));
+    QTest::keyClick(name, Qt::Key_Return);
+    QVERIFY(doc->world().info[1].name.empty());
+    QVERIFY2(m_window->statusBar()->currentMessage().contains(QStringLiteral("40 characters at most")),
+             qPrintable(m_window->statusBar()->currentMessage()));
 }
 
 void TestMainWindow::keyboardChoosesAndPushesAMarble()

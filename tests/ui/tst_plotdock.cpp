@@ -13,6 +13,7 @@
 #include <QFile>
 #include <QHelpEvent>
 #include <QImage>
+#include <QLabel>
 #include <QLegend>
 #include <QLegendMarker>
 #include <QLineSeries>
@@ -1296,12 +1297,12 @@ void TestPlotDock::hoverNamesLinesOnTopOfEachOther()
     // named the one drawn last, as if the other had no value there). Large values are plain
     // numbers ("1.03125e+06" read badly in class).
     PlotDock dock;
-    World world = worldWith(2);
+    World world = worldWith(6);
     dock.reset(world);
     for (int f = 1; f <= 10; ++f) {
         world.frame = f;
-        world.velocity[0] = {0.5, 0.0};
-        world.velocity[1] = {0.5, 0.0};
+        for (Vec2 &v : world.velocity)
+            v = {0.5, 0.0};
         dock.appendFrame(world);
     }
     dock.show();
@@ -1310,17 +1311,27 @@ void TestPlotDock::hoverNamesLinesOnTopOfEachOther()
     QChartView *view = dock.chartView();
     QLineSeries *line = dock.speedSeries(0);
     const QPoint on = view->mapFromScene(view->chart()->mapToScene(view->chart()->mapToPosition(QPointF(4.0, 0.5), line)));
+    const int narrowest = dock.minimumSizeHint().width();
     dock.hoverAt(on);
-    QCOMPARE(dock.hoverText(), QStringLiteral("frame 4 (0.08 s): marble 0, speed 0.5 px/frame; marble 1, speed 0.5 px/frame"));
+    QStringList all;
+    for (int i = 0; i < 6; ++i)
+        all << QStringLiteral("marble %1, speed 0.5 px/frame").arg(i);
+    QCOMPARE(dock.hoverText(), QStringLiteral("frame 4 (0.08 s): ") + all.join(QStringLiteral("; ")));
+    // However long, the readout does not widen the dock (seven lines' made the window wider
+    // than the screen): it is cut to the room it has.
+    QCOMPARE(dock.minimumSizeHint().width(), narrowest);
+    auto *label = dock.findChild<QLabel *>(QStringLiteral("hoverLabel"));
+    QVERIFY(label->text().size() <= dock.hoverText().size());
+    QCOMPARE_LE(label->fontMetrics().horizontalAdvance(label->text()), std::max(label->width(), 1) + 1);
 
     world.velocity[0] = {4000.0, 0.0};
     world.frame = 11;
     dock.appendFrame(world);
     dock.setKineticEnergyShown(true);
     dock.refreshChart();
-    // 12.5 x 4000^2 / 2 + 12.5 x 0.5^2 / 2 = 100000001.5625
+    // 12.5 x 4000^2 / 2 + 5 x 12.5 x 0.5^2 / 2 = 100000007.8125
     QCOMPARE(dock.describePoint(dock.kineticSeries(), QPointF(11.0, 0.0)),
-             QStringLiteral("frame 11 (0.22 s): kinetic energy 100000002 mass\u00b7px\u00b2/frame\u00b2"));
+             QStringLiteral("frame 11 (0.22 s): kinetic energy 100000008 mass\u00b7px\u00b2/frame\u00b2"));
     QValueAxis *energyAxis = nullptr;
     for (QAbstractAxis *axis : view->chart()->axes(Qt::Vertical)) {
         if (axis->alignment() == Qt::AlignRight && axis->isVisible())
