@@ -3,6 +3,7 @@
 #include "core/presets.h"
 #include "ui/autosaver.h"
 #include "ui/comparerun.h"
+#include "ui/elidinglabel.h"
 #include "ui/elidingstatusbar.h"
 #include "ui/inspectordock.h"
 #include "ui/numbertext.h"
@@ -801,7 +802,7 @@ void MainWindow::createStatusBar()
     m_energyLabel = addLabel(QStringLiteral("energyLabel"), tr("Total kinetic energy, sum of m v² / 2"));
     m_momentumLabel = addLabel(QStringLiteral("momentumLabel"), tr("Total momentum, sum of m v"));
     // The comparison readout comes first, where the eye lands after the stage; shown while comparing.
-    m_compareLabel = new QLabel(this);
+    m_compareLabel = new ElidingLabel(this);
     m_compareLabel->setObjectName(QStringLiteral("compareLabel"));
     m_compareLabel->setContentsMargins(0, 0, 12, 0);
     m_compareToolTip =
@@ -813,8 +814,8 @@ void MainWindow::createStatusBar()
     m_compareLabel->setVisible(false);
     // Its text can be long ("Compare: exact - not running: it needs a friction below 1 ..."):
     // a label asks for its whole text's width, and on a 1024 x 768 projector that pushed the
-    // window past the screen's edge. It takes the room there is; its tool tip has the whole text.
-    m_compareLabel->setMinimumWidth(1);
+    // window past the screen's edge. It takes the room there is, its text cut with "…" (it
+    // ended mid-word, "...: it n"); its tool tip has the whole text.
     statusBar()->insertPermanentWidget(0, m_compareLabel);
     // The run toolbar shows the frame and the time in large type; the status bar repeats them
     // only while that toolbar is hidden, which leaves room for the comparison's readout.
@@ -1198,6 +1199,9 @@ bool MainWindow::eventFilter(QObject *watched, QEvent *event)
                     real->setValue(real->value());
                 else if (auto *whole = qobject_cast<QSpinBox *>(field))
                     whole->setValue(whole->value());
+                // The edit is called off: a refusal it left on show goes too.
+                m_parametersDock->clearRefusal();
+                m_inspectorDock->clearRefusal();
                 m_view->setFocus(Qt::ShortcutFocusReason);
                 event->accept();
                 return true;
@@ -1518,7 +1522,7 @@ void MainWindow::updateCompareControls()
 
 void MainWindow::updateCompareReadout()
 {
-    m_compareLabel->setText(m_compare->summary());
+    m_compareLabel->setFullText(m_compare->summary());
     m_compareLabel->setVisible(m_compare->isActive());
     m_compareLabel->setToolTip(m_compare->isActive() ? m_compare->summary() + QStringLiteral("\n\n") + m_compareToolTip
                                                       : m_compareToolTip);

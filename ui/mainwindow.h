@@ -23,6 +23,7 @@ class QUndoView;
 namespace marbles {
 
 class AutoSaver;
+class ElidingLabel;
 class CompareRun;
 class InspectorDock;
 class ParametersDock;
@@ -243,7 +244,7 @@ private:
     QActionGroup *m_compareGroup = nullptr; ///< None, book, exact, impulse; data: -1 or the ModelKind
     QMenu *m_compareMenu = nullptr;
     QComboBox *m_compareBox = nullptr;
-    QLabel *m_compareLabel = nullptr;
+    ElidingLabel *m_compareLabel = nullptr;
     QString m_compareToolTip; // what the readout means (its tool tip, under the readout's text)
     QString m_frameStatus;            // the showFrameStatus() message on show (empty: none)
     std::int64_t m_frameStatusAt = 0; // the frame it is about

@@ -778,8 +778,17 @@ void PlotDock::refreshChart()
         for (const std::int64_t restart : m_compareRestarts)
             marks << QPointF(xOf(restart), 0.0) << QPointF(xOf(restart), top) << QPointF(xOf(restart), 0.0);
         m_restartMarks->replace(marks);
-        for (QLegendMarker *marker : m_chart->legend()->markers(m_restartMarks))
+        bool shown = false;
+        for (QLegendMarker *marker : m_chart->legend()->markers(m_restartMarks)) {
+            shown = shown || marker->isVisible() != !marks.isEmpty();
             marker->setVisible(!marks.isEmpty());
+        }
+        // Qt Charts 6.4 draws a marker shown afterwards over its neighbour ("mediumparison
+        // restarted", a regression tester's finding) until the legend is laid out again.
+        if (shown) {
+            m_chart->legend()->hide();
+            m_chart->legend()->show();
+        }
     }
     m_dirty = false;
 }
@@ -822,22 +831,25 @@ std::optional<PlotDock::PlottedValue> PlotDock::plottedValue(const QLineSeries *
     // nothing to say why; the axis titles have no room for them). Mass is the scene's own unit.
     const QString energyUnit = m_timeInSeconds ? tr("mass·px²/s²") : tr("mass·px²/frame²");
     const QString momentumUnit = m_timeInSeconds ? tr("mass·px/s") : tr("mass·px/frame");
+    // Named in full (the legend may give them short names).
+    const QString compared = QStringLiteral(", ") + m_compareModel;
     const struct {
         const QLineSeries *line;
         const RingBuffer<double> *values;
         double scale;
         const QString &unit;
+        QString what;
     } totals[] = {
-        {m_kineticSeries, &m_kinetic, perS * perS, energyUnit},
-        {m_momentumSeries[0], &m_momentum[0], perS, momentumUnit},
-        {m_momentumSeries[1], &m_momentum[1], perS, momentumUnit},
-        {m_compareKineticSeries, &m_compareKinetic, perS * perS, energyUnit},
-        {m_compareMomentumSeries[0], &m_compareMomentum[0], perS, momentumUnit},
-        {m_compareMomentumSeries[1], &m_compareMomentum[1], perS, momentumUnit},
+        {m_kineticSeries, &m_kinetic, perS * perS, energyUnit, totalName(0)},
+        {m_momentumSeries[0], &m_momentum[0], perS, momentumUnit, totalName(1)},
+        {m_momentumSeries[1], &m_momentum[1], perS, momentumUnit, totalName(2)},
+        {m_compareKineticSeries, &m_compareKinetic, perS * perS, energyUnit, totalName(0) + compared},
+        {m_compareMomentumSeries[0], &m_compareMomentum[0], perS, momentumUnit, totalName(1) + compared},
+        {m_compareMomentumSeries[1], &m_compareMomentum[1], perS, momentumUnit, totalName(2) + compared},
     };
     for (const auto &total : totals) {
         if (total.line && total.line == series)
-            return PlottedValue{total.line->name(), total.values->at(sample) * total.scale, total.unit};
+            return PlottedValue{total.what, total.values->at(sample) * total.scale, total.unit};
     }
     const QString unit = m_timeInSeconds ? tr("px/s") : tr("px/frame");
     for (const Track &t : m_tracks) {
@@ -1291,18 +1303,17 @@ void PlotDock::styleSeries()
         series->setPen(QPen(colour, 2.0));
         series->setName(what);
     };
-    styleTotal(m_kineticSeries, tr("kinetic energy"), kKineticColour);
-    const QString momentumNames[] = {tr("momentum x"), tr("momentum y")};
+    styleTotal(m_kineticSeries, totalName(0), kKineticColour);
     for (int c : {0, 1}) {
         m_momentumSeries[c]->setPen(momentumPen(c, false));
-        m_momentumSeries[c]->setName(momentumNames[c]);
+        m_momentumSeries[c]->setName(totalName(1 + c));
     }
     if (comparing) {
         m_compareKineticSeries->setPen(comparePen(kKineticColour));
-        m_compareKineticSeries->setName(tr("kinetic energy, %1").arg(m_compareModel));
+        m_compareKineticSeries->setName(tr("%1, %2").arg(totalName(0), m_compareModel));
         for (int c : {0, 1}) {
             m_compareMomentumSeries[c]->setPen(momentumPen(c, true));
-            m_compareMomentumSeries[c]->setName(tr("%1, %2").arg(momentumNames[c], m_compareModel));
+            m_compareMomentumSeries[c]->setName(tr("%1, %2").arg(totalName(1 + c), m_compareModel));
         }
     }
     updateLegendLabels();
@@ -1321,6 +1332,24 @@ void PlotDock::updateLegendLabels()
         const bool named = i < m_names.size() && !m_names[i].isEmpty();
         t.series->setName(!m_compactLegend ? marbleLabel(t.marble) : named ? m_names[i] : tr("#%1").arg(t.marble));
     }
+    // The totals too: "momentum x" and "momentum y" were both cut to "mome…".
+    QLineSeries *totals[] = {m_kineticSeries, m_momentumSeries[0], m_momentumSeries[1]};
+    for (int k = 0; k < 3; ++k) {
+        if (totals[k]) // (not yet, as the dock is built)
+            totals[k]->setName(m_compactLegend ? totalShortName(k) : totalName(k));
+    }
+}
+
+QString PlotDock::totalName(int k) const
+{
+    const QString names[] = {tr("kinetic energy"), tr("momentum x"), tr("momentum y")};
+    return names[k];
+}
+
+QString PlotDock::totalShortName(int k) const
+{
+    const QString names[] = {tr("KE"), tr("p x"), tr("p y")};
+    return names[k];
 }
 
 bool PlotDock::fullLegendFits() const
@@ -1336,9 +1365,10 @@ bool PlotDock::fullLegendFits() const
         if (key)
             entry(key->name());
     }
-    for (const QLineSeries *total : {m_kineticSeries, m_momentumSeries[0], m_momentumSeries[1]}) {
-        if (total && total->isVisible())
-            entry(total->name());
+    const QLineSeries *totals[] = {m_kineticSeries, m_momentumSeries[0], m_momentumSeries[1]};
+    for (int k = 0; k < 3; ++k) {
+        if (totals[k] && totals[k]->isVisible())
+            entry(totalName(k)); // measured in full, whatever the legend shows now
     }
     return needed <= m_chartView->width() - 2 * metrics.height();
 }

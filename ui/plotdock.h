@@ -272,6 +272,10 @@ private:
     QList<const QLineSeries *> seriesNear(QPointF at) const;
     /// Shows `text` as the readout, cut to the label's width.
     void setHoverText(const QString &text);
+    /// The totals' names, 0 kinetic energy, 1 momentum x, 2 momentum y: in full, and as the
+    /// legend gives them where the full ones do not fit ("KE", "p x", "p y").
+    QString totalName(int k) const;
+    QString totalShortName(int k) const;
     void updateAxisTitles();
     /// Frames per second while the time axis is in seconds (speeds are drawn in px/s), else 1.
     double perSecond() const;

@@ -1069,9 +1069,18 @@ void TestPlotDock::legendLabelsFitTheRow()
     QVERIFY2(dock.describePoint(dock.speedSeries(3), QPointF(2.0, 0.0)).contains(QStringLiteral("marble 3, speed")),
              qPrintable(dock.describePoint(dock.speedSeries(3), QPointF(2.0, 0.0))));
 
+    // The totals too ("momentum x" and "momentum y" were both cut to "mome…"); the readout
+    // names them in full.
+    dock.setMomentumShown(true);
+    QTRY_VERIFY(dock.legendIsCompact());
+    QCOMPARE(dock.momentumSeries(0)->name(), QStringLiteral("p x"));
+    QCOMPARE(dock.momentumSeries(1)->name(), QStringLiteral("p y"));
+    QVERIFY(dock.describePoint(dock.momentumSeries(1), QPointF(2.0, 0.0)).contains(QStringLiteral(": momentum y ")));
+
     dock.resize(3000, 350);
     QTRY_VERIFY(!dock.legendIsCompact());
     QCOMPARE(dock.speedSeries(3)->name(), QStringLiteral("marble 3"));
+    QCOMPARE(dock.momentumSeries(0)->name(), QStringLiteral("momentum x"));
 }
 
 void TestPlotDock::legendListsMarblesInOrder()
