@@ -1,5 +1,6 @@
 #include "ui/plotdock.h"
 
+#include "ui/elidinglabel.h"
 #include "ui/numbertext.h"
 #include "ui/quiettext.h"
 #include "ui/wholefile.h"
@@ -111,7 +112,6 @@ QColor defaultMarbleColor(int marble)
     return hues[marble % count];
 }
 
-/// The shortest decimal text that reads back as the same double ("" for NaN: no sample).
 /// Distance from `p` to the segment from `a` to `b`.
 double distanceToSegment(QPointF p, QPointF a, QPointF b)
 {
@@ -121,6 +121,7 @@ double distanceToSegment(QPointF p, QPointF a, QPointF b)
     return QLineF(p, a + t * ab).length();
 }
 
+/// The shortest decimal text that reads back as the same double ("" for NaN: no sample).
 QString csvNumber(double value)
 {
     if (std::isnan(value))
@@ -345,14 +346,13 @@ PlotDock::PlotDock(QWidget *parent)
     m_chartView->viewport()->installEventFilter(this);
     column->addWidget(m_chartView, 1);
 
-    m_hoverLabel = new QLabel(page);
+    m_hoverLabel = new ElidingLabel(page);
     m_hoverLabel->setObjectName(QStringLiteral("hoverLabel"));
     m_hoverLabel->setTextInteractionFlags(Qt::TextSelectableByMouse);
-    // Its text is cut to the room it has (setHoverText()): a readout naming seven lines, as
-    // long as the window was wide, made the window wider than the screen (a regression
-    // tester's finding: the docks went off its right edge, and stayed there).
+    // Its text is cut to the room it has: a readout naming seven lines, as long as the window
+    // was wide, made the window wider than the screen (a regression tester's finding: the docks
+    // went off its right edge, and stayed there).
     m_hoverLabel->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
-    m_hoverLabel->setMinimumWidth(1);
     m_capNote = new QLabel(page);
     m_capNote->setObjectName(QStringLiteral("capNote"));
     setQuietText(m_capNote);
@@ -414,7 +414,7 @@ void PlotDock::reset(const World &world)
     m_models = QStringList{modelLabel(world)};
     m_parked.clear(); // another scene's marbles
     rebuildTracks();
-    setHoverText(QString());
+    m_hoverLabel->setFullText(QString());
     m_dirty = true;
 }
 
@@ -439,7 +439,7 @@ void PlotDock::resample(const World &world, const World *compare)
         m_models.append(model);
         styleSeries();
     }
-    setHoverText(QString());
+    m_hoverLabel->setFullText(QString());
 }
 
 void PlotDock::markCompareRestart(std::int64_t frame)
@@ -469,7 +469,7 @@ void PlotDock::cutAfter(std::int64_t frame)
         m_models = QStringList{m_models.last()};
         styleSeries();
     }
-    setHoverText(QString());
+    m_hoverLabel->setFullText(QString());
     m_dirty = true;
 }
 
@@ -778,14 +778,14 @@ void PlotDock::refreshChart()
         for (const std::int64_t restart : m_compareRestarts)
             marks << QPointF(xOf(restart), 0.0) << QPointF(xOf(restart), top) << QPointF(xOf(restart), 0.0);
         m_restartMarks->replace(marks);
-        bool shown = false;
+        bool changed = false;
         for (QLegendMarker *marker : m_chart->legend()->markers(m_restartMarks)) {
-            shown = shown || marker->isVisible() != !marks.isEmpty();
+            changed = changed || marker->isVisible() != !marks.isEmpty();
             marker->setVisible(!marks.isEmpty());
         }
         // Qt Charts 6.4 draws a marker shown afterwards over its neighbour ("mediumparison
         // restarted", a regression tester's finding) until the legend is laid out again.
-        if (shown) {
+        if (changed) {
             m_chart->legend()->hide();
             m_chart->legend()->show();
         }
@@ -929,9 +929,9 @@ void PlotDock::hoverAt(QPoint viewportPos)
     const QPointF at = m_chart->mapFromScene(m_chartView->mapToScene(viewportPos));
     const QList<const QLineSeries *> lines = seriesNear(at);
     const QString text = lines.isEmpty() ? QString() : describePoints(lines, m_chart->mapToValue(at).x());
-    if (text == m_hoverText)
+    if (text == m_hoverLabel->fullText())
         return;
-    setHoverText(text);
+    m_hoverLabel->setFullText(text);
     if (text.isEmpty())
         QToolTip::hideText();
     else
@@ -940,13 +940,7 @@ void PlotDock::hoverAt(QPoint viewportPos)
 
 QString PlotDock::hoverText() const
 {
-    return m_hoverText;
-}
-
-void PlotDock::setHoverText(const QString &text)
-{
-    m_hoverText = text;
-    m_hoverLabel->setText(m_hoverLabel->fontMetrics().elidedText(text, Qt::ElideRight, m_hoverLabel->width()));
+    return m_hoverLabel->fullText();
 }
 
 QString PlotDock::exportCsv(const QString &path) const
@@ -1268,9 +1262,10 @@ void PlotDock::showTotal(QLineSeries *series, bool shown)
         return;
     series->setVisible(shown);
     // The comparison model's totals stay out of the legend: its "(dashed)" entry stands for them.
-    const bool listed = series == m_kineticSeries || series == m_momentumSeries[0] || series == m_momentumSeries[1];
+    const std::array<QLineSeries *, 3> listed = sceneTotals();
+    const bool isListed = std::find(listed.begin(), listed.end(), series) != listed.end();
     for (QLegendMarker *marker : m_chart->legend()->markers(series))
-        marker->setVisible(shown && listed);
+        marker->setVisible(shown && isListed);
     updateLegendLabels();
 }
 
@@ -1299,15 +1294,10 @@ void PlotDock::styleSeries()
     // (a dashed energy line without a comparison read as another model's), as for speeds, whose
     // legend entries ("book (solid)", "exact (dashed)") stand for the totals too.
     const bool comparing = m_compareKineticSeries != nullptr;
-    auto styleTotal = [&](QLineSeries *series, const QString &what, QColor colour) {
-        series->setPen(QPen(colour, 2.0));
-        series->setName(what);
-    };
-    styleTotal(m_kineticSeries, totalName(0), kKineticColour);
-    for (int c : {0, 1}) {
+    // (The scene's totals are named by updateLegendLabels(), in full or short.)
+    m_kineticSeries->setPen(QPen(kKineticColour, 2.0));
+    for (int c : {0, 1})
         m_momentumSeries[c]->setPen(momentumPen(c, false));
-        m_momentumSeries[c]->setName(totalName(1 + c));
-    }
     if (comparing) {
         m_compareKineticSeries->setPen(comparePen(kKineticColour));
         m_compareKineticSeries->setName(tr("%1, %2").arg(totalName(0), m_compareModel));
@@ -1333,11 +1323,16 @@ void PlotDock::updateLegendLabels()
         t.series->setName(!m_compactLegend ? marbleLabel(t.marble) : named ? m_names[i] : tr("#%1").arg(t.marble));
     }
     // The totals too: "momentum x" and "momentum y" were both cut to "mome…".
-    QLineSeries *totals[] = {m_kineticSeries, m_momentumSeries[0], m_momentumSeries[1]};
-    for (int k = 0; k < 3; ++k) {
+    const std::array<QLineSeries *, 3> totals = sceneTotals();
+    for (std::size_t k = 0; k < totals.size(); ++k) {
         if (totals[k]) // (not yet, as the dock is built)
-            totals[k]->setName(m_compactLegend ? totalShortName(k) : totalName(k));
+            totals[k]->setName(m_compactLegend ? totalShortName(static_cast<int>(k)) : totalName(static_cast<int>(k)));
     }
+}
+
+std::array<QLineSeries *, 3> PlotDock::sceneTotals() const
+{
+    return {m_kineticSeries, m_momentumSeries[0], m_momentumSeries[1]};
 }
 
 QString PlotDock::totalName(int k) const
@@ -1365,10 +1360,10 @@ bool PlotDock::fullLegendFits() const
         if (key)
             entry(key->name());
     }
-    const QLineSeries *totals[] = {m_kineticSeries, m_momentumSeries[0], m_momentumSeries[1]};
-    for (int k = 0; k < 3; ++k) {
+    const std::array<QLineSeries *, 3> totals = sceneTotals();
+    for (std::size_t k = 0; k < totals.size(); ++k) {
         if (totals[k] && totals[k]->isVisible())
-            entry(totalName(k)); // measured in full, whatever the legend shows now
+            entry(totalName(static_cast<int>(k))); // measured in full, whatever the legend shows now
     }
     return needed <= m_chartView->width() - 2 * metrics.height();
 }
@@ -1388,12 +1383,12 @@ bool PlotDock::eventFilter(QObject *watched, QEvent *event)
             hoverAt(static_cast<QMouseEvent *>(event)->position().toPoint());
         } else if (event->type() == QEvent::Leave) {
             hoverAt(QPoint(-1, -1));
-        } else if (event->type() == QEvent::ToolTip && !m_hoverText.isEmpty()) {
+        } else if (event->type() == QEvent::ToolTip && !hoverText().isEmpty()) {
             // The view's own help event, a moment after the pointer stops, found no item's tooltip
             // and hid the readout's: it vanished about a second after it was shown (a regression
             // tester's finding). The readout's is shown again instead.
             const auto *help = static_cast<QHelpEvent *>(event);
-            QToolTip::showText(help->globalPos(), m_hoverText, m_chartView);
+            QToolTip::showText(help->globalPos(), hoverText(), m_chartView);
             return true;
         }
     }

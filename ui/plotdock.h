@@ -28,6 +28,8 @@ class QValueAxis;
 
 namespace marbles {
 
+class ElidingLabel;
+
 /// The Plot dock: speed over time, one line per plotted marble in its colour, plus the total
 /// kinetic energy and momentum on request. Samples go into a bounded ring buffer, one per
 /// simulated frame; a timer hands them to the chart a few times a second, so plotting never
@@ -270,8 +272,8 @@ private:
     /// The visible lines nearest to chart point `at` within kHoverReach px (and those within a
     /// pixel of the nearest, drawn on top of it), nearest first; empty where none is.
     QList<const QLineSeries *> seriesNear(QPointF at) const;
-    /// Shows `text` as the readout, cut to the label's width.
-    void setHoverText(const QString &text);
+    /// The scene's totals' lines, as totalName() counts them (null until the dock is built).
+    std::array<QLineSeries *, 3> sceneTotals() const;
     /// The totals' names, 0 kinetic energy, 1 momentum x, 2 momentum y: in full, and as the
     /// legend gives them where the full ones do not fit ("KE", "p x", "p y").
     QString totalName(int k) const;
@@ -329,8 +331,7 @@ private:
     QCheckBox *m_showMomentum = nullptr;
     QRadioButton *m_frameAxis = nullptr;
     QRadioButton *m_secondAxis = nullptr;
-    QLabel *m_hoverLabel = nullptr;
-    QString m_hoverText; ///< the readout whole (the label shows as much as fits)
+    ElidingLabel *m_hoverLabel = nullptr; ///< the readout, whole in its fullText()
     QLabel *m_capNote = nullptr;
     QTimer *m_refreshTimer = nullptr;
 };
