@@ -151,6 +151,13 @@ constexpr double infinity = std::numeric_limits<double>::infinity();
 constexpr double contactGapTolerance = 1e-10;
 // Conservative-advancement steps per prediction before handing back a "re-check later" event.
 constexpr int advancementSteps = 64;
+// How far past its wall (side px wide, the marble r in radius) a marble still counts as touching
+// it: the solver's rounding at a wall contact (collideWall()), and the end of a frame's check
+// (keepWithinWalls()).
+inline double wallTouchTolerance(double side, double r)
+{
+    return 1e-9 * (side + r);
+}
 // A pair on straight relative paths approaches only if d.dv < -grazingApproach |d| |dv|, that is
 // if the normal approach speed exceeds this fraction of the relative speed. Below it, the
 // approach is rounding noise: after an elastic bounce the normal component is reversed, but
@@ -1033,7 +1040,7 @@ void ExactModel::keepWithinWalls(Vec2 start, double r, Vec2 &p, Vec2 &v) const
     const auto axis = [r](double from, double side, double &x, double &speed) {
         if (2.0 * r >= side)
             return; // held between its walls (collideWall())
-        const double tolerance = 1e-9 * (side + r); // collideWall()'s "touching"
+        const double tolerance = wallTouchTolerance(side, r);
         const double lo = r;
         const double hi = side - r;
         if (from < lo - tolerance || from > hi + tolerance)
@@ -1966,7 +1973,7 @@ void ExactModel::collideWall(World &world, int i, int wall)
     // of its overlap into whatever lies beside it (found by fuzz/fuzz_physics).
     const double contact = upper ? side - r : r;
     const double past = upper ? x - contact : contact - x;
-    if (!pinched && past <= 1e-9 * (side + r))
+    if (!pinched && past <= wallTouchTolerance(side, r))
         x = contact;
     Guard &guard = m_rec[i].guard;
     count(guard.wallHits);
