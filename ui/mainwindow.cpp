@@ -1194,7 +1194,7 @@ bool MainWindow::eventFilter(QObject *watched, QEvent *event)
             QAbstractSpinBox *field = nullptr;
             for (QWidget *w = widget; w && !field; w = w->parentWidget())
                 field = qobject_cast<QAbstractSpinBox *>(w);
-            if (field && isAncestorOf(field) && field->window() == this) {
+            if (field && isAncestorOf(field)) { // (within this window: isAncestorOf() stops at windows)
                 if (auto *real = qobject_cast<QDoubleSpinBox *>(field))
                     real->setValue(real->value());
                 else if (auto *whole = qobject_cast<QSpinBox *>(field))
@@ -1470,6 +1470,10 @@ void MainWindow::updateCompareControls()
     // The exact and impulse models need a friction below 1 (the book's above it is its
     // instability on show): while it is higher they are not offered, as in the Model box.
     const bool damped = m_document->world().params.friction < 1.0;
+    const auto runs = [damped](int data) { return data < 0 || data == static_cast<int>(ModelKind::Book) || damped; };
+    // The comparison on show that cannot run says so in the box and its tip, not only in the
+    // status bar: "Compare: exact" stood over a plot whose dashed lines had stopped.
+    const bool paused = !runs(chosen);
     const QString needsDamping = tr("Needs friction below 1: lower the friction first.");
     auto *items = qobject_cast<QStandardItemModel *>(m_compareBox->model());
     for (QAction *action : m_compareGroup->actions()) {
@@ -1477,15 +1481,12 @@ void MainWindow::updateCompareControls()
         // The scene's own model is not offered: it would only ever show a gap of 0.
         action->setVisible(data < 0 || data != static_cast<int>(current));
         action->setChecked(data == chosen);
-        const bool runnable = data < 0 || data == static_cast<int>(ModelKind::Book) || damped;
+        const bool runnable = runs(data);
         action->setEnabled(runnable || data == chosen);
         action->setToolTip(runnable ? QString() : needsDamping);
         if (action->isVisible()) {
-            // The comparison on show that cannot run says so in the box, not only in the status
-            // bar: "Compare: exact" stood over a plot whose dashed lines had stopped.
             const QString name = action->text().remove(QLatin1Char('&')).toLower();
-            m_compareBox->addItem(!runnable && data == chosen ? tr("Compare: %1 (paused)").arg(name)
-                                                              : tr("Compare: %1").arg(name),
+            m_compareBox->addItem(paused && data == chosen ? tr("Compare: %1 (paused)").arg(name) : tr("Compare: %1").arg(name),
                                   data);
             if (items && !runnable) {
                 QStandardItem *item = items->item(m_compareBox->count() - 1);
@@ -1495,7 +1496,7 @@ void MainWindow::updateCompareControls()
         }
     }
     m_compareBox->setCurrentIndex(m_compareBox->findData(chosen));
-    if (chosen >= 0 && !damped && chosen != static_cast<int>(ModelKind::Book)) {
+    if (paused) {
         const std::string_view name = modelName(static_cast<ModelKind>(chosen));
         m_compareBox->setToolTip(tr("Paused: the %1 model needs friction below 1 (the scene's is %2). Lower the "
                                     "friction to run it again.")

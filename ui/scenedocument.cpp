@@ -422,7 +422,7 @@ QString SceneDocument::setMarbleName(int i, const QString &name)
     if (!validMarble(m_world, i))
         return tr("No such marble.");
     const QString trimmed = name.trimmed();
-    // A legend entry and the Inspector's title line have room for about this much.
+    // A legend entry has room for about this much.
     constexpr int kMaxNameLength = 40;
     if (trimmed.size() > kMaxNameLength)
         return tr("A marble's name may be %1 characters at most; \"%2\" has %3.")
