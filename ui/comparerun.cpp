@@ -79,6 +79,13 @@ void CompareRun::restart()
 void CompareRun::onSceneChanged(SceneDocument::Change change)
 {
     const World &source = m_document->world();
+    if (change == SceneDocument::Change::Names) {
+        // A marble renamed: the comparison runs on (it started over, its gap back to 0, and the
+        // plot marked a restart).
+        if (m_world && m_world->info.size() == source.info.size())
+            m_world->info = source.info;
+        return;
+    }
     const bool keepsMarbles = change == SceneDocument::Change::Params || change == SceneDocument::Change::Marbles;
     World next = source;
     next.params.model = m_model.value_or(ModelKind::Book);

@@ -175,7 +175,7 @@ void RenameMarbleCommand::apply(const std::string &name)
     if (m_marble < 0 || m_marble >= world.marbleCount())
         return;
     world.info[static_cast<std::size_t>(m_marble)].name = name;
-    m_document->applyChange(SceneDocument::Change::Marbles);
+    m_document->applyChange(SceneDocument::Change::Names);
 }
 
 AddMarbleCommand::AddMarbleCommand(SceneDocument *document, const MarbleRecord &record)

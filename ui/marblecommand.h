@@ -67,7 +67,7 @@ private:
 };
 
 /// Names a marble ("" takes its name away): what the Inspector, the plot's legend and the saved
-/// scene call it. No physics changes, so no frame is returned to.
+/// scene call it. Nothing moves, so no frame is returned to, and the run goes on (Change::Names).
 class RenameMarbleCommand : public QUndoCommand {
 public:
     RenameMarbleCommand(SceneDocument *document, int marble, const std::string &before, const std::string &after,

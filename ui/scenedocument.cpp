@@ -496,6 +496,12 @@ FrameHistory::MarbleStart SceneDocument::marbleRemoved(int i)
 
 void SceneDocument::applyChange(Change change)
 {
+    if (change == Change::Names) {
+        // Nothing of the run changed: its kept frames, the comparison and the trails stay.
+        emitModification();
+        Q_EMIT sceneChanged(change);
+        return;
+    }
     // The first frame follows marbles added or removed (marbleInserted(), marbleRemoved()); if it
     // did not, the timeline starts again here.
     const bool restart = !m_history.fits(m_world);

@@ -24,6 +24,7 @@ public:
         Structure, ///< marbles or pins added or removed
         Params,    ///< params or stage
         Scene,     ///< a whole new scene (New, Open, a preset, a recovered autosave)
+        Names,     ///< marbles' names only: nothing moves, the run and its timeline go on as they were
     };
 
     explicit SceneDocument(QObject *parent = nullptr);

@@ -931,6 +931,18 @@ void TestMainWindow::marbleIsNamedInTheInspector()
     QTest::keyClick(name, Qt::Key_Return);
     QCOMPARE(doc->world().info[1].name, std::string("cue ball"));
     QCOMPARE(doc->undoStack()->undoText(), QStringLiteral("Name marble 1 \"cue ball\""));
+    // Nothing moves for a name: mid-run, with a comparison, the comparison runs on and the
+    // step-back frames stay (it restarted the comparison, marked on the plot, and the trails).
+    compareExact()->trigger();
+    doc->advance(10);
+    const std::int64_t compareStart = m_window->compareRun()->startFrame();
+    QVERIFY(doc->setMarbleName(1, QStringLiteral("eight ball")).isEmpty());
+    QCOMPARE(m_window->compareRun()->startFrame(), compareStart);
+    QVERIFY(m_window->plotDock()->compareRestarts().empty());
+    QVERIFY(doc->stepBack());
+    QCOMPARE(doc->world().info[1].name, std::string("eight ball"));
+    doc->undoStack()->undo();
+    QCOMPARE(doc->world().info[1].name, std::string("cue ball"));
     QCOMPARE(m_window->plotDock()->speedSeries(1)->name(), QStringLiteral("cue ball (marble 1)"));
     // Esc puts the name back and the keys on the stage.
     name->setFocus();
