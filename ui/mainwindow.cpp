@@ -181,6 +181,23 @@ MainWindow::MainWindow(QWidget *parent)
     m_document->resetScene(scene);
 
     readSettings();
+    m_settingsTimer = new QTimer(this);
+    m_settingsTimer->setSingleShot(true);
+    m_settingsTimer->setInterval(kSettingsWriteDelayMs);
+    connect(m_settingsTimer, &QTimer::timeout, this, &MainWindow::writeSettings);
+    for (QAction *toggle : {m_vectorsAction, m_trailsAction})
+        connect(toggle, &QAction::toggled, this, &MainWindow::scheduleSettingsWrite);
+    connect(m_speedBox, &QComboBox::currentIndexChanged, this, &MainWindow::scheduleSettingsWrite);
+    connect(m_plotDock, &PlotDock::choicesChanged, this, &MainWindow::scheduleSettingsWrite);
+    for (QDockWidget *dock : findChildren<QDockWidget *>(QString(), Qt::FindDirectChildrenOnly)) {
+        connect(dock, &QDockWidget::dockLocationChanged, this, &MainWindow::scheduleSettingsWrite);
+        connect(dock, &QDockWidget::topLevelChanged, this, &MainWindow::scheduleSettingsWrite);
+        connect(dock, &QDockWidget::visibilityChanged, this, &MainWindow::scheduleSettingsWrite);
+    }
+    for (QToolBar *bar : findChildren<QToolBar *>(QString(), Qt::FindDirectChildrenOnly)) {
+        connect(bar, &QToolBar::topLevelChanged, this, &MainWindow::scheduleSettingsWrite);
+        connect(bar, &QToolBar::visibilityChanged, this, &MainWindow::scheduleSettingsWrite);
+    }
     updateTitle();
     updateFrameDisplay();
     updateEditActions();
@@ -904,6 +921,14 @@ void MainWindow::writeSettings()
     settings.setValue(QStringLiteral("run/speedIndex"), m_speedBox->currentIndex());
 }
 
+void MainWindow::scheduleSettingsWrite()
+{
+    // Not before the kept layout is in place: written then, it would replace that layout with
+    // the one the window has before its first show.
+    if (m_settingsTimer && m_shownOnce && m_stateToRestore.isEmpty())
+        m_settingsTimer->start();
+}
+
 void MainWindow::applyPresetView(const PresetView &view)
 {
     // What the preset's lesson needs to be seen; the teacher's other choices stay.
@@ -1178,6 +1203,9 @@ QString MainWindow::offerRecovery()
 // PNG... or Kinetic energy started the run instead). In the Undo History, Space still plays.
 bool MainWindow::eventFilter(QObject *watched, QEvent *event)
 {
+    // A dock given another size by its splitter: the layout to keep changed.
+    if (event->type() == QEvent::Resize && watched->parent() == this && qobject_cast<QDockWidget *>(watched))
+        scheduleSettingsWrite();
     if (event->type() == QEvent::ShortcutOverride) {
         const auto *key = static_cast<QKeyEvent *>(event);
         const bool plainSpace = key->key() == Qt::Key_Space
@@ -1257,6 +1285,13 @@ void MainWindow::resizeEvent(QResizeEvent *event)
     // left the Parameters dock squeezed, its fields cut off (a projector tester's finding).
     if (m_shownOnce && event->oldSize().isValid() && event->size().width() > event->oldSize().width())
         QTimer::singleShot(0, this, &MainWindow::widenParametersToItsFields); // once the layout has its size
+    scheduleSettingsWrite();
+}
+
+void MainWindow::moveEvent(QMoveEvent *event)
+{
+    QMainWindow::moveEvent(event);
+    scheduleSettingsWrite();
 }
 
 void MainWindow::widenParametersToItsFields()
@@ -1302,6 +1337,7 @@ void MainWindow::closeEvent(QCloseEvent *event)
         return;
     }
     m_run->pause();
+    m_settingsTimer->stop();
     writeSettings();
     // A clean exit: nothing to recover next time.
     m_autoSaver->discard();

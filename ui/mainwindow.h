@@ -44,6 +44,8 @@ public:
     static constexpr int kMaxRecentFiles = 8;
     /// Below this available screen height (px) the stage and the plot may be smaller than usual.
     static constexpr int kSmallScreenHeight = 720;
+    /// Time from the last change to a setting to its writing, ms (scheduleSettingsWrite()).
+    static constexpr int kSettingsWriteDelayMs = 1000;
     /// Sets the stage's and the plot's smallest heights for a screen `availableHeight` px tall
     /// (done at start for the window's screen): smaller below kSmallScreenHeight.
     void fitScreenHeight(int availableHeight);
@@ -102,6 +104,7 @@ protected:
     bool eventFilter(QObject *watched, QEvent *event) override;
     void showEvent(QShowEvent *event) override;
     void resizeEvent(QResizeEvent *event) override;
+    void moveEvent(QMoveEvent *event) override;
     void closeEvent(QCloseEvent *event) override;
 
 private:
@@ -116,6 +119,9 @@ private:
     void tintPlottedMarbles();
     void readSettings();
     void writeSettings();
+    /// Writes the settings a moment after the last change to them (a toggle, a dock moved, the
+    /// window resized), so that a crash or a power cut keeps them; closing writes them at once.
+    void scheduleSettingsWrite();
 
     bool maybeSave();
     void newScene();
@@ -187,6 +193,7 @@ private:
     QString m_presetTitle;
     bool m_firstLayout = false;
     bool m_shownOnce = false;
+    QTimer *m_settingsTimer = nullptr; ///< single shot: scheduleSettingsWrite()'s delay
     QString m_compareBoxToolTip; ///< the Compare box's tooltip while its comparison can run
     int m_toolBarsFitWidth = -1; ///< the width fitToolBars() last laid the toolbars out for
     QByteArray m_stateToRestore; // the kept layout, restored when the window is first shown

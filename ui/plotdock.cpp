@@ -675,6 +675,7 @@ void PlotDock::setKineticEnergyShown(bool shown)
     showTotal(m_compareKineticSeries, shown);
     updateTotalsAxis();
     m_dirty = true;
+    emit choicesChanged();
 }
 
 void PlotDock::setMomentumShown(bool shown)
@@ -687,6 +688,7 @@ void PlotDock::setMomentumShown(bool shown)
     }
     updateTotalsAxis();
     m_dirty = true;
+    emit choicesChanged();
 }
 
 void PlotDock::setTimeInSeconds(bool seconds)
@@ -696,6 +698,7 @@ void PlotDock::setTimeInSeconds(bool seconds)
     m_timeInSeconds = seconds;
     updateAxisTitles();
     m_dirty = true;
+    emit choicesChanged();
 }
 
 bool PlotDock::isTimeInSeconds() const

@@ -218,6 +218,8 @@ signals:
     void exported(const QString &path);
     /// The plotted marbles, or their colours, changed (plottedColours()).
     void plottedChanged();
+    /// A choice the teacher's settings keep changed: the totals shown, or the time axis's unit.
+    void choicesChanged();
 
 protected:
     bool eventFilter(QObject *watched, QEvent *event) override;

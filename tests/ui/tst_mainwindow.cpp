@@ -151,6 +151,7 @@ private Q_SLOTS:
     void autosaveWritesInTheBackground();
     void layoutIsRestored();
     void layoutFromALargerScreenIsNotRestored();
+    void settingsOutliveACrash();
     void toolbarsFitTheWindow();
     void statusBarRepeatsTheFrameOnlyWithoutTheRunToolbar();
     void firstStartFitsASmallScreen();
@@ -1656,6 +1657,39 @@ void TestMainWindow::layoutFromALargerScreenIsNotRestored()
     m_window.reset();
     makeWindow();
     QTRY_COMPARE(m_window->parametersDock()->width(), 447);
+}
+
+void TestMainWindow::settingsOutliveACrash()
+{
+    // The teacher's choices are written a moment after they are made, not only on a clean quit:
+    // a window that never closes (a crash, a power cut, a killed process) kept none of them.
+    auto *trails = m_window->findChild<QAction *>(QStringLiteral("actionTrails"));
+    auto *speed = m_window->findChild<QComboBox *>(QStringLiteral("speedBox"));
+    QVERIFY(!trails->isChecked());
+    QVERIFY(!m_window->plotDock()->isKineticEnergyShown());
+    const int otherSpeed = speed->currentIndex() == 0 ? 1 : 0;
+    trails->setChecked(true);
+    m_window->plotDock()->setKineticEnergyShown(true);
+    speed->setCurrentIndex(otherSpeed);
+    m_window->plotDock()->hide();
+
+    // On disk, with the window still open.
+    const QString file = QSettings().fileName();
+    auto onDisk = [&file](const QString &line) {
+        QFile f(file);
+        return f.open(QIODevice::ReadOnly) && QString::fromUtf8(f.readAll()).contains(line);
+    };
+    QTRY_VERIFY(onDisk(QStringLiteral("trails=true")));
+    QVERIFY(onDisk(QStringLiteral("kineticEnergy=true")));
+    QVERIFY(onDisk(QStringLiteral("speedIndex=%1").arg(otherSpeed)));
+
+    // Gone without a close (no closeEvent): the next window has them.
+    m_window.reset();
+    makeWindow();
+    QVERIFY(m_window->findChild<QAction *>(QStringLiteral("actionTrails"))->isChecked());
+    QVERIFY(m_window->plotDock()->isKineticEnergyShown());
+    QCOMPARE(m_window->findChild<QComboBox *>(QStringLiteral("speedBox"))->currentIndex(), otherSpeed);
+    QVERIFY(!m_window->plotDock()->isVisible()); // the layout too
 }
 
 void TestMainWindow::toolbarsFitTheWindow()
