@@ -1222,23 +1222,23 @@ bool MainWindow::eventFilter(QObject *watched, QEvent *event)
             QAbstractSpinBox *field = nullptr;
             for (QWidget *w = widget; w && !field; w = w->parentWidget())
                 field = qobject_cast<QAbstractSpinBox *>(w);
-            if (field && isAncestorOf(field)) { // (within this window: isAncestorOf() stops at windows)
-                if (auto *real = qobject_cast<QDoubleSpinBox *>(field))
+            // A text field (the Inspector's name) likewise, its "kept" text back.
+            auto *edit = field ? nullptr : qobject_cast<QLineEdit *>(watched);
+            const bool number = field && isAncestorOf(field); // (isAncestorOf() stops at windows)
+            const bool text = edit && edit->property("kept").isValid() && isAncestorOf(edit);
+            if (number || text) {
+                if (auto *real = qobject_cast<QDoubleSpinBox *>(field)) {
                     real->setValue(real->value());
-                else if (auto *whole = qobject_cast<QSpinBox *>(field))
+                } else if (auto *whole = qobject_cast<QSpinBox *>(field)) {
                     whole->setValue(whole->value());
-                // The edit is called off: a refusal it left on show goes too.
+                } else if (edit) {
+                    edit->setText(edit->property("kept").toString());
+                    edit->setModified(false);
+                }
+                // The edit is called off: a refusal it left on show goes too (a name too long
+                // stayed refused under the name Esc had put back).
                 m_parametersDock->clearRefusal();
                 m_inspectorDock->clearRefusal();
-                m_view->setFocus(Qt::ShortcutFocusReason);
-                event->accept();
-                return true;
-            }
-            // A text field (the Inspector's name) likewise: its "kept" text back.
-            auto *edit = qobject_cast<QLineEdit *>(watched);
-            if (!field && edit && edit->property("kept").isValid() && isAncestorOf(edit)) {
-                edit->setText(edit->property("kept").toString());
-                edit->setModified(false);
                 m_view->setFocus(Qt::ShortcutFocusReason);
                 event->accept();
                 return true;

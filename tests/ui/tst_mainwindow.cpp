@@ -996,6 +996,19 @@ void TestMainWindow::marbleIsNamedInTheInspector()
     QVERIFY(doc->world().info[1].name.empty());
     QVERIFY2(m_window->statusBar()->currentMessage().contains(QStringLiteral("40 characters at most")),
              qPrintable(m_window->statusBar()->currentMessage()));
+    auto inspectorSays = [&](const QString &words) {
+        for (QLabel *label : m_window->inspectorDock()->findChildren<QLabel *>()) {
+            if (label->text().contains(words))
+                return true;
+        }
+        return false;
+    };
+    QVERIFY(inspectorSays(QStringLiteral("40 characters at most")));
+    // Esc calls the name's edit off too, and its refusal with it (it stayed under the name put back).
+    QTest::keyClick(name, Qt::Key_Escape);
+    QCOMPARE(name->text(), QString());
+    QVERIFY(!inspectorSays(QStringLiteral("40 characters at most")));
+    QVERIFY(m_window->stageView()->hasFocus());
 }
 
 void TestMainWindow::keyboardChoosesAndPushesAMarble()
