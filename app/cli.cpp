@@ -113,6 +113,8 @@ Options parseOptions(const std::vector<std::string> &args, std::initializer_list
         if (std::find(flags.begin(), flags.end(), name) != flags.end()) {
             if (hasValue)
                 throw InvalidInput{name + ": takes no value, got '" + value + "'"};
+            if (o.last(name))
+                throw InvalidInput{name + ": given twice"};
             o.named.emplace_back(name, "");
             continue;
         }
@@ -305,8 +307,16 @@ bool writesOverScene(const std::string &scene, const std::string *outPath)
         return ::fstat(fd, &stream) == 0 && S_ISREG(stream.st_mode) && ::stat(path.c_str(), &file) == 0
             && stream.st_dev == file.st_dev && stream.st_ino == file.st_ino;
     };
-    if (isStandardStream(scene))
-        return outPath && streamIs(STDIN_FILENO, *outPath);
+    if (isStandardStream(scene)) {
+        if (outPath)
+            return streamIs(STDIN_FILENO, *outPath);
+        // "run - < s.json >> s.json": both streams open on one file (the CSV was appended to
+        // the scene, or with 1<> written over its start).
+        struct stat in {};
+        struct stat out {};
+        return ::fstat(STDIN_FILENO, &in) == 0 && ::fstat(STDOUT_FILENO, &out) == 0 && S_ISREG(in.st_mode)
+            && in.st_dev == out.st_dev && in.st_ino == out.st_ino;
+    }
     if (!outPath)
         return streamIs(STDOUT_FILENO, scene);
     return namesSameFile(scene, *outPath);

@@ -238,19 +238,21 @@ void TestCli::runKeepsItsSceneAndReadsOptionsAlike()
         QCOMPARE(file.readAll(), before);
         file.close();
     }
-    // The scene as standard input and the --out file, or the scene as standard output.
-    for (const bool viaStdin : {true, false}) {
+    // The scene as standard input and the --out file, the scene as standard output, or as both
+    // standard streams ("run - < s.json >> s.json" appended the CSV to the scene).
+    for (const char *how : {"stdin and --out", "stdout", "stdin and stdout"}) {
         QProcess p;
-        if (viaStdin) {
+        const bool viaStdin = QByteArray(how).startsWith("stdin");
+        if (viaStdin)
             p.setStandardInputFile(scene);
-            p.start(QStringLiteral(MARBLES_CLI_PATH), {"run", "-", "--frames", "2", "--out", scene});
-        } else {
+        if (QByteArray(how).endsWith("stdout"))
             p.setStandardOutputFile(scene, QIODevice::Append);
-            p.start(QStringLiteral(MARBLES_CLI_PATH), {"run", scene, "--frames", "2"});
-        }
+        p.start(QStringLiteral(MARBLES_CLI_PATH), QByteArray(how) == "stdin and --out"
+                                                      ? QStringList{"run", "-", "--frames", "2", "--out", scene}
+                                                      : QStringList{"run", viaStdin ? "-" : scene, "--frames", "2"});
         QVERIFY(p.waitForFinished(60000));
         QCOMPARE(p.exitCode(), 2);
-        QVERIFY2(p.readAllStandardError().contains("is SCENE, the file being read"), viaStdin ? "stdin" : "stdout");
+        QVERIFY2(p.readAllStandardError().contains("is SCENE, the file being read"), how);
         QVERIFY(file.open(QIODevice::ReadOnly));
         QCOMPARE(file.readAll(), before);
         file.close();
@@ -347,6 +349,9 @@ void TestCli::invalidInputExitsTwo_data()
                                         << QByteArray() << "marbles-cli: --out: given twice ('a.csv', then 'b.csv')";
     QTest::addRow("flag value given twice") << QStringList{"gen", "crowd", "--n", "5", "--n=6"} << QByteArray()
                                             << "--n: given twice ('5', then '6')";
+    // A flag too (stress --quick --quick ran, where README says only --set may come twice).
+    QTest::addRow("flag given twice") << QStringList{"stress", "--quick", "--quick"} << QByteArray()
+                                      << "marbles-cli: --quick: given twice";
     QTest::addRow("set unknown model") << QStringList{"run", "preset:pins", "--set", "model=verlet"}
                                        << QByteArray() << "model";
     QTest::addRow("check invalid") << QStringList{"check", "-"}
