@@ -956,14 +956,14 @@ QString PlotDock::exportCsv(const QString &path) const
     QByteArray text = "frame,time_s";
     for (const Track &t : m_tracks)
         text += ",speed_" + QByteArray::number(t.marble) + speedUnit;
-    text += ",kinetic" + energyUnit + ",momentum_x" + momentumUnit + ",momentum_y" + momentumUnit;
+    text += ",kinetic_energy" + energyUnit + ",momentum_x" + momentumUnit + ",momentum_y" + momentumUnit;
     const QByteArray compareSuffix = '_' + m_compareModel.toUtf8();
     for (const Track &t : m_tracks) {
         if (t.compareSeries)
             text += ",speed_" + QByteArray::number(t.marble) + compareSuffix + speedUnit;
     }
     if (m_compareKineticSeries)
-        text += ",kinetic" + compareSuffix + energyUnit + ",momentum_x" + compareSuffix + momentumUnit + ",momentum_y"
+        text += ",kinetic_energy" + compareSuffix + energyUnit + ",momentum_x" + compareSuffix + momentumUnit + ",momentum_y"
                 + compareSuffix + momentumUnit;
     text += '\n';
     for (std::size_t i = 0; i < m_frames.size(); ++i) {

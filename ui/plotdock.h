@@ -182,9 +182,9 @@ public:
     bool legendIsCompact() const { return m_compactLegend; }
 
     /// Writes every held sample as CSV, speeds in px/frame whatever the time axis shows:
-    /// frame,time_s,speed_<i>_px_per_frame...,kinetic_mass_px2_per_frame2,momentum_x_mass_px_per_frame,
+    /// frame,time_s,speed_<i>_px_per_frame...,kinetic_energy_mass_px2_per_frame2,momentum_x_mass_px_per_frame,
     /// momentum_y_mass_px_per_frame (shortest round-trip digits; an empty field where a marble was
-    /// not plotted), then speed_<i>_<model>_px_per_frame..., kinetic_<model>_...,
+    /// not plotted), then speed_<i>_<model>_px_per_frame..., kinetic_energy_<model>_...,
     /// momentum_x_<model>_..., momentum_y_<model>_... while a comparison model is plotted.
     /// Returns "" or a message naming the file.
     QString exportCsv(const QString &path) const;

@@ -888,9 +888,9 @@ void TestCompareRun::plotExportsAndDescribesCompareLines()
     const QStringList lines = QString::fromUtf8(file.readAll()).split(QLatin1Char('\n'));
     QCOMPARE(lines.size(), 5);
     QCOMPARE(lines[0], QStringLiteral("frame,time_s,speed_0_px_per_frame,speed_1_px_per_frame,"
-                                      "kinetic_mass_px2_per_frame2,momentum_x_mass_px_per_frame,momentum_y_mass_px_per_frame,"
+                                      "kinetic_energy_mass_px2_per_frame2,momentum_x_mass_px_per_frame,momentum_y_mass_px_per_frame,"
                                       "speed_0_impulse_px_per_frame,speed_1_impulse_px_per_frame,"
-                                      "kinetic_impulse_mass_px2_per_frame2,momentum_x_impulse_mass_px_per_frame,"
+                                      "kinetic_energy_impulse_mass_px2_per_frame2,momentum_x_impulse_mass_px_per_frame,"
                                       "momentum_y_impulse_mass_px_per_frame"));
     QVERIFY2(lines[1].startsWith(QStringLiteral("1,0.02,5,2,")) && lines[1].endsWith(QStringLiteral(",,,,,")),
              qPrintable(lines[1]));

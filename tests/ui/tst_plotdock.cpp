@@ -1379,7 +1379,7 @@ void TestPlotDock::exportCsv()
     // KE = 2*25/2 + 1*36/2 = 43 and p = (6, 8) + (-6, 0) = (0, 8) at frames 1-2;
     // KE = 25 + 0.005 and p = (5.9, 8) at frame 3.
     const QStringList expected = {
-        QStringLiteral("frame,time_s,speed_0_px_per_frame,speed_1_px_per_frame,kinetic_mass_px2_per_frame2,"
+        QStringLiteral("frame,time_s,speed_0_px_per_frame,speed_1_px_per_frame,kinetic_energy_mass_px2_per_frame2,"
                        "momentum_x_mass_px_per_frame,momentum_y_mass_px_per_frame"),
         QStringLiteral("1,0.02,5,,43,0,8"),
         QStringLiteral("2,0.04,5,,43,0,8"),
