@@ -361,9 +361,9 @@ int runCommand(const std::vector<std::string> &args)
     appendRows(csv, world);
     int status = ExitOk;
     std::string failure;
-    // Frames in which the exact model held marbles at rest where energy should have been kept
-    // (a marble too fast to follow): said once at the end (the rows had ended in a stage at
-    // rest, with nothing to say why).
+    // Frames in which the exact model held marbles where energy should have been kept (a marble
+    // too fast to follow, or one wider than the stage): said once at the end (the rows had ended
+    // in a stage at rest, with nothing to say why).
     long long firstHeld = -1;
     long long heldFrames = 0;
     int mostHeld = 0;
@@ -395,8 +395,9 @@ int runCommand(const std::vector<std::string> &args)
     std::fflush(stdout);
     if (firstHeld >= 0) {
         std::cerr << "marbles-cli: " << sceneLabel(scene) << ": note: from frame " << firstHeld
-                  << " on, the exact model held up to " << mostHeld << " marble(s) at rest in " << heldFrames
-                  << " frame(s) to finish them (more collisions in a frame than it follows); kinetic energy is not "
+                  << " on, the exact model held up to " << mostHeld << " marble(s) in " << heldFrames
+                  << " frame(s) to finish them (at rest where a marble has more collisions in a frame than it "
+                     "follows; between two walls where it is wider than the stage); kinetic energy is not "
                      "conserved there\n";
     }
     if (status != ExitOk)

@@ -1989,6 +1989,8 @@ void ExactModel::collideWall(World &world, int i, int wall)
         ++m_collisionCount;
     }
     if ((pinched || (gOut > 0.0 && outward >= 0.0 && e * outward <= restSpeed)) && !body.frozen) {
+        if (pinched && v != 0.0)
+            ++m_pinchedCount; // its motion across the stage is taken (held, in lastHeldCount())
         v = 0.0;
         body.gravityOff |= static_cast<std::uint8_t>(1u << axis);
         guard.locked |= static_cast<std::uint8_t>(1u << axis);
@@ -2010,6 +2012,7 @@ void ExactModel::step(World &world)
     m_eventCount = 0;
     m_collisionCount = 0;
     m_frozenCount = 0;
+    m_pinchedCount = 0;
     if (n == 0)
         return;
     beginFrame(world);

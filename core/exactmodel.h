@@ -120,7 +120,9 @@ public:
     /// Marbles the guard against endless collision sequences froze in the last frame (0 with e = 1
     /// and no gravity).
     int lastFrozenCount() const { return m_frozenCount; }
-    int lastHeldCount() const override { return m_frozenCount; }
+    /// The frozen marbles, and the marbles wider than the stage stopped between its walls (each
+    /// time one of them met a wall moving across it: kinetic energy lost, whatever e).
+    int lastHeldCount() const override { return m_frozenCount + m_pinchedCount; }
 
 private:
     enum class EventKind : std::uint8_t { Wall, Pin, Pair, Cross, RecheckPin, RecheckPair, None };
@@ -383,6 +385,7 @@ private:
     std::int64_t m_eventCount = 0;
     std::int64_t m_collisionCount = 0;
     int m_frozenCount = 0;
+    int m_pinchedCount = 0; // marbles too wide for the stage stopped between its walls this frame
 };
 
 } // namespace marbles

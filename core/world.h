@@ -94,7 +94,7 @@ struct HitRecord {
 struct StepResult {
     bool finite = true;  ///< false when a marble left finite numbers
     int badMarble = -1;  ///< the first such marble, in scene order
-    int heldMarbles = 0; ///< marbles the model held at rest to finish the frame (Stepper::lastHeldCount())
+    int heldMarbles = 0; ///< marbles the model held to finish the frame (Stepper::lastHeldCount())
 };
 
 class World;
@@ -109,8 +109,9 @@ public:
     /// added to the marbles' pending acceleration; the stepper consumes it and leaves it zero.
     /// Does not touch world.frame.
     virtual void step(World &world) = 0;
-    /// Marbles the last step() held at rest for the rest of the frame to finish it (the exact
-    /// model's guards against endless collision sequences); 0 for models without such guards.
+    /// Marbles the last step() held to finish it (the exact model's guards against endless
+    /// collision sequences: at rest for the rest of the frame, or a marble wider than the stage
+    /// stopped between its walls); 0 for models without such guards.
     virtual int lastHeldCount() const { return 0; }
 };
 

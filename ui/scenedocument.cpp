@@ -142,9 +142,10 @@ StepResult SceneDocument::step()
     m_physicsMsPerFrame = m_physicsMsPerFrame == 0.0 ? ms : m_physicsMsPerFrame + (ms - m_physicsMsPerFrame) / 30.0;
     Q_EMIT frameAdvanced();
     if (result.heldMarbles > 0 && heldMarblesBreakEnergy(m_world.params)) {
-        Q_EMIT marblesHeld(tr("Frame %1: the exact model held %n marble(s) at rest to finish the frame: more "
-                              "collisions in one frame than it can follow (a marble near 1e9 px/frame). Kinetic "
-                              "energy was not conserved there.",
+        Q_EMIT marblesHeld(tr("Frame %1: the exact model held %n marble(s) to finish the frame: at rest where a "
+                              "marble has more collisions in one frame than it can follow (near 1e9 px/frame), "
+                              "between two walls where one is wider than the stage. Kinetic energy was not "
+                              "conserved there.",
                               nullptr, result.heldMarbles)
                                .arg(m_world.frame));
     }

@@ -572,10 +572,21 @@ void TestCli::heldMarblesAreSaid()
         {"x":700,"y":100,"radius":10,"vx":-1e9,"vy":3e8}],"pins":[{"x":500,"y":300.5}]})";
     const CliResult r = runCli({"run", "-", "--frames", "3"}, fast);
     QCOMPARE(r.exitCode, 0);
-    QVERIFY2(r.err.startsWith("marbles-cli: stdin: note: from frame 1 on, the exact model held up to 3 marble(s) at "
-                              "rest in 1 frame(s)"),
+    QVERIFY2(r.err.startsWith("marbles-cli: stdin: note: from frame 1 on, the exact model held up to 3 marble(s) in "
+                              "1 frame(s)"),
              r.err.constData());
     QVERIFY(r.err.contains("kinetic energy is not conserved there"));
+    // A marble wider than the stage is stopped between the two walls it touches: its motion
+    // across the stage was lost without a word.
+    const QByteArray wide = R"({"format":"marbles-scene","version":1,"params":{"model":"exact","friction":0,
+        "zeroThreshold":0},"marbles":[{"x":400,"y":300,"radius":350,"vx":1,"vy":1}]})";
+    const CliResult w = runCli({"run", "-", "--frames", "3"}, wide);
+    QCOMPARE(w.exitCode, 0);
+    QVERIFY2(w.err.startsWith("marbles-cli: stdin: note: from frame 1 on, the exact model held up to 1 marble(s) in "
+                              "1 frame(s)"),
+             w.err.constData());
+    QVERIFY(w.err.contains("between two walls where it is wider than the stage"));
+    QVERIFY(w.out.endsWith("3,0,403,300,1,0\n"));
     // Marbles that come to rest as they should (gravity, e < 1) are not worth a word.
     for (const QStringList &settings : {QStringList{"--set", "model=exact"},
                                         QStringList{"--set", "model=exact", "--set", "restitution=0.5"}}) {
