@@ -52,6 +52,7 @@ private Q_SLOTS:
     void outOfRangeNumbersAreRefusedWhole_data();
     void outOfRangeNumbersAreRefusedWhole();
     void numbersBeyondTheFieldsAreSaid();
+    void velocitiesShowTheZeroThresholdsDigits();
     void refusedEditShowsTheMarblesNumber();
     void fieldsFollowUndoAndReadPowersOfTen();
     void radiusIntoAnotherIsExplained();
@@ -143,7 +144,7 @@ void TestInspectorDock::outOfRangeNumbersAreRefusedWhole_data()
     // Without the refusal these came through as 600 px and 0.3 kept the old radius silently.
     QTest::newRow("radius above") << "radius" << "6000" << "6000 is above this field's maximum (5000.00 px)";
     QTest::newRow("radius below") << "radius" << "0.3" << "0.3 is below this field's minimum (0.50 px)";
-    QTest::newRow("speed above") << "vx" << "200000" << "200000 is above this field's maximum (100000.000 px/frame)";
+    QTest::newRow("speed above") << "vx" << "200000" << "200000 is above this field's maximum (100000.0000 px/frame)";
 }
 
 void TestInspectorDock::outOfRangeNumbersAreRefusedWhole()
@@ -187,6 +188,29 @@ void TestInspectorDock::numbersBeyondTheFieldsAreSaid()
     QVERIFY(note->isVisible());
     m_dock->setMarble(-1);
     QVERIFY(!note->isVisible());
+}
+
+void TestInspectorDock::velocitiesShowTheZeroThresholdsDigits()
+{
+    // A velocity just above the zero threshold, left moving, read as the threshold itself
+    // ("0.010" for 0.0104 with the default 0.01): the fields have two digits more than it.
+    World scene = defaultScene();
+    scene.velocity[1] = {0.0104, -0.0099};
+    m_document->resetScene(scene);
+    m_dock->setMarble(1);
+    QDoubleSpinBox *vx = m_dock->field(QStringLiteral("vx"));
+    QDoubleSpinBox *vy = m_dock->field(QStringLiteral("vy"));
+    const QString unit = vx->suffix();
+    QCOMPARE(vx->text(), vx->locale().toString(0.0104, 'f', 4) + unit);
+    QCOMPARE(vy->text(), vy->locale().toString(-0.0099, 'f', 4) + unit);
+    // The threshold changed: the digits follow it, three at the least, six at the most.
+    for (const auto &[threshold, decimals] : {std::pair{0.001, 5}, std::pair{0.5, 3}, std::pair{0.0, 3},
+                                              std::pair{1e-9, 6}, std::pair{0.01, 4}}) {
+        QVERIFY(m_document->setParam(QStringLiteral("zeroThreshold"), QString::number(threshold)).isEmpty());
+        QCOMPARE(vx->decimals(), decimals);
+        QCOMPARE(vy->decimals(), decimals);
+    }
+    QCOMPARE(m_document->world().velocity[1].x, 0.0104); // shown, never rounded into the scene
 }
 
 void TestInspectorDock::refusedEditShowsTheMarblesNumber()
