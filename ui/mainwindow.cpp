@@ -1659,11 +1659,26 @@ void MainWindow::updateStatistics()
         m_fpsLabel->setText(tr("display %1 fps").arg(static_cast<double>(paints - m_lastPaintCount) * 1000.0 / elapsed, 0, 'f', 0));
     m_lastPaintCount = paints;
     updateSlowLabel();
-    const Vec2 p = world.momentum();
     // Plain numbers up to 1e12, as the plot's readout gives them ("KE 4.5862e+06" beside its
     // "1336500").
-    m_energyLabel->setText(tr("KE %1").arg(readableNumber(world.kineticEnergy(), 5)));
-    m_momentumLabel->setText(tr("p = (%1, %2)").arg(readableNumber(p.x, 4), readableNumber(p.y, 4)));
+    auto energy = [](const World &w) { return readableNumber(w.kineticEnergy(), 5); };
+    auto momentum = [](const World &w) {
+        const Vec2 p = w.momentum();
+        return QStringLiteral("(%1, %2)").arg(readableNumber(p.x, 4), readableNumber(p.y, 4));
+    };
+    // While a comparison runs, both models' totals, each named: the scene's alone did not say
+    // whose they were, and the comparison's (momentum kept where the book's is not) could only
+    // be read off the plot.
+    const World *compared = m_compare->world();
+    if (compared && compared->frame == world.frame) {
+        const QString ours = QString::fromLatin1(modelName(world.params.model));
+        const QString theirs = QString::fromLatin1(modelName(m_compare->model()));
+        m_energyLabel->setText(tr("KE %1 (%2), %3 (%4)").arg(energy(world), ours, energy(*compared), theirs));
+        m_momentumLabel->setText(tr("p = %1 %2, %3 %4").arg(momentum(world), ours, momentum(*compared), theirs));
+        return;
+    }
+    m_energyLabel->setText(tr("KE %1").arg(energy(world)));
+    m_momentumLabel->setText(tr("p = %1").arg(momentum(world)));
 }
 
 void MainWindow::updateSlowLabel()

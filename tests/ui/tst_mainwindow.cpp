@@ -10,6 +10,7 @@
 #include "ui/inspectordock.h"
 #include "ui/mainwindow.h"
 #include "ui/marbleitem.h"
+#include "ui/numbertext.h"
 #include "ui/parametersdock.h"
 #include "ui/plotdock.h"
 #include "ui/prompts.h"
@@ -868,6 +869,23 @@ void TestMainWindow::massScaleSaysWhenNoMarbleUsesIt()
     auto *momentum = m_window->findChild<QLabel *>(QStringLiteral("momentumLabel"));
     QCOMPARE(energy->text(), QStringLiteral("KE %1").arg(std::round(w.kineticEnergy()), 0, 'f', 0));
     QCOMPARE(momentum->text(), QStringLiteral("p = (18000, 0)")); // four digits gave 1.8e+04
+
+    // While a comparison runs, both models' totals, each named (the scene's alone did not say
+    // whose they were).
+    m_prompts->saveChoice = Prompts::SaveChoice::Discard;
+    QVERIFY(m_window->openPreset(QStringLiteral("masses")));
+    compareExact()->trigger();
+    m_window->document()->advance(40); // past the first collision (frame 37)
+    const World *exact = m_window->compareRun()->world();
+    QVERIFY(exact);
+    const World &book = m_window->document()->world();
+    QCOMPARE(exact->frame, book.frame);
+    QTRY_COMPARE(energy->text(), QStringLiteral("KE %1 (book), %2 (exact)")
+                                     .arg(readableNumber(book.kineticEnergy(), 5), readableNumber(exact->kineticEnergy(), 5)));
+    QVERIFY(std::abs(book.kineticEnergy() - exact->kineticEnergy()) > 100.0); // two different numbers
+    QCOMPARE(momentum->text(), QStringLiteral("p = (%1, %2) book, (%3, %4) exact")
+                                   .arg(readableNumber(book.momentum().x, 4), readableNumber(book.momentum().y, 4),
+                                        readableNumber(exact->momentum().x, 4), readableNumber(exact->momentum().y, 4)));
 }
 
 void TestMainWindow::plottedMarblesWearTheirLinesColours()
