@@ -219,6 +219,38 @@ AxisRange niceRange(QValueAxis *scratch, double lo, double hi)
     return {scratch->min(), scratch->max(), scratch->tickCount()};
 }
 
+/// Puts zero at the same height on every axis of `ranges` (each with zero on one of its ticks,
+/// as nice ranges from 0 or across it have): each keeps its tick spacing and gets as many ticks
+/// below zero as the one with most, and as many above. A negative momentum had put its axis's
+/// zero above the others', where its line read as a speed above zero. Ranges without zero on a
+/// tick (the overflow guard's) are left as they are.
+void alignZeros(std::initializer_list<AxisRange *> ranges)
+{
+    struct Steps {
+        AxisRange *range;
+        double step;
+    };
+    std::vector<Steps> steps;
+    int below = 0;
+    int above = 0;
+    for (AxisRange *r : ranges) {
+        if (r->ticks < 2 || !(r->min <= 0.0) || !(r->max >= 0.0))
+            continue;
+        const double step = (r->max - r->min) / (r->ticks - 1);
+        const double under = -r->min / step;
+        const double over = r->max / step;
+        if (!(step > 0.0) || std::abs(under - std::round(under)) > 1e-6 || std::abs(over - std::round(over)) > 1e-6)
+            continue;
+        steps.push_back({r, step});
+        below = std::max(below, static_cast<int>(std::round(under)));
+        above = std::max(above, static_cast<int>(std::round(over)));
+    }
+    if (below == 0 || steps.size() < 2)
+        return;
+    for (const Steps &s : steps)
+        *s.range = {-below * s.step, above * s.step, below + above + 1};
+}
+
 /// Frames are whole numbers: where the nice range would put ticks less than a frame apart (the
 /// first few frames of a run), the range is widened to whole frames with a tick at each.
 AxisRange wholeTicks(AxisRange range)
@@ -770,10 +802,17 @@ void PlotDock::refreshChart()
     // A little room above the highest point: a line at a round maximum (Newton's cradle's 6
     // px/frame) ran along the chart's top edge, where it could hardly be seen.
     const auto top = [](double max) { return std::isfinite(max) ? std::max(max, 0.0) * 1.04 : 1.0; };
-    applyRange(m_axisSpeed, niceRange(m_rangeScratch, 0.0, top(speedMax)));
-    applyRange(m_axisTotals, niceRange(m_rangeScratch, 0.0, top(energy.max)));
     const auto bottom = [](double min) { return std::isfinite(min) ? std::min(min, 0.0) * 1.04 : 0.0; };
-    applyRange(m_axisMomentum, niceRange(m_rangeScratch, bottom(momentum.min), top(momentum.max)));
+    AxisRange speedRange = niceRange(m_rangeScratch, 0.0, top(speedMax));
+    AxisRange energyRange = niceRange(m_rangeScratch, 0.0, top(energy.max));
+    AxisRange momentumRange = niceRange(m_rangeScratch, bottom(momentum.min), top(momentum.max));
+    // One zero line for every axis drawn.
+    if (m_showMomentum->isChecked())
+        alignZeros(m_showKinetic->isChecked() ? std::initializer_list<AxisRange *>{&speedRange, &energyRange, &momentumRange}
+                                              : std::initializer_list<AxisRange *>{&speedRange, &momentumRange});
+    applyRange(m_axisSpeed, speedRange);
+    applyRange(m_axisTotals, energyRange);
+    applyRange(m_axisMomentum, momentumRange);
     if (m_restartMarks) {
         // Down and up at each restart, joined along the time axis, where the joins vanish.
         QList<QPointF> marks;

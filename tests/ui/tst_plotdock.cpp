@@ -1213,13 +1213,26 @@ void TestPlotDock::totalsOnRequest()
     QVERIFY(energyAxis->isVisible() && momentumAxis->isVisible());
     // Each axis spans its own total (a shared one flattened the smaller to a line at 0), the
     // momentum's both signs.
-    QVERIFY(momentumAxis->max() >= px && momentumAxis->max() < 2 * px);
+    QVERIFY(momentumAxis->max() >= px && momentumAxis->max() < 2 * (px - py));
     QVERIFY(momentumAxis->min() <= py && momentumAxis->min() > 2 * py);
+    // One zero line: each axis's zero at the same height, on a tick of each (a momentum's zero
+    // had sat above the speeds' and the energy's, where its line read as a speed above zero).
+    QValueAxis *speedAxis = qobject_cast<QValueAxis *>(dock.chartView()->chart()->axes(Qt::Vertical, dock.speedSeries(0)).value(0));
+    QVERIFY(speedAxis);
+    auto zeroHeight = [](const QValueAxis *axis) { return -axis->min() / (axis->max() - axis->min()); };
+    QCOMPARE_GT(zeroHeight(momentumAxis), 0.0);
+    for (const QValueAxis *axis : {speedAxis, energyAxis}) {
+        QCOMPARE_LE(std::abs(zeroHeight(axis) - zeroHeight(momentumAxis)), 1e-12);
+        const double tick = zeroHeight(axis) * (axis->tickCount() - 1);
+        QCOMPARE_LE(std::abs(tick - std::round(tick)), 1e-9);
+    }
     QVERIFY(energyAxis->max() >= kinetic->at(11).y() && energyAxis->max() < 2 * kinetic->at(11).y());
     dock.setKineticEnergyShown(false);
     QVERIFY(!energyAxis->isVisible() && momentumAxis->isVisible());
     dock.setMomentumShown(false);
     QVERIFY(!momentumAxis->isVisible());
+    dock.refreshChart();
+    QCOMPARE(speedAxis->min(), 0.0); // without a signed total, the speeds' axis starts at zero again
 }
 
 void TestPlotDock::hoverShowsExactValues_data()
