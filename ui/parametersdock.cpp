@@ -99,6 +99,11 @@ const char *const kRestitutionUnused =
     "Not used by the book model: its collisions share the speed by the chapter's mass ratio instead.";
 const char *const kSubstepsUnused = "Only the impulse model divides a frame into sub-steps.";
 const char *const kShortCircuitUnused = "Only the book model can stop testing a marble after its first hit.";
+// The same, short, in the line under the field: longer there, the line widened the whole dock
+// (a word-wrapped label asks for more width the longer its text), taking it from the stage.
+const char *const kRestitutionUnusedShort = "Not used by the book model.";
+const char *const kSubstepsUnusedShort = "Used by the impulse model only.";
+const char *const kShortCircuitUnusedShort = "Used by the book model only.";
 
 } // namespace
 
@@ -129,6 +134,7 @@ void ParametersDock::buildUi()
         auto *help = explanationLabel(explanation, page);
         help->setObjectName(field->objectName() + QStringLiteral("Help"));
         help->setProperty("explanation", explanation);
+        help->setProperty("usedExplanation", explanation); // updateForModel() adds why, where unused
         form->addRow(help);
         // A number refused by the field (or by one of its boxes) is explained in this line.
         QList<QAbstractSpinBox *> spins = field->findChildren<QAbstractSpinBox *>();
@@ -398,13 +404,20 @@ void ParametersDock::updateForModel(ModelKind model)
         m_friction->setMaximum(book ? std::max(kBookFrictionMax, m_friction->value()) : kDampedFrictionMax);
     }
 
-    auto enable = [](QWidget *w, bool on, const char *why) {
+    auto enable = [this](QWidget *w, bool on, const char *why, const char *shortWhy) {
         w->setEnabled(on);
         w->setToolTip(on ? w->property("formulaToolTip").toString() : tr(why));
+        // Said under the field too, in short: greyed out with its tooltip alone (shown only to a
+        // pointer resting on it), Pachinko's restitution of 0.8 did not say why.
+        if (auto *help = findChild<QLabel *>(w->objectName() + QStringLiteral("Help"))) {
+            const QString used = help->property("usedExplanation").toString();
+            help->setProperty("explanation", on ? used : tr(shortWhy) + QLatin1Char(' ') + used);
+            explainAgain(help);
+        }
     };
-    enable(m_restitution, !book, kRestitutionUnused);
-    enable(m_substeps, impulse, kSubstepsUnused);
-    enable(m_shortCircuit, book, kShortCircuitUnused);
+    enable(m_restitution, !book, kRestitutionUnused, kRestitutionUnusedShort);
+    enable(m_substeps, impulse, kSubstepsUnused, kSubstepsUnusedShort);
+    enable(m_shortCircuit, book, kShortCircuitUnused, kShortCircuitUnusedShort);
     updateFrictionWarning();
 }
 
