@@ -269,10 +269,10 @@ void applyRange(QValueAxis *axis, const AxisRange &range)
         axis->setRange(range.min, range.max);
     if (axis->tickCount() != range.ticks)
         axis->setTickCount(range.ticks);
-    // Plain numbers where they stay short, as the readout gives them (readableNumber()): the
+    // Plain numbers by the readout's rule (readableNumber(), "%g" giving six digits): the
     // energy in seconds read "1.5e+06".
     const double size = std::max(std::abs(range.min), std::abs(range.max));
-    const QString format = size >= 1e5 && size < 1e9 ? QStringLiteral("%.0f") : QStringLiteral("%g");
+    const QString format = writtenWhole(size) ? QStringLiteral("%.0f") : QStringLiteral("%g");
     if (axis->labelFormat() != format)
         axis->setLabelFormat(format);
 }

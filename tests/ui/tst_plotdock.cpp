@@ -1361,6 +1361,17 @@ void TestPlotDock::hoverNamesLinesOnTopOfEachOther()
     }
     QVERIFY(energyAxis);
     QCOMPARE(energyAxis->labelFormat(), QStringLiteral("%.0f"));
+    // One rule for the axis and the readout (the axis went back to powers of ten at 1e9, the
+    // readout at 1e12): whole up to 1e12, then powers of ten on both.
+    for (const auto &[speed, whole] : {std::pair{40000.0, true}, std::pair{4.0e6, false}}) {
+        world.velocity[0] = {speed, 0.0};
+        ++world.frame;
+        dock.appendFrame(world);
+        dock.refreshChart();
+        const QString readout = dock.describePoint(dock.kineticSeries(), QPointF(double(world.frame), 0.0));
+        QCOMPARE(readout.contains(QLatin1Char('e')) && readout.contains(QStringLiteral("e+")), !whole);
+        QCOMPARE(energyAxis->labelFormat(), whole ? QStringLiteral("%.0f") : QStringLiteral("%g"));
+    }
 }
 
 void TestPlotDock::exportCsv()
