@@ -178,19 +178,40 @@ void RenameMarbleCommand::apply(const std::string &name)
     m_document->applyChange(SceneDocument::Change::Names);
 }
 
+namespace {
+
+/// Back to `frame`, where a structural edit (a marble added or deleted) was made, when the scene
+/// has run on past it and the frame is kept; otherwise the edit applies where the scene is.
+void backToItsFrame(SceneDocument *document, std::int64_t frame)
+{
+    if (document->world().frame > frame)
+        document->goToFrame(frame);
+}
+
+/// `text`, with the frame a mid-run edit was made at (as SetMarbleCommand names its edits).
+QString atFrame(const QString &text, std::int64_t frame)
+{
+    return frame > 0 ? QCoreApplication::translate("marbles", "%1 at frame %2").arg(text).arg(frame) : text;
+}
+
+} // namespace
+
 AddMarbleCommand::AddMarbleCommand(SceneDocument *document, const MarbleRecord &record)
     : m_document(document)
     , m_record(record)
+    , m_frame(document->world().frame)
 {
     // Named by the number it will have and where (the Undo History said "Add marble" alone).
-    setText(QCoreApplication::translate("marbles", "Add marble %1 at (%2, %3)")
-                .arg(document->world().marbleCount())
-                .arg(record.position.x, 0, 'f', 0)
-                .arg(record.position.y, 0, 'f', 0));
+    setText(atFrame(QCoreApplication::translate("marbles", "Add marble %1 at (%2, %3)")
+                        .arg(document->world().marbleCount())
+                        .arg(record.position.x, 0, 'f', 0)
+                        .arg(record.position.y, 0, 'f', 0),
+                    m_frame));
 }
 
 void AddMarbleCommand::redo()
 {
+    backToItsFrame(m_document, m_frame);
     World &world = m_document->editableWorld();
     m_index = world.marbleCount();
     insertMarble(world, m_index, m_record);
@@ -202,6 +223,7 @@ void AddMarbleCommand::redo()
 
 void AddMarbleCommand::undo()
 {
+    backToItsFrame(m_document, m_frame);
     World &world = m_document->editableWorld();
     assert(m_index == world.marbleCount() - 1);
     if (m_index < 0 || m_index >= world.marbleCount())
@@ -214,12 +236,14 @@ void AddMarbleCommand::undo()
 RemoveMarbleCommand::RemoveMarbleCommand(SceneDocument *document, int marble)
     : m_document(document)
     , m_index(marble)
+    , m_frame(document->world().frame)
 {
-    setText(QCoreApplication::translate("marbles", "Delete marble %1").arg(marble));
+    setText(atFrame(QCoreApplication::translate("marbles", "Delete marble %1").arg(marble), m_frame));
 }
 
 void RemoveMarbleCommand::redo()
 {
+    backToItsFrame(m_document, m_frame);
     World &world = m_document->editableWorld();
     assert(m_index >= 0 && m_index < world.marbleCount());
     if (m_index < 0 || m_index >= world.marbleCount())
@@ -233,6 +257,7 @@ void RemoveMarbleCommand::redo()
 
 void RemoveMarbleCommand::undo()
 {
+    backToItsFrame(m_document, m_frame);
     World &world = m_document->editableWorld();
     assert(m_index >= 0 && m_index <= world.marbleCount());
     if (m_index < 0 || m_index > world.marbleCount())

@@ -83,7 +83,8 @@ private:
     std::string m_after;
 };
 
-/// Adds a marble at the end of the scene order.
+/// Adds a marble at the end of the scene order. Undone or redone later in the run, it takes the
+/// scene back to the frame it was made at first, where that frame is kept (as SetMarbleCommand).
 class AddMarbleCommand : public QUndoCommand {
 public:
     AddMarbleCommand(SceneDocument *document, const MarbleRecord &record);
@@ -94,9 +95,13 @@ private:
     SceneDocument *m_document;
     MarbleRecord m_record;
     int m_index = -1;
+    std::int64_t m_frame = 0; // the frame the marble was added at
 };
 
 /// Removes a marble; undo puts it back at its index, with the scripted pushes that named it.
+/// Undone or redone later in the run, it takes the scene back to the frame of the delete first,
+/// where that frame is kept: the marble came back where it had been deleted, frames later, among
+/// marbles that had moved on without it.
 class RemoveMarbleCommand : public QUndoCommand {
 public:
     RemoveMarbleCommand(SceneDocument *document, int marble);
@@ -109,6 +114,7 @@ private:
     MarbleRecord m_record;
     std::vector<Push> m_pushes;
     FrameHistory::MarbleStart m_start; // its part of the timeline's first frame
+    std::int64_t m_frame = 0;          // the frame of the delete
 };
 
 } // namespace marbles

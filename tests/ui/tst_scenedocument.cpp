@@ -829,6 +829,35 @@ void TestSceneDocument::undoLaterInTheRunGoesBackToTheEdit()
     QVERIFY(three.world().position == atForty.position);
     QVERIFY(three.world().velocity == atForty.velocity);
     QVERIFY(three.world().radius == atForty.radius);
+
+    // A marble deleted at frame 10, the delete undone at frame 30: the scene goes back to frame
+    // 10 with the marble where it was (it came back where it had been deleted, at frame 30, among
+    // marbles that had moved on without it). Redone at frame 25, the delete goes back there too.
+    SceneDocument deleted;
+    deleted.resetScene(preset("pins"));
+    QCOMPARE(deleted.advance(10), 10);
+    const World beforeDelete = deleted.world();
+    deleted.removeMarble(1);
+    QCOMPARE(deleted.undoStack()->undoText(), QStringLiteral("Delete marble 1 at frame 10"));
+    const World afterDelete = deleted.world();
+    QCOMPARE(deleted.advance(20), 20);
+    deleted.undoStack()->undo();
+    QVERIFY(sameDynamicState(deleted.world(), beforeDelete));
+    QCOMPARE(deleted.advance(15), 15);
+    deleted.undoStack()->redo();
+    QCOMPARE(deleted.world().frame, std::int64_t(10));
+    QVERIFY(deleted.world().position == afterDelete.position);
+    QVERIFY(deleted.world().velocity == afterDelete.velocity);
+    // A marble added at frame 10 likewise.
+    SceneDocument added;
+    added.resetScene(preset("pins"));
+    QCOMPARE(added.advance(10), 10);
+    const World beforeAdd = added.world();
+    QVERIFY(added.addMarble({700.0, 80.0}, 10.0).isEmpty());
+    QCOMPARE(added.undoStack()->undoText(), QStringLiteral("Add marble %1 at (700, 80) at frame 10").arg(beforeAdd.marbleCount()));
+    QCOMPARE(added.advance(20), 20);
+    added.undoStack()->undo();
+    QVERIFY(sameDynamicState(added.world(), beforeAdd));
 }
 
 void TestSceneDocument::structureEditsAreNamed()
