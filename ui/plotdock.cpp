@@ -247,6 +247,18 @@ void alignZeros(std::initializer_list<AxisRange *> ranges)
     }
     if (below == 0 || steps.size() < 2)
         return;
+    // No more ticks than the axes had (each, kAxisTicks and the one or two nice numbers add):
+    // nine, from -4 to 10, were too close for the dock's plot, whose every label then read "…".
+    // Fewer are had by doubling every spacing (1, 2, 5 become 2, 4, 10), keeping zero on a tick.
+    while (below + above + 1 > kAxisTicks + 1) {
+        below = 0;
+        above = 0;
+        for (Steps &s : steps) {
+            s.step *= 2.0;
+            below = std::max(below, static_cast<int>(std::ceil(-s.range->min / s.step - 1e-9)));
+            above = std::max(above, static_cast<int>(std::ceil(s.range->max / s.step - 1e-9)));
+        }
+    }
     for (const Steps &s : steps)
         *s.range = {-below * s.step, above * s.step, below + above + 1};
 }
