@@ -1,7 +1,10 @@
 #pragma once
 
+#include <QFontMetricsF>
 #include <QLabel>
 #include <QResizeEvent>
+
+#include <cmath>
 
 namespace marbles {
 
@@ -22,8 +25,12 @@ public:
 
     QSize sizeHint() const override
     {
+        // The text's width to the pixel above: the rounded width came a fraction short of what
+        // elidedText() measures, and a label given all the room it asked for still cut its last
+        // word ("890.07 (exa…").
         const QMargins m = contentsMargins();
-        return {fontMetrics().horizontalAdvance(m_full) + m.left() + m.right(), QLabel::sizeHint().height()};
+        const int text = static_cast<int>(std::ceil(QFontMetricsF(font()).horizontalAdvance(m_full))) + 1;
+        return {text + m.left() + m.right(), QLabel::sizeHint().height()};
     }
     QSize minimumSizeHint() const override { return {1, QLabel::minimumSizeHint().height()}; }
 

@@ -11,16 +11,26 @@ namespace marbles {
 class ElidingStatusBar : public QStatusBar {
     Q_OBJECT
 public:
-    using QStatusBar::QStatusBar;
+    explicit ElidingStatusBar(QWidget *parent = nullptr);
 
     /// The room the message is drawn in, left of the first permanent widget shown.
     QRect messageRect() const;
     /// The message as drawn (elided to messageRect()).
     QString shownMessage() const;
+    /// Permanent widgets that make room for a message (labels that elide their text): while one
+    /// is shown they are narrowed, in proportion to the room they ask for, until the message has
+    /// its width, up to two fifths of the bar. Figures that filled a narrow window's bar left a
+    /// message none.
+    void setYielding(const QList<QWidget *> &widgets);
 
 protected:
     void paintEvent(QPaintEvent *event) override;
     bool event(QEvent *event) override;
+    void resizeEvent(QResizeEvent *event) override;
+
+private:
+    void makeRoom();
+    QList<QWidget *> m_yielding;
 };
 
 } // namespace marbles

@@ -53,6 +53,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace marbles {
@@ -816,8 +817,16 @@ void MainWindow::createStatusBar()
                               "slower than the chosen speed and the stage keeps moving smoothly instead of jumping.\n"
                               "Fewer marbles, no comparison, or the book or impulse model run faster."));
     m_slowLabel->setVisible(false);
-    m_energyLabel = addLabel(QStringLiteral("energyLabel"), tr("Total kinetic energy, sum of m v² / 2"));
-    m_momentumLabel = addLabel(QStringLiteral("momentumLabel"), tr("Total momentum, sum of m v"));
+    // While comparing they give both models' totals, too long for a narrow window's bar: cut
+    // with "…" there (their whole text in the tool tip), they leave the bar room for the rest.
+    const auto addTotal = [this](const QString &name) {
+        auto *label = new ElidingLabel(this);
+        label->setObjectName(name);
+        statusBar()->addPermanentWidget(label);
+        return label;
+    };
+    m_energyLabel = addTotal(QStringLiteral("energyLabel"));
+    m_momentumLabel = addTotal(QStringLiteral("momentumLabel"));
     // The comparison readout comes first, where the eye lands after the stage; shown while comparing.
     m_compareLabel = new ElidingLabel(this);
     m_compareLabel->setObjectName(QStringLiteral("compareLabel"));
@@ -834,6 +843,8 @@ void MainWindow::createStatusBar()
     // window past the screen's edge. It takes the room there is, its text cut with "…" (it
     // ended mid-word, "...: it n"); its tool tip has the whole text.
     statusBar()->insertPermanentWidget(0, m_compareLabel);
+    // A message (a refusal's why, a preset's description) gets its room from these, which elide.
+    static_cast<ElidingStatusBar *>(statusBar())->setYielding({m_compareLabel, m_energyLabel, m_momentumLabel});
     // The run toolbar shows the frame and the time in large type; the status bar repeats them
     // only while that toolbar is hidden, which leaves room for the comparison's readout.
     if (auto *runBar = findChild<QToolBar *>(QStringLiteral("runToolBar")))
@@ -1663,22 +1674,51 @@ void MainWindow::updateStatistics()
     // "1336500").
     auto energy = [](const World &w) { return readableNumber(w.kineticEnergy(), 5); };
     auto momentum = [](const World &w) {
-        const Vec2 p = w.momentum();
+        const Vec2 p = shownMomentum(w);
         return QStringLiteral("(%1, %2)").arg(readableNumber(p.x, 4), readableNumber(p.y, 4));
     };
     // While a comparison runs, both models' totals, each named: the scene's alone did not say
     // whose they were, and the comparison's (momentum kept where the book's is not) could only
     // be read off the plot.
     const World *compared = m_compare->world();
+    // While comparing, the bar gives its room to both models' totals: the timing figures go (the
+    // physics time is the scene's model's alone), and the totals were cut with "…" in a 1600-px
+    // window on the Pachinko board.
+    m_physicsLabel->setVisible(!compared);
+    m_fpsLabel->setVisible(!compared);
     if (compared && compared->frame == world.frame) {
         const QString ours = QString::fromLatin1(modelName(world.params.model));
         const QString theirs = QString::fromLatin1(modelName(m_compare->model()));
-        m_energyLabel->setText(tr("KE %1 (%2), %3 (%4)").arg(energy(world), ours, energy(*compared), theirs));
-        m_momentumLabel->setText(tr("p = %1 %2, %3 %4").arg(momentum(world), ours, momentum(*compared), theirs));
+        setTotal(m_energyLabel, tr("KE %1 (%2), %3 (%4)").arg(energy(world), ours, energy(*compared), theirs));
+        setTotal(m_momentumLabel, tr("p = %1 %2, %3 %4").arg(momentum(world), ours, momentum(*compared), theirs));
         return;
     }
-    m_energyLabel->setText(tr("KE %1").arg(energy(world)));
-    m_momentumLabel->setText(tr("p = %1").arg(momentum(world)));
+    setTotal(m_energyLabel, tr("KE %1").arg(energy(world)));
+    setTotal(m_momentumLabel, tr("p = %1").arg(momentum(world)));
+}
+
+Vec2 MainWindow::shownMomentum(const World &world)
+{
+    // A component within the sum's rounding error of zero is zero: the exact model's momentum y
+    // of marbles moving only across read "-4.441e-16" beside the book's "-0.4395". The error of a
+    // sum of n terms is at most about n eps times the sum of their sizes.
+    const Vec2 p = world.momentum();
+    double sizeX = 0.0;
+    double sizeY = 0.0;
+    for (int i = 0; i < world.marbleCount(); ++i) {
+        sizeX += std::abs(world.mass[i] * world.velocity[i].x);
+        sizeY += std::abs(world.mass[i] * world.velocity[i].y);
+    }
+    const double bound = world.marbleCount() * std::numeric_limits<double>::epsilon();
+    return {std::abs(p.x) <= bound * sizeX ? 0.0 : p.x, std::abs(p.y) <= bound * sizeY ? 0.0 : p.y};
+}
+
+void MainWindow::setTotal(ElidingLabel *label, const QString &text)
+{
+    label->setFullText(text);
+    const QString what = label == m_energyLabel ? tr("Total kinetic energy, sum of m v² / 2")
+                                                : tr("Total momentum, sum of m v");
+    label->setToolTip(what + QStringLiteral("\n") + text);
 }
 
 void MainWindow::updateSlowLabel()

@@ -100,6 +100,10 @@ public:
     /// The message shown in the message bar above the stage ("" when hidden).
     QString barMessage() const;
 
+    /// The scene's momentum as the status bar gives it: a component within the sum's rounding
+    /// error of zero is zero.
+    static Vec2 shownMomentum(const World &world);
+
 protected:
     bool eventFilter(QObject *watched, QEvent *event) override;
     void showEvent(QShowEvent *event) override;
@@ -169,6 +173,8 @@ private:
     void updateFrameDisplay();
     void updateStatistics();
     void updateSlowLabel();
+    /// Shows a total (`label`, the energy's or the momentum's) in the status bar, with its whole text in the tip.
+    void setTotal(ElidingLabel *label, const QString &text);
     void updateFrameLabelsShown();
     void fitFirstWindow();
     /// Breaks the toolbars into rows where one would not fit beside the last (on every start).
@@ -265,8 +271,8 @@ private:
     QLabel *m_physicsLabel = nullptr;
     QLabel *m_fpsLabel = nullptr;
     QLabel *m_slowLabel = nullptr; // shown while the run cannot keep up with its speed
-    QLabel *m_energyLabel = nullptr;
-    QLabel *m_momentumLabel = nullptr;
+    ElidingLabel *m_energyLabel = nullptr;   // both models' totals while comparing: long, cut
+    ElidingLabel *m_momentumLabel = nullptr; // with "…" where the bar has no room for them
     QTimer *m_statisticsTimer = nullptr;
     qint64 m_lastPaintCount = 0;
     QElapsedTimer m_statisticsClock;

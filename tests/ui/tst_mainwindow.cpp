@@ -5,6 +5,7 @@
 #include "core/sceneio.h"
 #include "ui/autosaver.h"
 #include "ui/comparerun.h"
+#include "ui/elidinglabel.h"
 #include "ui/elidingstatusbar.h"
 #include "ui/history.h"
 #include "ui/inspectordock.h"
@@ -141,6 +142,7 @@ private Q_SLOTS:
     void homeAfterALongRunPlotsFrameZero();
     void newOpensAnEmptyScene();
     void longStatusMessageIsElided();
+    void statusBarKeepsItsFiguresApart();
     void selectingAMarblePlotsItsWholeRun();
     void runKeepsRealTimeAndStopsOnNonFinite();
     void tickRunsWhatFitsItsBudget_data();
@@ -867,8 +869,9 @@ void TestMainWindow::massScaleSaysWhenNoMarbleUsesIt()
     const World &w = m_window->document()->world();
     auto *energy = m_window->findChild<QLabel *>(QStringLiteral("energyLabel"));
     auto *momentum = m_window->findChild<QLabel *>(QStringLiteral("momentumLabel"));
-    QCOMPARE(energy->text(), QStringLiteral("KE %1").arg(std::round(w.kineticEnergy()), 0, 'f', 0));
-    QCOMPARE(momentum->text(), QStringLiteral("p = (18000, 0)")); // four digits gave 1.8e+04
+    // (Shown whole once the bar is laid out for the new text.)
+    QTRY_COMPARE(energy->text(), QStringLiteral("KE %1").arg(std::round(w.kineticEnergy()), 0, 'f', 0));
+    QTRY_COMPARE(momentum->text(), QStringLiteral("p = (18000, 0)")); // four digits gave 1.8e+04
 
     // While a comparison runs, both models' totals, each named (the scene's alone did not say
     // whose they were).
@@ -883,9 +886,17 @@ void TestMainWindow::massScaleSaysWhenNoMarbleUsesIt()
     QTRY_COMPARE(energy->text(), QStringLiteral("KE %1 (book), %2 (exact)")
                                      .arg(readableNumber(book.kineticEnergy(), 5), readableNumber(exact->kineticEnergy(), 5)));
     QVERIFY(std::abs(book.kineticEnergy() - exact->kineticEnergy()) > 100.0); // two different numbers
-    QCOMPARE(momentum->text(), QStringLiteral("p = (%1, %2) book, (%3, %4) exact")
-                                   .arg(readableNumber(book.momentum().x, 4), readableNumber(book.momentum().y, 4),
-                                        readableNumber(exact->momentum().x, 4), readableNumber(exact->momentum().y, 4)));
+    QTRY_COMPARE(momentum->text(), QStringLiteral("p = (%1, %2) book, (%3, %4) exact")
+                                       .arg(readableNumber(book.momentum().x, 4), readableNumber(book.momentum().y, 4),
+                                            readableNumber(exact->momentum().x, 4), readableNumber(exact->momentum().y, 4)));
+    // A component within its sum's rounding error of zero reads 0: at frame 160 the exact model's
+    // momentum y, the sum of opposite kicks, is -4.4e-16 ("-4.441e-16" beside the book's -0.44).
+    m_window->document()->advance(120);
+    const double exactY = m_window->compareRun()->world()->momentum().y;
+    QVERIFY2(exactY != 0.0 && std::abs(exactY) < 1e-12, qPrintable(QString::number(exactY)));
+    QTRY_VERIFY2(momentum->text().endsWith(QStringLiteral(", 0) exact")), qPrintable(momentum->text()));
+    QVERIFY(!momentum->text().contains(QStringLiteral("e-")));
+    QCOMPARE(MainWindow::shownMomentum(book).y, book.momentum().y); // a real one stays as it is
 }
 
 void TestMainWindow::plottedMarblesWearTheirLinesColours()
@@ -1344,6 +1355,54 @@ void TestMainWindow::longStatusMessageIsElided()
     QCOMPARE_LT(bar->messageRect().right(), count->x());
     bar->showMessage(QStringLiteral("Saved."));
     QCOMPARE(bar->shownMessage(), QStringLiteral("Saved."));
+}
+
+void TestMainWindow::statusBarKeepsItsFiguresApart()
+{
+    // A label given all the room it asks for shows its whole text: the width asked for was the
+    // text's rounded down, a fraction short of what eliding measures ("890.07 (exa…").
+    ElidingLabel label;
+    label.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&label));
+    for (const QString &text : {QStringLiteral("KE 957.79 (book), 890.07 (exact)"),
+                                QStringLiteral("p = (96.95, 109.2) book, (-45.44, 184.6) exact"),
+                                QStringLiteral("Compare: exact - largest gap 301.0 px (marble 1, frame 118)"),
+                                QStringLiteral("frame 11 (0.22 s): kinetic energy 100000008 mass\u00b7px\u00b2/frame\u00b2")}) {
+        label.setFullText(text);
+        label.resize(label.sizeHint());
+        QCoreApplication::processEvents();
+        QCOMPARE(label.width(), label.sizeHint().width());
+        QCOMPARE(label.text(), text);
+    }
+
+    // While comparing, the timing figures give their room to both models' totals; in a narrow
+    // window a message is never drawn on top of the figures (it was, over the comparison's).
+    QVERIFY(m_window->openPreset(QStringLiteral("pachinko")));
+    auto *physics = m_window->findChild<QLabel *>(QStringLiteral("physicsLabel"));
+    auto *fps = m_window->findChild<QLabel *>(QStringLiteral("fpsLabel"));
+    QTRY_VERIFY(physics->isVisible() && fps->isVisible());
+    compareExact()->trigger();
+    m_window->document()->advance(137);
+    QTRY_VERIFY(!physics->isVisible() && !fps->isVisible());
+    auto *bar = qobject_cast<ElidingStatusBar *>(m_window->statusBar());
+    const QString message = QStringLiteral("Preset \"Pachinko board\".");
+    for (const int width : {1400, 1024, 700}) {
+        m_window->resize(width, 700);
+        bar->showMessage(message);
+        QCoreApplication::processEvents();
+        // The message has its room (the figures filled the bar and left it none)...
+        QTRY_COMPARE(bar->shownMessage(), message);
+        // ... beside the figures, never on top of them.
+        for (const QWidget *child : bar->findChildren<QWidget *>(QString(), Qt::FindDirectChildrenOnly)) {
+            if (child->isVisible() && child->width() > 0)
+                QVERIFY2(bar->messageRect().right() < child->x(), qPrintable(QStringLiteral("%1 px: %2").arg(width).arg(child->objectName())));
+        }
+        // Once it is gone, the figures have their room back.
+        bar->clearMessage();
+        auto *compare = m_window->findChild<ElidingLabel *>(QStringLiteral("compareLabel"));
+        QCOMPARE(compare->maximumWidth(), QWIDGETSIZE_MAX);
+    }
+    m_window->resize(1400, 900);
 }
 
 void TestMainWindow::selectingAMarblePlotsItsWholeRun()
