@@ -1,5 +1,6 @@
 #include "ui/inspectordock.h"
 
+#include "ui/numbertext.h"
 #include "ui/refusingspinbox.h"
 #include "ui/scenedocument.h"
 
@@ -31,17 +32,6 @@ QDoubleSpinBox *makeBox(double min, double max, int decimals, const QString &suf
     box->setSuffix(suffix);
     box->setToolTip(tip);
     return box;
-}
-
-/// Decimals of the velocity fields: the zero threshold's and two more, 3 to 6. With 3, a
-/// velocity of 0.0104 px/frame, above the default threshold of 0.01 and so left moving, read
-/// "0.010", the threshold itself (a class asked why it had not been set to 0).
-int velocityDecimals(double zeroThreshold)
-{
-    if (!(zeroThreshold > 0.0) || !std::isfinite(zeroThreshold))
-        return 3;
-    const double digits = std::ceil(-std::log10(zeroThreshold) - 1e-9) + 2.0;
-    return static_cast<int>(std::clamp(digits, 3.0, 6.0));
 }
 
 void showValue(QDoubleSpinBox *box, double value, bool overTyping)

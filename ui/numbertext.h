@@ -2,6 +2,7 @@
 
 #include <QString>
 
+#include <algorithm>
 #include <cmath>
 
 namespace marbles {
@@ -21,6 +22,31 @@ inline QString readableNumber(double value, int significant = 6)
     if (writtenWhole(std::abs(value), significant))
         return QString::number(value, 'f', 0);
     return QString::number(value, 'g', significant);
+}
+
+/// Decimals of a velocity as the window shows it (the Inspector's fields, the Undo History): the
+/// zero threshold's and two more, 3 to 6. With 3, a velocity of 0.0104 px/frame, above the
+/// default threshold of 0.01 and so left moving, read "0.010", the threshold itself (a class
+/// asked why it had not been set to 0).
+inline int velocityDecimals(double zeroThreshold)
+{
+    if (!(zeroThreshold > 0.0) || !std::isfinite(zeroThreshold))
+        return 3;
+    const double digits = std::ceil(-std::log10(zeroThreshold) - 1e-9) + 2.0;
+    return static_cast<int>(std::clamp(digits, 3.0, 6.0));
+}
+
+/// `value` to `decimals` places, without trailing zeros ("1.2346", "6", "0.000012").
+inline QString fixedTrimmed(double value, int decimals)
+{
+    QString text = QString::number(value, 'f', decimals);
+    if (text.contains(QLatin1Char('.'))) {
+        while (text.endsWith(QLatin1Char('0')))
+            text.chop(1);
+        if (text.endsWith(QLatin1Char('.')))
+            text.chop(1);
+    }
+    return text == QLatin1String("-0") ? QStringLiteral("0") : text;
 }
 
 } // namespace marbles

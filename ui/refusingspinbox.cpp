@@ -15,6 +15,29 @@ QString refusedNumber(const Refusing &box, double refused, const QLocale &locale
     return loc.toString(refused, 'g', 12);
 }
 
+namespace {
+
+// A field's limit as the field writes it, without the zeros its decimals add ("100000 px/frame",
+// "0.5 px"): the velocity fields' 4 to 6 decimals wrote "100000.000000 px/frame".
+QString limitText(const Refusing &box, double limit, const QLocale &locale)
+{
+    QString text = box.shown(limit);
+    const qsizetype point = text.indexOf(locale.decimalPoint());
+    if (point < 0)
+        return text;
+    qsizetype end = point + locale.decimalPoint().size();
+    while (end < text.size() && text.at(end).isDigit())
+        ++end;
+    qsizetype keep = end;
+    while (keep > point + locale.decimalPoint().size() && text.at(keep - 1) == QLatin1Char('0'))
+        --keep;
+    if (keep == point + locale.decimalPoint().size())
+        keep = point;
+    return text.left(keep) + text.mid(end);
+}
+
+} // namespace
+
 QString refusalMessage(const Refusing &box, double refused, const QLocale &locale)
 {
     const QString typed = refusedNumber(box, refused, locale);
@@ -33,9 +56,9 @@ QString refusalMessage(const Refusing &box, double refused, const QLocale &local
             .arg(typed, locale.decimalPoint(), locale.decimalPoint() == QLatin1String(",") ? QStringLiteral(".") : QStringLiteral(","), kept);
     if (refused > box.high())
         return QCoreApplication::translate("marbles", "%1 is above this field's maximum (%2): it stays %3.")
-            .arg(typed, box.shown(box.high()), kept);
+            .arg(typed, limitText(box, box.high(), locale), kept);
     return QCoreApplication::translate("marbles", "%1 is below this field's minimum (%2): it stays %3.")
-        .arg(typed, box.shown(box.low()), kept);
+        .arg(typed, limitText(box, box.low(), locale), kept);
 }
 
 } // namespace marbles

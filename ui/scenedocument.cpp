@@ -2,6 +2,7 @@
 
 #include "core/sceneio.h"
 #include "ui/marblecommand.h"
+#include "ui/numbertext.h"
 #include "ui/paramcommand.h"
 #include "ui/pincommand.h"
 #include "ui/wholefile.h"
@@ -387,9 +388,10 @@ QString SceneDocument::setMarbleVelocity(int i, Vec2 v)
     const MarbleState before = MarbleState::of(m_world, i);
     MarbleState after = before;
     after.velocity = v;
-    // As the Inspector shows a velocity, to the thousandth (the other component, not typed,
-    // read "0.574696" beside the field's 0.575).
-    const auto shown = [](double x) { return QString::number(std::round(x * 1000.0) / 1000.0, 'g', 12); };
+    // As the Inspector shows a velocity, to its decimals (the other component, not typed, read
+    // "0.574696" beside the field's 0.575; then "1.235" beside its 1.2346).
+    const int decimals = velocityDecimals(m_world.params.zeroThreshold);
+    const auto shown = [decimals](double x) { return fixedTrimmed(x, decimals); };
     m_undoStack.push(new SetMarbleCommand(this, i, before, after,
                                           tr("Set marble %1's velocity to (%2, %3) px/frame").arg(i).arg(shown(v.x), shown(v.y)),
                                           CommandId::EditMarbleVelocity));

@@ -943,6 +943,13 @@ void TestSceneDocument::paramEditsAreNamedAsTheDockNamesThem()
     // To the thousandth, as the Inspector shows it (the untouched component read "0.574696").
     QVERIFY(doc.setMarbleVelocity(1, {3, 0.574696}).isEmpty());
     QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Set marble 1's velocity to (3, 0.575) px/frame"));
+    // To the Inspector's decimals, which follow the zero threshold (the field showed 1.2346, the
+    // Undo History 1.235).
+    for (const auto &[threshold, text] : {std::pair{"0.01", "(1.2346, 0.5747)"}, std::pair{"1e-5", "(1.23456, 0.574696)"}}) {
+        QVERIFY(doc.setParam(QStringLiteral("zeroThreshold"), QString::fromLatin1(threshold)).isEmpty());
+        QVERIFY(doc.setMarbleVelocity(1, {1.23456, 0.574696}).isEmpty());
+        QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Set marble 1's velocity to %1 px/frame").arg(QLatin1String(text)));
+    }
 }
 
 void TestSceneDocument::saveThenOpenRoundTrips()
