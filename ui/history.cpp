@@ -1,5 +1,6 @@
 #include "ui/history.h"
 
+#include <algorithm>
 #include <cassert>
 #include <utility>
 
@@ -154,32 +155,88 @@ FrameHistory::MarbleStart FrameHistory::startOf(int i) const
             k < m_startHits.size() ? m_startHits[k] : HitRecord{}};
 }
 
-void FrameHistory::insertMarble(int i, const MarbleStart &start)
+void FrameHistory::insertMarble(int i, const MarbleTrack &track)
 {
     const auto k = static_cast<std::size_t>(i);
     if (i < 0 || k > m_start.position.size() || m_startHits.size() != m_start.position.size())
         return;
     const auto at = [k](auto &values) { return values.begin() + static_cast<std::ptrdiff_t>(k); };
+    const MarbleStart &start = track.start;
     m_start.position.insert(at(m_start.position), start.position);
     m_start.velocity.insert(at(m_start.velocity), start.velocity);
     m_start.acceleration.insert(at(m_start.acceleration), start.acceleration);
     m_startHits.insert(at(m_startHits), start.lastHit);
-    m_frames.clear();
-    m_bytes = 0;
+    // The step-back frames take it back only where each of them is one it was taken from (the
+    // track's frames follow one another); otherwise they have no place for it.
+    const auto keptAt = [&track](std::int64_t frame) -> const MarbleTrack::Kept * {
+        if (track.frames.empty() || frame < track.frames.front().frame)
+            return nullptr;
+        const auto index = static_cast<std::size_t>(frame - track.frames.front().frame);
+        return index < track.frames.size() && track.frames[index].frame == frame ? &track.frames[index] : nullptr;
+    };
+    const bool fits = !m_frames.empty() && k <= m_hits.size()
+        && std::all_of(m_frames.begin(), m_frames.end(), [&](const Frame &f) { return keptAt(f.frame) != nullptr; });
+    if (!fits) {
+        m_frames.clear();
+        m_bytes = 0;
+        return;
+    }
+    for (Frame &f : m_frames) {
+        const MarbleTrack::Kept &kept = *keptAt(f.frame);
+        m_bytes -= f.byteSize();
+        f.position.insert(at(f.position), kept.position);
+        f.velocity.insert(at(f.velocity), kept.velocity);
+        f.acceleration.insert(at(f.acceleration), kept.acceleration);
+        for (auto &[index, record] : f.hitsBefore) {
+            if (index >= i)
+                ++index;
+        }
+        for (const auto &[frame, record] : track.hitsBefore) {
+            if (frame == f.frame)
+                f.hitsBefore.emplace_back(i, record);
+        }
+        m_bytes += f.byteSize();
+    }
+    m_hits.insert(at(m_hits), track.newestHit);
 }
 
-void FrameHistory::removeMarble(int i)
+FrameHistory::MarbleTrack FrameHistory::removeMarble(int i)
 {
+    MarbleTrack track;
     const auto k = static_cast<std::size_t>(i);
     if (i < 0 || k >= m_start.position.size() || m_startHits.size() != m_start.position.size())
-        return;
+        return track;
+    track.start = startOf(i);
     const auto at = [k](auto &values) { return values.begin() + static_cast<std::ptrdiff_t>(k); };
     m_start.position.erase(at(m_start.position));
     m_start.velocity.erase(at(m_start.velocity));
     m_start.acceleration.erase(at(m_start.acceleration));
     m_startHits.erase(at(m_startHits));
-    m_frames.clear();
-    m_bytes = 0;
+    if (k >= m_hits.size()) { // (never: the frames and m_hits follow the first frame's marbles)
+        m_frames.clear();
+        m_bytes = 0;
+        return track;
+    }
+    track.newestHit = m_hits[k];
+    m_hits.erase(at(m_hits));
+    for (Frame &f : m_frames) {
+        m_bytes -= f.byteSize();
+        track.frames.push_back({f.frame, f.position[k], f.velocity[k], f.acceleration[k]});
+        f.position.erase(at(f.position));
+        f.velocity.erase(at(f.velocity));
+        f.acceleration.erase(at(f.acceleration));
+        std::erase_if(f.hitsBefore, [&](const std::pair<int, HitRecord> &entry) {
+            if (entry.first == i)
+                track.hitsBefore.emplace_back(f.frame, entry.second);
+            return entry.first == i;
+        });
+        for (auto &[index, record] : f.hitsBefore) {
+            if (index > i)
+                --index;
+        }
+        m_bytes += f.byteSize();
+    }
+    return track;
 }
 
 bool FrameHistory::rewind(World &world)

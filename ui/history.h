@@ -50,12 +50,27 @@ public:
     };
     /// Marble i's part of the first frame (a default one past the end).
     MarbleStart startOf(int i) const;
-    /// A marble joins the scene at index i (0 <= i <= count): the first frame gets it as `start`,
-    /// so that rewind() still reaches it; the step-back frames, which have no place for it, are
-    /// forgotten.
-    void insertMarble(int i, const MarbleStart &start);
-    /// Marble i leaves the scene: the first frame loses it; the step-back frames are forgotten.
-    void removeMarble(int i);
+    /// One marble's part of the timeline: of its first frame, and of the step-back frames.
+    struct MarbleTrack {
+        MarbleStart start;
+        struct Kept {
+            std::int64_t frame = 0;
+            Vec2 position;
+            Vec2 velocity;
+            Vec2 acceleration;
+        };
+        std::vector<Kept> frames;                                // the step-back frames', oldest first
+        std::vector<std::pair<std::int64_t, HitRecord>> hitsBefore; // its entries in their hitsBefore
+        HitRecord newestHit;                                     // its record as of the newest frame
+    };
+    /// A marble joins the scene at index i (0 <= i <= count): the first frame gets it as
+    /// `track.start`, so that rewind() still reaches it. The step-back frames get it back too when
+    /// they are frames `track` was taken from (a deleted marble put back where it was deleted);
+    /// frames that have no place for it (a marble added) are forgotten.
+    void insertMarble(int i, const MarbleTrack &track);
+    /// Marble i leaves the scene: the first frame and the step-back frames lose it (the others'
+    /// frames stay, so that Step Back still goes back past the delete); returns its part of them.
+    MarbleTrack removeMarble(int i);
     /// True when the kept frames have as many marbles as `world` (so they can be restored into it).
     bool fits(const World &world) const { return startSize() == world.marbleCount(); }
     /// Marbles in the timeline's first frame.
@@ -79,7 +94,7 @@ private:
     /// One kept frame: the state a step changes, except the last-hit records, of which only
     /// those the step from this frame changed are kept, with their values at this frame.
     /// Radius, mass, pins, params and the stage are not kept: a frame is only restored into a
-    /// world with the same marbles (the history is cleared when marbles are added or removed).
+    /// world with the same marbles (a marble removed leaves every frame; one added clears them).
     struct Frame {
         std::int64_t frame = 0;
         std::vector<Vec2> position;

@@ -217,7 +217,7 @@ void AddMarbleCommand::redo()
     insertMarble(world, m_index, m_record);
     // In the timeline's first frame too, where it is added: Home replays the scene with it.
     const auto k = static_cast<std::size_t>(m_index);
-    m_document->marbleInserted(m_index, {world.position[k], world.velocity[k], world.acceleration[k], world.lastHit[k]});
+    m_document->marbleInserted(m_index, {{world.position[k], world.velocity[k], world.acceleration[k], world.lastHit[k]}, {}, {}, {}});
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 
@@ -251,7 +251,7 @@ void RemoveMarbleCommand::redo()
     m_record = marbleRecord(world, m_index);
     m_pushes = world.pushes;
     world.removeMarble(m_index);
-    m_start = m_document->marbleRemoved(m_index);
+    m_track = m_document->marbleRemoved(m_index);
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 
@@ -264,7 +264,7 @@ void RemoveMarbleCommand::undo()
         return;
     insertMarble(world, m_index, m_record);
     world.pushes = m_pushes;
-    m_document->marbleInserted(m_index, m_start); // where it was at the timeline's start
+    m_document->marbleInserted(m_index, m_track); // where it was at the timeline's start and in the kept frames
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 

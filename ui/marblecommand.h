@@ -113,7 +113,7 @@ private:
     int m_index;
     MarbleRecord m_record;
     std::vector<Push> m_pushes;
-    FrameHistory::MarbleStart m_start; // its part of the timeline's first frame
+    FrameHistory::MarbleTrack m_track; // its part of the timeline's first frame and step-back frames
     std::int64_t m_frame = 0;          // the frame of the delete
 };
 

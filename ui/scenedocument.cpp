@@ -478,23 +478,21 @@ QString SceneDocument::setParam(const QString &key, const QString &value)
     return {};
 }
 
-void SceneDocument::marbleInserted(int i, const FrameHistory::MarbleStart &start)
+void SceneDocument::marbleInserted(int i, const FrameHistory::MarbleTrack &track)
 {
     // Only while the first frame follows the world (one marble fewer there than here now).
     if (m_history.startSize() + 1 == m_world.marbleCount())
-        m_history.insertMarble(i, start);
+        m_history.insertMarble(i, track);
     m_marblesRenumbered = true;
 }
 
-FrameHistory::MarbleStart SceneDocument::marbleRemoved(int i)
+FrameHistory::MarbleTrack SceneDocument::marbleRemoved(int i)
 {
-    FrameHistory::MarbleStart start;
-    if (m_history.startSize() == m_world.marbleCount() + 1) {
-        start = m_history.startOf(i);
-        m_history.removeMarble(i);
-    }
+    FrameHistory::MarbleTrack track;
+    if (m_history.startSize() == m_world.marbleCount() + 1)
+        track = m_history.removeMarble(i);
     m_marblesRenumbered = true;
-    return start;
+    return track;
 }
 
 void SceneDocument::applyChange(Change change)

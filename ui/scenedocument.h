@@ -74,11 +74,12 @@ public:
     /// Frame number that rewind() returns to.
     std::int64_t startFrame() const { return m_history.startFrame(); }
     /// For the commands that add or remove marbles, after they did it to the world: marble i
-    /// joined the scene with `start` as its part of the timeline's first frame (or left it, and
-    /// its part is returned, for an undo to give back), so that rewind() still reaches frame 0
-    /// with the scene as edited. Step Back's kept frames are forgotten; plots start over.
-    void marbleInserted(int i, const FrameHistory::MarbleStart &start);
-    FrameHistory::MarbleStart marbleRemoved(int i);
+    /// joined the scene with `track` as its part of the timeline (or left it, and its part is
+    /// returned, for an undo to give back), so that rewind() still reaches frame 0 with the scene
+    /// as edited. Step Back's kept frames lose a marble removed, and take it back with its track
+    /// when it is put back where it was; a marble added clears them. Plots start over.
+    void marbleInserted(int i, const FrameHistory::MarbleTrack &track);
+    FrameHistory::MarbleTrack marbleRemoved(int i);
     /// A copy of the world as rewind() would make it: the scene with every edit, at the start of
     /// its timeline (its scripted pushes all to come), what an autosave keeps.
     World worldAtStart() const

@@ -69,6 +69,7 @@ private Q_SLOTS:
     void radiusGrownIntoAnotherIsRefused();
     void structureEditsAreNamed();
     void undoLaterInTheRunGoesBackToTheEdit();
+    void stepBackGoesPastADeletedMarble();
     void nonFiniteStateStopsWithMessage();
     void paramEditsAreNamedAsTheDockNamesThem();
     void saveThenOpenRoundTrips();
@@ -858,6 +859,46 @@ void TestSceneDocument::undoLaterInTheRunGoesBackToTheEdit()
     QCOMPARE(added.advance(20), 20);
     added.undoStack()->undo();
     QVERIFY(sameDynamicState(added.world(), beforeAdd));
+}
+
+void TestSceneDocument::stepBackGoesPastADeletedMarble()
+{
+    // A marble deleted mid-run leaves the frames kept for Step Back, which stay (they were all
+    // forgotten: Step Back stopped at the delete); the delete undone, the marble is back in them,
+    // and Step Back goes to frame 0 through the frames as they were, bit for bit.
+    SceneDocument doc;
+    doc.resetScene(preset("four-marbles"));
+    std::vector<World> states;
+    for (int f = 0; f < 30; ++f) {
+        states.push_back(doc.world());
+        doc.step();
+    }
+    QVERIFY(std::any_of(states.back().lastHit.begin(), states.back().lastHit.end(),
+                        [](const HitRecord &h) { return h.frame > 0; })); // collisions to walk back through
+    doc.removeMarble(1);
+    QVERIFY(doc.canStepBack());
+    for (int f = 29; f >= 20; --f) {
+        QVERIFY(doc.stepBack());
+        World expected = states[static_cast<std::size_t>(f)];
+        expected.removeMarble(1);
+        QVERIFY2(sameDynamicState(doc.world(), expected), qPrintable(QStringLiteral("frame %1").arg(f)));
+    }
+
+    SceneDocument undone;
+    undone.resetScene(preset("four-marbles"));
+    QCOMPARE(undone.advance(30), 30);
+    const World atDelete = undone.world();
+    undone.removeMarble(1);
+    QCOMPARE(undone.advance(20), 20);
+    undone.undoStack()->undo();
+    QVERIFY(sameDynamicState(undone.world(), atDelete));
+    for (int f = 29; f >= 0; --f) {
+        QVERIFY2(undone.stepBack(), qPrintable(QStringLiteral("frame %1").arg(f)));
+        QVERIFY2(sameDynamicState(undone.world(), states[static_cast<std::size_t>(f)]), qPrintable(QStringLiteral("frame %1").arg(f)));
+    }
+    // And forward again, the same run.
+    QCOMPARE(undone.advance(30), 30);
+    QVERIFY(sameDynamicState(undone.world(), atDelete));
 }
 
 void TestSceneDocument::structureEditsAreNamed()
