@@ -217,6 +217,12 @@ MainWindow::~MainWindow()
         if (sender)
             sender->disconnect(this);
     }
+    // Nor may the docks and toolbars, hidden as the window closes, ask for the settings to be
+    // written (UBSan: a slot of a MainWindow called on what was by then a QWidget).
+    for (QObject *child : findChildren<QObject *>())
+        child->disconnect(this);
+    if (m_settingsTimer)
+        m_settingsTimer->stop();
 }
 
 namespace {
@@ -385,7 +391,16 @@ void MainWindow::createActions()
     m_clearSelectionAction = new QAction(tr("Clear Se&lection"), this);
     m_clearSelectionAction->setObjectName(QStringLiteral("actionClearSelection"));
     m_clearSelectionAction->setShortcut(QKeySequence(Qt::Key_Escape));
-    connect(m_clearSelectionAction, &QAction::triggered, this, [this] { m_view->clearSelection(); });
+    // Esc first takes back a click's push still to act (a click meant to select the marble, or on
+    // the wrong one: a click is not an edit, Ctrl+Z undid the edit before it and the push stayed),
+    // then, pressed again, clears the selection.
+    connect(m_clearSelectionAction, &QAction::triggered, this, [this] {
+        if (const int taken = m_document->takeBackPushes(); taken > 0) {
+            showFrameStatus(tr("%n marble(s)' push taken back: it will not act.", nullptr, taken));
+            return;
+        }
+        m_view->clearSelection();
+    });
     const struct {
         const char *name;
         const char *text;
@@ -617,7 +632,7 @@ void MainWindow::showKeysAndMouse()
     }
     rows += QStringLiteral("<tr><td colspan=2>&nbsp;</td></tr>");
     row(tr("Click a marble"), tr("push it: further from its centre pushes harder, away from the click"));
-    row(tr("The push"), tr("acts on the next frame; an arrow shows it until then (clicks add up), as it does a scene's scripted push"));
+    row(tr("The push"), tr("acts on the next frame; an arrow shows it until then (clicks add up), as it does a scene's scripted push; Esc takes it back"));
     row(tr("The marble clicked"), tr("is selected: inspected, plotted, and with Trails on its trail kept long"));
     row(tr("Drag a marble or a pin"), tr("move it (paused or running)"));
     row(tr("Right-click"), tr("add or delete here"));
