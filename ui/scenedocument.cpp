@@ -11,6 +11,7 @@
 #include <QFile>
 #include <QFileInfo>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -218,6 +219,22 @@ bool SceneDocument::goToFrame(std::int64_t frame)
         m_history.rewind(m_world);
     announceRewound();
     return m_world.frame == frame;
+}
+
+int SceneDocument::takeBackPushes()
+{
+    // What is pending between frames is the clicks' pushes alone (a scene's scripted pushes are
+    // added as their frame is stepped).
+    int taken = 0;
+    for (int i = 0; i < m_world.marbleCount(); ++i) {
+        if (m_world.pushPending(i)) {
+            m_world.acceleration[static_cast<std::size_t>(i)] = {};
+            ++taken;
+        }
+    }
+    if (taken > 0)
+        Q_EMIT stepped();
+    return taken;
 }
 
 void SceneDocument::pushMarble(int i, Vec2 at)
@@ -495,6 +512,22 @@ FrameHistory::MarbleTrack SceneDocument::marbleRemoved(int i)
     return track;
 }
 
+void SceneDocument::restartTimeline()
+{
+    // The timeline starts at the world as it is, but for a click's push still to act: a click is
+    // not an edit, and Home forgets it (the world keeps it pending). An edit at frame 0 after a
+    // click made the push part of frame 0, and every replay from Home pushed the marble again.
+    const bool clicked = std::any_of(m_world.acceleration.begin(), m_world.acceleration.end(),
+                                     [](Vec2 a) { return a.x != 0.0 || a.y != 0.0; });
+    if (!clicked) {
+        m_history.reset(m_world);
+        return;
+    }
+    World start = m_world;
+    std::fill(start.acceleration.begin(), start.acceleration.end(), Vec2{});
+    m_history.reset(start);
+}
+
 void SceneDocument::applyChange(Change change)
 {
     if (change == Change::Names) {
@@ -507,10 +540,10 @@ void SceneDocument::applyChange(Change change)
     // did not, the timeline starts again here.
     const bool restart = !m_history.fits(m_world);
     if (restart)
-        m_history.reset(m_world);
+        restartTimeline();
     else if (m_world.frame == m_history.startFrame())
-        m_history.reset(m_world); // an edit of the timeline's first frame is what rewind() returns to
-                                  // (no later frame is kept while that frame is shown)
+        restartTimeline(); // an edit of the timeline's first frame is what rewind() returns to
+                           // (no later frame is kept while that frame is shown)
     if (!validMarble(m_world, m_held))
         m_held = -1;
     emitModification();

@@ -93,6 +93,9 @@ public:
     /// Mean time of the model's step per simulated frame over the recent frames (without the
     /// undo history's recording), ms.
     double physicsMsPerFrame() const { return m_physicsMsPerFrame; }
+    /// Takes back the clicks' pushes still to act (a click on the wrong marble): they will not
+    /// act. Returns how many marbles had one; a click is not an edit, so Ctrl+Z cannot.
+    int takeBackPushes();
 
     /// The chapter's click: World::push on marble i at `at` (stage px); acts on the next frame.
     void pushMarble(int i, Vec2 at);
@@ -189,6 +192,8 @@ private:
     FrameHistory m_history;
     QString m_fileName;
     bool m_dirtyWithoutUndo = false;
+    /// The timeline starts again at the world as it is, without the clicks' pushes still to act.
+    void restartTimeline();
     bool m_marblesRenumbered = false; // marbleInserted() or marbleRemoved() since the last applyChange()
     bool m_lastModified = false;
 

@@ -134,6 +134,7 @@ void StageView::pushAt(int i, Vec2 p, bool byKey)
         text += tr(", with earlier pushes' (%1, %2)").arg(before.x, 0, 'f', 2).arg(before.y, 0, 'f', 2);
     if (scripted.x != 0.0 || scripted.y != 0.0)
         text += tr(", with the scene's scripted push (%1, %2)").arg(scripted.x, 0, 'f', 2).arg(scripted.y, 0, 'f', 2);
+    text += tr("; Esc takes the click back"); // a click is not an edit: Ctrl+Z cannot
     Q_EMIT frameMessage(text);
     viewport()->update();
 }

@@ -317,6 +317,24 @@ void TestMainWindow::clickPushesByBookFormula()
     QVERIFY2(m_window->statusBar()->currentMessage().contains(QStringLiteral("acts on the next frame")),
              qPrintable(m_window->statusBar()->currentMessage()));
 
+    // A click on the wrong marble (or one meant to select it) is taken back with Esc, which it
+    // says: a click is not an edit, so Ctrl+Z undid the edit before it and the push stayed. A
+    // second Esc clears the selection as before.
+    QVERIFY(m_window->stageView()->selectionKind() == StageView::SelectionKind::Marble);
+    QTest::keyClick(m_window->stageView(), Qt::Key_Escape);
+    QCOMPARE(doc->world().acceleration[marble], Vec2{});
+    QVERIFY(!doc->world().pushPending(marble));
+    QVERIFY(m_window->stageView()->clickedPushes().isEmpty()); // its arrow goes (a scripted push's stays)
+    QVERIFY(m_window->stageView()->selectionKind() == StageView::SelectionKind::Marble);
+    QVERIFY2(m_window->statusBar()->currentMessage().contains(QStringLiteral("taken back")),
+             qPrintable(m_window->statusBar()->currentMessage()));
+    QTest::keyClick(m_window->stageView(), Qt::Key_Right);
+    QCOMPARE(doc->world().velocity[marble], before.velocity[marble]); // (at rest, no friction to act)
+    QTest::keyClick(m_window->stageView(), Qt::Key_Escape);
+    QVERIFY(m_window->stageView()->selectionKind() == StageView::SelectionKind::None);
+    QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, at);
+
     // The next frame turns it into velocity: v = 0 + a (friction acts on the old v = 0). The
     // status bar's word on the push is stale from then on.
     QTest::keyClick(m_window->stageView(), Qt::Key_Right);

@@ -70,6 +70,7 @@ private Q_SLOTS:
     void structureEditsAreNamed();
     void undoLaterInTheRunGoesBackToTheEdit();
     void stepBackGoesPastADeletedMarble();
+    void homeForgetsAClickAfterAnEdit();
     void nonFiniteStateStopsWithMessage();
     void paramEditsAreNamedAsTheDockNamesThem();
     void saveThenOpenRoundTrips();
@@ -899,6 +900,35 @@ void TestSceneDocument::stepBackGoesPastADeletedMarble()
     // And forward again, the same run.
     QCOMPARE(undone.advance(30), 30);
     QVERIFY(sameDynamicState(undone.world(), atDelete));
+}
+
+void TestSceneDocument::homeForgetsAClickAfterAnEdit()
+{
+    // A click is not an edit: Home forgets it. An edit at frame 0 after the click (an undo, here)
+    // made frame 0 again with the push in it, and every replay from Home pushed the marble.
+    SceneDocument doc;
+    World w;
+    w.params.friction = 0.0;
+    w.addMarble({200, 300}, 20);
+    w.addMarble({600, 300}, 40);
+    doc.resetScene(w);
+    QVERIFY(doc.setMarbleVelocity(0, {4.0, 0.0}).isEmpty());
+    doc.pushMarble(1, {590.0, 300.0}); // a click meant to select the big marble
+    QVERIFY(doc.world().pushPending(1));
+    doc.undoStack()->undo(); // the velocity, not the click
+    QVERIFY(doc.world().pushPending(1)); // still to act: the world keeps it
+    QCOMPARE(doc.advance(3), 3);
+    QVERIFY(doc.world().velocity[1].x > 0.0); // pushed away from the click
+    QVERIFY(doc.rewind());
+    QVERIFY(!doc.world().pushPending(1));
+    QCOMPARE(doc.advance(3), 3);
+    QCOMPARE(doc.world().velocity[1], Vec2{});
+    // Taken back before it acts, it never does.
+    doc.pushMarble(1, {590.0, 300.0});
+    QCOMPARE(doc.takeBackPushes(), 1);
+    QCOMPARE(doc.takeBackPushes(), 0);
+    QCOMPARE(doc.advance(1), 1);
+    QCOMPARE(doc.world().velocity[1], Vec2{});
 }
 
 void TestSceneDocument::structureEditsAreNamed()

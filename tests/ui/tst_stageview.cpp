@@ -452,7 +452,7 @@ void TestStageView::pushIsShownUntilItActs()
     QCOMPARE(m_view->pendingPushes(), QList<int>{marble});
     QCOMPARE(messages.count(), 1);
     QCOMPARE(messages.last().at(0).toString(),
-             QStringLiteral("Marble 0 pushed: the click's push of (%1, %2) px/frame acts on the next frame")
+             QStringLiteral("Marble 0 pushed: the click's push of (%1, %2) px/frame acts on the next frame; Esc takes the click back")
                  .arg(push.x, 0, 'f', 2)
                  .arg(push.y, 0, 'f', 2));
     QCOMPARE_GE(inkOnRay(+1), 10);
@@ -462,7 +462,7 @@ void TestStageView::pushIsShownUntilItActs()
     const Vec2 both = w.acceleration[marble];
     QCOMPARE(messages.last().at(0).toString(),
              QStringLiteral("Marble 0 pushed: the click's push of (%1, %2) px/frame acts on the next frame, "
-                            "with earlier pushes' (%3, %4)")
+                            "with earlier pushes' (%3, %4); Esc takes the click back")
                  .arg(both.x - push.x, 0, 'f', 2)
                  .arg(both.y - push.y, 0, 'f', 2)
                  .arg(push.x, 0, 'f', 2)
@@ -562,7 +562,7 @@ void TestStageView::scriptedPushIsShownWhenDue()
     const Vec2 click = w.acceleration[0];
     QCOMPARE(messages.last().at(0).toString(),
              QStringLiteral("Marble 0 pushed: the click's push of (%1, %2) px/frame acts on the next frame, "
-                            "with the scene's scripted push (%3, 0.00)")
+                            "with the scene's scripted push (%3, 0.00); Esc takes the click back")
                  .arg(click.x, 0, 'f', 2)
                  .arg(click.y, 0, 'f', 2)
                  .arg(w.scriptedPushDue(0).x, 0, 'f', 2));
