@@ -1503,7 +1503,7 @@ void MainWindow::addMarbleHere()
 
 void MainWindow::addPinHere()
 {
-    showStatus(m_document->addPin(m_view->contextPoint()));
+    showStatus(m_document->addPin(StageView::placeAt(m_view->contextPoint())));
 }
 
 void MainWindow::onCompareChosen(QAction *action)
@@ -1643,6 +1643,7 @@ void MainWindow::updateTitle()
     setWindowTitle(tr("%1[*] — Marbles").arg(sceneName()));
     setWindowModified(m_document->isModified());
     m_plotDock->setSceneName(sceneName());
+    m_plotDock->setSceneFile(m_document->fileName());
 }
 
 void MainWindow::setPresetTitle(const QString &title)

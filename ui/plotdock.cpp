@@ -10,7 +10,10 @@
 #include <QChartView>
 #include <QCheckBox>
 #include <QCursor>
+#include <QDir>
 #include <QFileDialog>
+#include <QFileInfo>
+#include <QFontMetrics>
 #include <QGraphicsLayout>
 #include <QHBoxLayout>
 #include <QHelpEvent>
@@ -24,10 +27,10 @@
 #include <QPixmap>
 #include <QPushButton>
 #include <QRadioButton>
+#include <QRegularExpression>
 #include <QSet>
 #include <QTimer>
 #include <QToolTip>
-#include <QFontMetrics>
 #include <QValueAxis>
 #include <QVBoxLayout>
 
@@ -1519,10 +1522,26 @@ double PlotDock::perSecond() const
     return m_timeInSeconds && m_frameMs > 0.0 ? 1000.0 / m_frameMs : 1.0;
 }
 
+QString PlotDock::suggestedExportPath(const QString &extension) const
+{
+    // Every export was offered as "marbles-plot.csv" in the working folder, whatever the scene.
+    QString base = m_sceneFile.isEmpty() ? m_sceneName : QFileInfo(m_sceneFile).fileName();
+    for (const QString &end : {QStringLiteral(".marbles.json"), QStringLiteral(".json"), tr(" (preset)")}) {
+        if (base.endsWith(end, Qt::CaseInsensitive))
+            base.chop(end.size());
+    }
+    // Nothing a file system might refuse (a preset's "Four marbles (Figure 11.8)").
+    base = base.trimmed().toLower();
+    base.replace(QRegularExpression(QStringLiteral("[^\\w.-]+")), QStringLiteral("-"));
+    base.remove(QRegularExpression(QStringLiteral("^-+|-+$")));
+    const QString name = (base.isEmpty() ? QStringLiteral("marbles") : base) + QStringLiteral("-plot.") + extension;
+    return m_sceneFile.isEmpty() ? name : QFileInfo(m_sceneFile).dir().filePath(name);
+}
+
 void PlotDock::exportCsvInteractive()
 {
-    const QString path =
-        QFileDialog::getSaveFileName(this, tr("Export Samples"), tr("marbles-plot.csv"), tr("CSV files (*.csv)"));
+    const QString path = QFileDialog::getSaveFileName(this, tr("Export Samples"), suggestedExportPath(QStringLiteral("csv")),
+                                                      tr("CSV files (*.csv)"));
     if (path.isEmpty())
         return;
     const QString error = exportCsv(path);
@@ -1534,8 +1553,8 @@ void PlotDock::exportCsvInteractive()
 
 void PlotDock::exportPngInteractive()
 {
-    const QString path =
-        QFileDialog::getSaveFileName(this, tr("Export Chart"), tr("marbles-plot.png"), tr("PNG images (*.png)"));
+    const QString path = QFileDialog::getSaveFileName(this, tr("Export Chart"), suggestedExportPath(QStringLiteral("png")),
+                                                      tr("PNG images (*.png)"));
     if (path.isEmpty())
         return;
     const QString error = exportPng(path);

@@ -193,6 +193,11 @@ public:
     QString exportPng(const QString &path);
     /// The scene's name, for the PNG's caption.
     void setSceneName(const QString &name) { m_sceneName = name; }
+    /// The scene's file ("" for an untitled scene): the exports are offered beside it.
+    void setSceneFile(const QString &path) { m_sceneFile = path; }
+    /// The file name the export dialogs offer, `extension` "csv" or "png": the scene's name and
+    /// "-plot" ("pachinko-plot.csv"), beside the scene's file when it has one.
+    QString suggestedExportPath(const QString &extension) const;
     /// The line written above the chart in a PNG: the scene, the models and the frames shown
     /// ("Pachinko board (preset) — model: book (solid), exact (dashed) — frames 0 to 137, 0.00
     /// to 2.74 s"), so that a picture in a worksheet says what it is.
@@ -309,6 +314,7 @@ private:
     QStringList m_models{QStringLiteral("book")};
     QString m_compareModel; ///< the comparison model's name, "" when none
     QString m_sceneName;
+    QString m_sceneFile;
     double m_frameMs = 20.0;
     bool m_timeInSeconds = false;
     bool m_dirty = false;

@@ -462,10 +462,17 @@ void StageView::noteLater(const QString &text)
         this, [this, text] { Q_EMIT message(text); }, Qt::QueuedConnection);
 }
 
+Vec2 StageView::placeAt(Vec2 p)
+{
+    // Whole pixels: a marble added where clicked sat at (600.25, 301.15), and a class's scene
+    // needed its numbers typed in again to be read (the Inspector still takes any place).
+    return {std::round(p.x), std::round(p.y)};
+}
+
 QString StageView::addMarbleAt(Vec2 p)
 {
     const int before = m_document->world().marbleCount();
-    const QString text = m_document->addMarble(p, kNewMarbleRadius);
+    const QString text = m_document->addMarble(placeAt(p), kNewMarbleRadius);
     if (m_document->world().marbleCount() > before)
         selectMarble(before);
     return text;
@@ -553,7 +560,7 @@ void StageView::mousePressEvent(QMouseEvent *event)
         report(addMarbleAt(p));
         return;
     case Tool::AddPin:
-        report(m_document->addPin(p));
+        report(m_document->addPin(placeAt(p)));
         return;
     case Tool::Select:
         break;

@@ -63,6 +63,8 @@ public:
     Tool tool() const { return m_tool; }
     /// Chooses the tool for left clicks.
     void setTool(Tool tool);
+    /// Where a marble or pin added at stage point `p` is put: `p` to the whole pixel.
+    static Vec2 placeAt(Vec2 p);
 
     /// Kind of the current selection.
     SelectionKind selectionKind() const { return m_selectionKind; }

@@ -73,6 +73,7 @@ private slots:
     void exportCsv();
     void exportCsvError();
     void exportPng();
+    void exportsAreOfferedByTheScenesName();
 };
 
 namespace {
@@ -1518,6 +1519,22 @@ void TestPlotDock::exportPng()
              QStringLiteral("Pachinko board (preset) \u2014 model: book \u2014 %1 of 20 marbles plotted \u2014 frames 1 to 2, "
                             "0.02 to 0.04 s")
                  .arg(PlotDock::kMaxPlottedMarbles));
+}
+
+void TestPlotDock::exportsAreOfferedByTheScenesName()
+{
+    // Every export was offered as "marbles-plot.csv" in the working folder, whatever the scene.
+    PlotDock dock;
+    dock.setSceneName(QStringLiteral("Four marbles (Figure 11.8) (preset)"));
+    QCOMPARE(dock.suggestedExportPath(QStringLiteral("csv")), QStringLiteral("four-marbles-figure-11.8-plot.csv"));
+    dock.setSceneName(QStringLiteral("Untitled"));
+    QCOMPARE(dock.suggestedExportPath(QStringLiteral("png")), QStringLiteral("untitled-plot.png"));
+    dock.setSceneName(QStringLiteral("collision.marbles.json"));
+    dock.setSceneFile(QStringLiteral("/home/teacher/lessons/collision.marbles.json"));
+    QCOMPARE(dock.suggestedExportPath(QStringLiteral("csv")), QStringLiteral("/home/teacher/lessons/collision-plot.csv"));
+    dock.setSceneName(QString());
+    dock.setSceneFile(QString());
+    QCOMPARE(dock.suggestedExportPath(QStringLiteral("csv")), QStringLiteral("marbles-plot.csv"));
 }
 
 QTEST_MAIN(TestPlotDock)

@@ -333,6 +333,8 @@ void TestStageView::addToolsPlaceOnFreeSpots_data()
     QTest::addRow("marble, open space") << true << -1;
     QTest::addRow("marble, on a pin") << true << 5;
     QTest::addRow("pin, open space") << false << -1;
+    QTest::addRow("marble, between pixels") << true << -2;
+    QTest::addRow("pin, between pixels") << false << -2;
 }
 
 void TestStageView::addToolsPlaceOnFreeSpots()
@@ -340,11 +342,17 @@ void TestStageView::addToolsPlaceOnFreeSpots()
     QFETCH(bool, marbleTool);
     QFETCH(int, onPin);
     const World &w = m_document->world();
-    const Vec2 at = onPin >= 0 ? w.pins[static_cast<std::size_t>(onPin)] : Vec2{760, 40};
+    // (-2: a click between pixels, which lands on the whole pixel: a marble sat at (600.25, 301.15).)
+    const Vec2 at = onPin >= 0 ? w.pins[static_cast<std::size_t>(onPin)] : onPin == -2 ? Vec2{740.4, 40.6} : Vec2{760, 40};
     const int marbles = w.marbleCount();
     const auto pins = w.pins.size();
     m_view->setTool(marbleTool ? StageView::Tool::AddMarble : StageView::Tool::AddPin);
     QTest::mouseClick(viewport(), Qt::LeftButton, {}, m_view->viewportPoint(at));
+    if (onPin == -2) {
+        const Vec2 placed = marbleTool ? w.position.back() : w.pins.back();
+        QCOMPARE(placed.x, std::round(placed.x));
+        QCOMPARE(placed.y, std::round(placed.y));
+    }
     if (marbleTool) {
         QCOMPARE(w.marbleCount(), marbles + 1);
         QCOMPARE(w.radius.back(), StageView::kNewMarbleRadius);
