@@ -462,7 +462,7 @@ void TestMainWindow::deleteAndAddToolsAreUndoable()
     m_window->findChild<QAction *>(QStringLiteral("actionAddMarbleTool"))->trigger();
     QTest::mouseClick(viewport(), Qt::LeftButton, {}, viewportPoint({100, 100}));
     QCOMPARE(doc->world().marbleCount(), 4);
-    QCOMPARE(doc->world().position[3], (Vec2{view->stagePoint(viewportPoint({100, 100}))}));
+    QCOMPARE(doc->world().position[3], StageView::placeAt(view->stagePoint(viewportPoint({100, 100})))); // on the whole pixel
     QCOMPARE(view->selectedMarble(), 3); // the new marble is the one to edit next
     m_window->findChild<QAction *>(QStringLiteral("actionAddPinTool"))->trigger();
     QTest::mouseClick(viewport(), Qt::LeftButton, {}, viewportPoint({400, 500}));
