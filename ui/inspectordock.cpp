@@ -104,6 +104,12 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     m_beyond->setVisible(false);
     layout->addWidget(m_beyond);
 
+    m_compared = new QLabel(body);
+    m_compared->setObjectName(QStringLiteral("comparedNote"));
+    m_compared->setWordWrap(true);
+    m_compared->setVisible(false);
+    layout->addWidget(m_compared);
+
     m_error = new QLabel(body);
     m_error->setWordWrap(true);
     m_error->setStyleSheet(QStringLiteral("color: %1;").arg(QLatin1String(kRefusalColour)));
@@ -180,6 +186,7 @@ void InspectorDock::showMarble(bool overTyping)
     if (m_marble < 0 || m_marble >= world.marbleCount()) {
         m_marble = -1;
         m_title->setText(tr("Select a marble to see and edit it."));
+        m_compared->setVisible(false);
         // No stale numbers of a marble that is not selected: the fields go away until one is.
         m_form->setEnabled(false);
         m_form->setVisible(false);
@@ -230,6 +237,34 @@ void InspectorDock::showMarble(bool overTyping)
     m_mass->setEnabled(world.info[m_marble].hasMass);
     m_beyond->setText(beyond.join(QLatin1Char('\n')));
     m_beyond->setVisible(!beyond.isEmpty());
+    showCompared();
+}
+
+void InspectorDock::setComparison(std::function<const World *()> world, std::function<QString()> model)
+{
+    m_comparison = std::move(world);
+    m_comparisonModel = std::move(model);
+    showCompared();
+}
+
+void InspectorDock::showCompared()
+{
+    // The marble as the compared model has it at the same frame (its dashed ghost), with the
+    // fields' decimals, so that the two can be read one above the other.
+    const World &world = m_document->world();
+    const World *compared = m_comparison ? m_comparison() : nullptr;
+    const bool shown = compared && m_marble >= 0 && m_marble < world.marbleCount()
+        && compared->marbleCount() == world.marbleCount() && compared->frame == world.frame;
+    m_compared->setVisible(shown);
+    if (!shown)
+        return;
+    const auto k = static_cast<std::size_t>(m_marble);
+    const Vec2 p = compared->position[k];
+    const Vec2 v = compared->velocity[k];
+    const int decimals = velocityDecimals(world.params.zeroThreshold);
+    m_compared->setText(tr("In the %1 model (its ghost): x %2, y %3 px; vx %4, vy %5 px/frame")
+                            .arg(m_comparisonModel ? m_comparisonModel() : QString(), QString::number(p.x, 'f', 2), QString::number(p.y, 'f', 2),
+                                 QString::number(v.x, 'f', decimals), QString::number(v.y, 'f', decimals)));
 }
 
 void InspectorDock::report(const QString &error)

@@ -2,6 +2,8 @@
 
 #include <QDockWidget>
 
+#include <functional>
+
 class QCheckBox;
 class QDoubleSpinBox;
 class QLabel;
@@ -10,6 +12,7 @@ class QLineEdit;
 namespace marbles {
 
 class SceneDocument;
+class World;
 
 /// The Inspector dock: the selected marble's radius, mass, position and velocity, editable.
 /// Every change goes through the document as an undo command; scrubbing a field with the arrows
@@ -32,6 +35,14 @@ public:
     /// The fields, for tests: "radius", "mass", "x", "y", "vx", "vy".
     QDoubleSpinBox *field(const QString &name) const;
 
+    /// Where to find the comparison's world (null when none runs) and its model's name: the
+    /// marble's place and velocity there are shown under the fields (the exact model's
+    /// velocities after a collision could be read only off the plot or the CSV). Asked at each
+    /// refresh, so that a world the comparison replaced is never read.
+    void setComparison(std::function<const World *()> world, std::function<QString()> model);
+    /// Shows the comparison's numbers again (the comparison stepped, started or stopped).
+    void comparisonChanged() { showCompared(); }
+
     /// Clears the refusal shown under the fields (another dock showed one).
     void clearRefusal();
 
@@ -46,6 +57,8 @@ private:
     /// Shows the selected marble's numbers; a field being typed in keeps its text unless
     /// `overTyping` (after an edit was refused: the field goes back to the marble's number).
     void showMarble(bool overTyping);
+    /// Shows (or hides) the marble's place and velocity in the comparison's world.
+    void showCompared();
     void onRadius(double value);
     void onMass(double value);
     void onX(double value);
@@ -69,6 +82,9 @@ private:
     QLabel *m_error = nullptr;
     bool m_reportedThisEdit = false; // report() ran since the last field edit ended
     QLabel *m_beyond = nullptr; // the true numbers of fields that show their limit instead
+    QLabel *m_compared = nullptr; // the marble in the comparison's world
+    std::function<const World *()> m_comparison;
+    std::function<QString()> m_comparisonModel;
     QWidget *m_form = nullptr;
 };
 

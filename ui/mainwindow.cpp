@@ -223,6 +223,8 @@ MainWindow::~MainWindow()
         child->disconnect(this);
     if (m_settingsTimer)
         m_settingsTimer->stop();
+    if (m_inspectorDock)
+        m_inspectorDock->setComparison({}, {}); // the comparison goes before the dock
 }
 
 namespace {
@@ -764,6 +766,8 @@ void MainWindow::createDocks()
     connect(m_parametersDock, &ParametersDock::paramEdited, this, &MainWindow::onParamEdited);
 
     m_inspectorDock = new InspectorDock(m_document, this);
+    m_inspectorDock->setComparison([this] { return m_compare->world(); },
+                                   [this] { return QString::fromLatin1(modelName(m_compare->model())); });
     addDockWidget(Qt::RightDockWidgetArea, m_inspectorDock);
     connect(m_inspectorDock, &InspectorDock::message, this, &MainWindow::showStatus);
 
@@ -1585,6 +1589,7 @@ void MainWindow::updateCompareControls()
 
 void MainWindow::updateCompareReadout()
 {
+    m_inspectorDock->comparisonChanged();
     m_compareLabel->setFullText(m_compare->summary());
     m_compareLabel->setVisible(m_compare->isActive());
     m_compareLabel->setToolTip(m_compare->isActive() ? m_compare->summary() + QStringLiteral("\n\n") + m_compareToolTip

@@ -915,6 +915,20 @@ void TestMainWindow::massScaleSaysWhenNoMarbleUsesIt()
     QTRY_VERIFY2(momentum->text().endsWith(QStringLiteral(", 0) exact")), qPrintable(momentum->text()));
     QVERIFY(!momentum->text().contains(QStringLiteral("e-")));
     QCOMPARE(MainWindow::shownMomentum(book).y, book.momentum().y); // a real one stays as it is
+
+    // The Inspector gives the selected marble in the compared model too (its velocities after
+    // the collision could be read only off the plot or the CSV).
+    m_window->stageView()->selectMarble(0);
+    auto *compared = m_window->inspectorDock()->findChild<QLabel *>(QStringLiteral("comparedNote"));
+    QVERIFY(compared);
+    const World *other = m_window->compareRun()->world();
+    const QString vx = QString::number(other->velocity[0].x, 'f', 4);
+    QTRY_VERIFY(compared->isVisible());
+    QVERIFY2(compared->text().startsWith(QStringLiteral("In the exact model")) && compared->text().contains(QStringLiteral("vx ") + vx),
+             qPrintable(compared->text()));
+    QVERIFY(other->velocity[0].x != m_window->document()->world().velocity[0].x); // not the book's
+    m_window->findChild<QAction *>(QStringLiteral("actionCompareNone"))->trigger();
+    QTRY_VERIFY(!compared->isVisible());
 }
 
 void TestMainWindow::plottedMarblesWearTheirLinesColours()
