@@ -155,6 +155,25 @@ FrameHistory::MarbleStart FrameHistory::startOf(int i) const
             k < m_startHits.size() ? m_startHits[k] : HitRecord{}};
 }
 
+const FrameHistory::MarbleTrack::Kept *FrameHistory::MarbleTrack::keptAt(std::int64_t frame) const
+{
+    // The frames follow one another.
+    if (frames.empty() || frame < frames.front().frame)
+        return nullptr;
+    const auto index = static_cast<std::size_t>(frame - frames.front().frame);
+    return index < frames.size() && frames[index].frame == frame ? &frames[index] : nullptr;
+}
+
+HitRecord FrameHistory::MarbleTrack::hitAt(std::int64_t frame) const
+{
+    const std::pair<std::int64_t, HitRecord> *first = nullptr;
+    for (const auto &entry : hitsBefore) {
+        if (entry.first >= frame && (!first || entry.first < first->first))
+            first = &entry;
+    }
+    return first ? first->second : newestHit;
+}
+
 void FrameHistory::insertMarble(int i, const MarbleTrack &track)
 {
     const auto k = static_cast<std::size_t>(i);
@@ -168,21 +187,15 @@ void FrameHistory::insertMarble(int i, const MarbleTrack &track)
     m_startHits.insert(at(m_startHits), start.lastHit);
     // The step-back frames take it back only where each of them is one it was taken from (the
     // track's frames follow one another); otherwise they have no place for it.
-    const auto keptAt = [&track](std::int64_t frame) -> const MarbleTrack::Kept * {
-        if (track.frames.empty() || frame < track.frames.front().frame)
-            return nullptr;
-        const auto index = static_cast<std::size_t>(frame - track.frames.front().frame);
-        return index < track.frames.size() && track.frames[index].frame == frame ? &track.frames[index] : nullptr;
-    };
     const bool fits = !m_frames.empty() && k <= m_hits.size()
-        && std::all_of(m_frames.begin(), m_frames.end(), [&](const Frame &f) { return keptAt(f.frame) != nullptr; });
+        && std::all_of(m_frames.begin(), m_frames.end(), [&](const Frame &f) { return track.keptAt(f.frame) != nullptr; });
     if (!fits) {
         m_frames.clear();
         m_bytes = 0;
         return;
     }
     for (Frame &f : m_frames) {
-        const MarbleTrack::Kept &kept = *keptAt(f.frame);
+        const MarbleTrack::Kept &kept = *track.keptAt(f.frame);
         m_bytes -= f.byteSize();
         f.position.insert(at(f.position), kept.position);
         f.velocity.insert(at(f.velocity), kept.velocity);
@@ -197,7 +210,9 @@ void FrameHistory::insertMarble(int i, const MarbleTrack &track)
         }
         m_bytes += f.byteSize();
     }
-    m_hits.insert(at(m_hits), track.newestHit);
+    // As of the newest kept frame, which is the one before the world's (a delete undone where it
+    // was made, or after Step Back took the scene back past it).
+    m_hits.insert(at(m_hits), track.hitAt(m_frames.back().frame));
 }
 
 FrameHistory::MarbleTrack FrameHistory::removeMarble(int i)

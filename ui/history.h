@@ -62,6 +62,12 @@ public:
         std::vector<Kept> frames;                                // the step-back frames', oldest first
         std::vector<std::pair<std::int64_t, HitRecord>> hitsBefore; // its entries in their hitsBefore
         HitRecord newestHit;                                     // its record as of the newest frame
+
+        /// Its part of kept frame `frame`, or null when that frame is not in the track.
+        const Kept *keptAt(std::int64_t frame) const;
+        /// Its last-hit record as of kept frame `frame`: the value noted before the first step
+        /// from `frame` on that changed it, or newestHit when none did.
+        HitRecord hitAt(std::int64_t frame) const;
     };
     /// A marble joins the scene at index i (0 <= i <= count): the first frame gets it as
     /// `track.start`, so that rewind() still reaches it. The step-back frames get it back too when

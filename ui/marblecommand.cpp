@@ -262,7 +262,24 @@ void RemoveMarbleCommand::undo()
     assert(m_index >= 0 && m_index <= world.marbleCount());
     if (m_index < 0 || m_index > world.marbleCount())
         return;
-    insertMarble(world, m_index, m_record);
+    // Step Back took the scene back past the delete: the marble comes back as it was at this
+    // frame, from its part of the kept frames (it came back as at the delete, frames later in
+    // its run than the others, with the delete frame's collision vectors).
+    MarbleRecord record = m_record;
+    if (world.frame < m_frame) {
+        if (const FrameHistory::MarbleTrack::Kept *kept = m_track.keptAt(world.frame)) {
+            record.position = kept->position;
+            record.velocity = kept->velocity;
+            record.acceleration = kept->acceleration;
+            record.lastHit = m_track.hitAt(world.frame);
+        } else if (world.frame == m_document->history().startFrame()) {
+            record.position = m_track.start.position;
+            record.velocity = m_track.start.velocity;
+            record.acceleration = m_track.start.acceleration;
+            record.lastHit = m_track.start.lastHit;
+        }
+    }
+    insertMarble(world, m_index, record);
     world.pushes = m_pushes;
     m_document->marbleInserted(m_index, m_track); // where it was at the timeline's start and in the kept frames
     m_document->applyChange(SceneDocument::Change::Structure);

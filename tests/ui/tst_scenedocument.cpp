@@ -884,6 +884,15 @@ void TestSceneDocument::stepBackGoesPastADeletedMarble()
         expected.removeMarble(1);
         QVERIFY2(sameDynamicState(doc.world(), expected), qPrintable(QStringLiteral("frame %1").arg(f)));
     }
+    // Undone there, before the delete's frame: the marble comes back as it was at this frame
+    // (it came back as at the delete, ten frames on in its run, with that frame's vectors), and
+    // the run on from here is the first one.
+    doc.undoStack()->undo();
+    QVERIFY(sameDynamicState(doc.world(), states[20]));
+    QVERIFY(doc.stepBack());
+    QVERIFY(sameDynamicState(doc.world(), states[19]));
+    QCOMPARE(doc.advance(10), 10);
+    QVERIFY(sameDynamicState(doc.world(), states[29]));
 
     SceneDocument undone;
     undone.resetScene(preset("four-marbles"));
