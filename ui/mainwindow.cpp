@@ -4,6 +4,7 @@
 #include "ui/autosaver.h"
 #include "ui/comparerun.h"
 #include "ui/elidinglabel.h"
+#include "ui/filenames.h"
 #include "ui/elidingstatusbar.h"
 #include "ui/inspectordock.h"
 #include "ui/numbertext.h"
@@ -398,7 +399,8 @@ void MainWindow::createActions()
     // then, pressed again, clears the selection.
     connect(m_clearSelectionAction, &QAction::triggered, this, [this] {
         if (const int taken = m_document->takeBackPushes(); taken > 0) {
-            showFrameStatus(tr("%n marble(s)' push taken back: it will not act.", nullptr, taken));
+            showFrameStatus(taken == 1 ? tr("Push taken back: it will not act.")
+                                       : tr("Pushes on %1 marbles taken back: they will not act.").arg(taken));
             return;
         }
         m_view->clearSelection();
@@ -1167,7 +1169,9 @@ bool MainWindow::saveAs()
     if (suggestion.isEmpty()) {
         const QStringList recent = recentFiles();
         const QString directory = recent.isEmpty() ? QDir::homePath() : QFileInfo(recent.front()).absolutePath();
-        suggestion = QDir(directory).filePath(QStringLiteral("scene.marbles.json"));
+        // A preset's own name ("pachinko-board.marbles.json", as its plot's exports are offered).
+        const QString stem = sceneFileStem(m_presetTitle);
+        suggestion = QDir(directory).filePath((stem.isEmpty() ? QStringLiteral("scene") : stem) + QStringLiteral(".marbles.json"));
     }
     const QString path = m_prompts->askSaveFileName(this, suggestion);
     if (path.isEmpty())

@@ -1,6 +1,7 @@
 #include "ui/plotdock.h"
 
 #include "ui/elidinglabel.h"
+#include "ui/filenames.h"
 #include "ui/numbertext.h"
 #include "ui/quiettext.h"
 #include "ui/wholefile.h"
@@ -27,7 +28,6 @@
 #include <QPixmap>
 #include <QPushButton>
 #include <QRadioButton>
-#include <QRegularExpression>
 #include <QSet>
 #include <QTimer>
 #include <QToolTip>
@@ -1525,15 +1525,7 @@ double PlotDock::perSecond() const
 QString PlotDock::suggestedExportPath(const QString &extension) const
 {
     // Every export was offered as "marbles-plot.csv" in the working folder, whatever the scene.
-    QString base = m_sceneFile.isEmpty() ? m_sceneName : QFileInfo(m_sceneFile).fileName();
-    for (const QString &end : {QStringLiteral(".marbles.json"), QStringLiteral(".json"), tr(" (preset)")}) {
-        if (base.endsWith(end, Qt::CaseInsensitive))
-            base.chop(end.size());
-    }
-    // Nothing a file system might refuse (a preset's "Four marbles (Figure 11.8)").
-    base = base.trimmed().toLower();
-    base.replace(QRegularExpression(QStringLiteral("[^\\w.-]+")), QStringLiteral("-"));
-    base.remove(QRegularExpression(QStringLiteral("^-+|-+$")));
+    const QString base = sceneFileStem(m_sceneFile.isEmpty() ? m_sceneName : QFileInfo(m_sceneFile).fileName());
     const QString name = (base.isEmpty() ? QStringLiteral("marbles") : base) + QStringLiteral("-plot.") + extension;
     return m_sceneFile.isEmpty() ? name : QFileInfo(m_sceneFile).dir().filePath(name);
 }

@@ -86,7 +86,12 @@ public:
         return recoverAnswer;
     }
     QString askOpenFileName(QWidget *, const QString &) override { return openName; }
-    QString askSaveFileName(QWidget *, const QString &) override { return saveName; }
+    QString askSaveFileName(QWidget *, const QString &suggested) override
+    {
+        saveSuggestion = suggested;
+        return saveName;
+    }
+    QString saveSuggestion; // the file name the last Save As offered
     void showError(QWidget *, const QString &, const QString &text) override { errors << text; }
 };
 
@@ -1410,6 +1415,12 @@ void TestMainWindow::statusBarKeepsItsFiguresApart()
     // While comparing, the timing figures give their room to both models' totals; in a narrow
     // window a message is never drawn on top of the figures (it was, over the comparison's).
     QVERIFY(m_window->openPreset(QStringLiteral("pachinko")));
+    // (Save As offers a preset's scene by its name, as the plot's exports are: it offered
+    // "scene.marbles.json".)
+    m_prompts->saveName.clear(); // cancelled
+    m_window->findChild<QAction *>(QStringLiteral("actionSaveAs"))->trigger();
+    QVERIFY2(m_prompts->saveSuggestion.endsWith(QStringLiteral("/pachinko-board.marbles.json")), qPrintable(m_prompts->saveSuggestion));
+    QCOMPARE(m_window->plotDock()->suggestedExportPath(QStringLiteral("csv")), QStringLiteral("pachinko-board-plot.csv"));
     auto *physics = m_window->findChild<QLabel *>(QStringLiteral("physicsLabel"));
     auto *fps = m_window->findChild<QLabel *>(QStringLiteral("fpsLabel"));
     QTRY_VERIFY(physics->isVisible() && fps->isVisible());
