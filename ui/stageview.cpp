@@ -748,6 +748,7 @@ void StageView::drawForeground(QPainter *painter, const QRectF &rect)
         m_pushed.clear(); // every click's push has acted (a frame ran) or its marble is gone
     const QList<int> pending = pendingPushes();
     m_arrowsShown = !pending.isEmpty();
+    m_pushLabels.clear();
     if (pending.isEmpty())
         return;
     // Drawn in viewport pixels, so that the arrow reads the same at any zoom: from the marble's
@@ -789,8 +790,13 @@ void StageView::drawForeground(QPainter *painter, const QRectF &rect)
         if (byClick && i != clicked.back())
             continue;
         painter->setPen(ink);
-        const QString label = byClick ? tr("+%1 px/frame").arg(size, 0, 'f', 2)
-                                      : tr("scripted +%1 px/frame").arg(size, 0, 'f', 2);
+        // A click on a marble with a scripted push due: one arrow for both, whose label says the
+        // scene's part is in it (the "scripted" label went, as if the click had replaced it).
+        const bool both = byClick && (scripted.x != 0.0 || scripted.y != 0.0);
+        const QString label = both ? tr("+%1 px/frame, scripted %2 in it").arg(size, 0, 'f', 2).arg(std::hypot(scripted.x, scripted.y), 0, 'f', 2)
+                              : byClick ? tr("+%1 px/frame").arg(size, 0, 'f', 2)
+                                        : tr("scripted +%1 px/frame").arg(size, 0, 'f', 2);
+        m_pushLabels.append(label);
         const QPointF at = head + u * 8.0;
         const QRectF box = painter->fontMetrics().boundingRect(label);
         // Left of the head when the arrow points left, right of it otherwise; centred vertically.

@@ -6,6 +6,7 @@
 #include <QGraphicsView>
 #include <QList>
 #include <QPoint>
+#include <QStringList>
 
 #include <vector>
 
@@ -131,6 +132,8 @@ public:
     Vec2 contextPoint() const { return m_contextPoint; }
     /// Actions for the context menu (created once by the main window, shared with menus and toolbars).
     void setContextActions(const QList<QAction *> &actions);
+    /// The labels the last paint wrote at the push arrows' heads ("+3.11 px/frame").
+    QStringList pushLabels() const { return m_pushLabels; }
 
     /// Number of times the viewport was painted (for the display fps).
     qint64 paintCount() const { return m_paintCount; }
@@ -213,6 +216,7 @@ private:
     Vec2 m_contextPoint;
     QList<int> m_pushed; // marbles clicked since the last frame (pendingPushes() filters them)
     bool m_arrowsShown = false; // the last paint drew push arrows
+    QStringList m_pushLabels;   // the labels the last paint wrote at the arrows' heads
     QList<QAction *> m_contextActions;
     qint64 m_paintCount = 0;
 };

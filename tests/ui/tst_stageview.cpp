@@ -574,6 +574,14 @@ void TestStageView::scriptedPushIsShownWhenDue()
                  .arg(click.x, 0, 'f', 2)
                  .arg(click.y, 0, 'f', 2)
                  .arg(w.scriptedPushDue(0).x, 0, 'f', 2));
+    // Its arrow, one for both, says the script's part is in it (the scripted label went, as if
+    // the click had replaced the scene's push).
+    m_view->viewport()->repaint();
+    const double total = std::hypot(click.x + w.scriptedPushDue(0).x, click.y);
+    QVERIFY2(m_view->pushLabels().contains(QStringLiteral("+%1 px/frame, scripted %2 in it")
+                                               .arg(total, 0, 'f', 2)
+                                               .arg(w.scriptedPushDue(0).x, 0, 'f', 2)),
+             qPrintable(m_view->pushLabels().join(QStringLiteral(" | "))));
 
     // The frame applies both: no arrow is left.
     m_document->advance(1);
