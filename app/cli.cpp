@@ -16,6 +16,7 @@
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -301,24 +302,28 @@ bool writesOverScene(const std::string &scene, const std::string *outPath)
 {
     if (scene.starts_with("preset:"))
         return false;
-    const auto streamIs = [](int fd, const std::string &path) {
-        struct stat stream {};
-        struct stat file {};
-        return ::fstat(fd, &stream) == 0 && S_ISREG(stream.st_mode) && ::stat(path.c_str(), &file) == 0
-            && stream.st_dev == file.st_dev && stream.st_ino == file.st_ino;
+    // A standard stream's file when it is a regular one, a path's file: the same file when both
+    // are there and have one device and inode.
+    using FileId = std::pair<dev_t, ino_t>;
+    const auto streamFile = [](int fd) -> std::optional<FileId> {
+        struct stat s {};
+        if (::fstat(fd, &s) == 0 && S_ISREG(s.st_mode))
+            return FileId{s.st_dev, s.st_ino};
+        return std::nullopt;
     };
-    if (isStandardStream(scene)) {
-        if (outPath)
-            return streamIs(STDIN_FILENO, *outPath);
-        // "run - < s.json >> s.json": both streams open on one file (the CSV was appended to
-        // the scene, or with 1<> written over its start).
-        struct stat in {};
-        struct stat out {};
-        return ::fstat(STDIN_FILENO, &in) == 0 && ::fstat(STDOUT_FILENO, &out) == 0 && S_ISREG(in.st_mode)
-            && in.st_dev == out.st_dev && in.st_ino == out.st_ino;
-    }
+    const auto pathFile = [](const std::string &path) -> std::optional<FileId> {
+        struct stat s {};
+        if (::stat(path.c_str(), &s) == 0)
+            return FileId{s.st_dev, s.st_ino};
+        return std::nullopt;
+    };
+    const auto same = [](const std::optional<FileId> &a, const std::optional<FileId> &b) { return a && b && *a == *b; };
+    // "run - < s.json >> s.json": both streams open on one file (the CSV was appended to the
+    // scene, or with 1<> written over its start).
+    if (isStandardStream(scene))
+        return same(streamFile(STDIN_FILENO), outPath ? pathFile(*outPath) : streamFile(STDOUT_FILENO));
     if (!outPath)
-        return streamIs(STDOUT_FILENO, scene);
+        return same(streamFile(STDOUT_FILENO), pathFile(scene));
     return namesSameFile(scene, *outPath);
 }
 

@@ -41,6 +41,10 @@ void FrameHistory::reset(const World &world)
     m_frames.clear();
     m_bytes = 0;
     m_start.copyFrom(world);
+    // A timeline starts without the clicks' pushes still to act (what is pending between frames;
+    // a scene's scripted pushes are added as their frame is stepped): a click is not an edit,
+    // and Home forgets it. The world keeps it pending.
+    std::fill(m_start.acceleration.begin(), m_start.acceleration.end(), Vec2{});
     m_startHits = world.lastHit;
     m_hits = world.lastHit;
 }
@@ -172,6 +176,16 @@ HitRecord FrameHistory::MarbleTrack::hitAt(std::int64_t frame) const
             first = &entry;
     }
     return first ? first->second : newestHit;
+}
+
+std::optional<FrameHistory::MarbleStart> FrameHistory::MarbleTrack::stateAt(std::int64_t frame,
+                                                                           std::int64_t startFrame) const
+{
+    if (const Kept *kept = keptAt(frame))
+        return MarbleStart{kept->position, kept->velocity, kept->acceleration, hitAt(frame)};
+    if (frame == startFrame)
+        return start;
+    return std::nullopt;
 }
 
 void FrameHistory::insertMarble(int i, const MarbleTrack &track)

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -27,7 +28,8 @@ public:
 
     explicit FrameHistory(std::size_t maxFrames = kDefaultMaxFrames, std::size_t maxBytes = kDefaultMaxBytes);
 
-    /// Forgets every frame; `world` becomes the start of a new timeline.
+    /// Forgets every frame; `world` becomes the start of a new timeline, without the clicks'
+    /// pushes still to act (its accelerations), which rewind() does not give back.
     void reset(const World &world);
     /// Remembers `world` as it is now, just before it is stepped.
     void record(const World &world);
@@ -68,6 +70,9 @@ public:
         /// Its last-hit record as of kept frame `frame`: the value noted before the first step
         /// from `frame` on that changed it, or newestHit when none did.
         HitRecord hitAt(std::int64_t frame) const;
+        /// Its state at `frame`: a kept frame's, or the first frame's (`startFrame`); none when
+        /// the track does not reach that frame.
+        std::optional<MarbleStart> stateAt(std::int64_t frame, std::int64_t startFrame) const;
     };
     /// A marble joins the scene at index i (0 <= i <= count): the first frame gets it as
     /// `track.start`, so that rewind() still reaches it. The step-back frames get it back too when

@@ -4,8 +4,8 @@
 #include "ui/autosaver.h"
 #include "ui/comparerun.h"
 #include "ui/elidinglabel.h"
-#include "ui/filenames.h"
 #include "ui/elidingstatusbar.h"
+#include "ui/filenames.h"
 #include "ui/inspectordock.h"
 #include "ui/numbertext.h"
 #include "ui/parametersdock.h"
@@ -40,8 +40,8 @@
 #include <QScrollArea>
 #include <QSettings>
 #include <QShowEvent>
-#include <QSpinBox>
 #include <QSignalBlocker>
+#include <QSpinBox>
 #include <QStandardItemModel>
 #include <QStatusBar>
 #include <QStyle>
@@ -840,14 +840,15 @@ void MainWindow::createStatusBar()
     m_slowLabel->setVisible(false);
     // While comparing they give both models' totals, too long for a narrow window's bar: cut
     // with "…" there (their whole text in the tool tip), they leave the bar room for the rest.
-    const auto addTotal = [this](const QString &name) {
+    const auto addTotal = [this](const QString &name, const QString &what) {
         auto *label = new ElidingLabel(this);
         label->setObjectName(name);
+        label->setProperty("what", what); // its tip's first line, above its whole text (setTotal())
         statusBar()->addPermanentWidget(label);
         return label;
     };
-    m_energyLabel = addTotal(QStringLiteral("energyLabel"));
-    m_momentumLabel = addTotal(QStringLiteral("momentumLabel"));
+    m_energyLabel = addTotal(QStringLiteral("energyLabel"), tr("Total kinetic energy, sum of m v² / 2"));
+    m_momentumLabel = addTotal(QStringLiteral("momentumLabel"), tr("Total momentum, sum of m v"));
     // The comparison readout comes first, where the eye lands after the stage; shown while comparing.
     m_compareLabel = new ElidingLabel(this);
     m_compareLabel->setObjectName(QStringLiteral("compareLabel"));
@@ -1741,9 +1742,7 @@ Vec2 MainWindow::shownMomentum(const World &world)
 void MainWindow::setTotal(ElidingLabel *label, const QString &text)
 {
     label->setFullText(text);
-    const QString what = label == m_energyLabel ? tr("Total kinetic energy, sum of m v² / 2")
-                                                : tr("Total momentum, sum of m v");
-    label->setToolTip(what + QStringLiteral("\n") + text);
+    label->setToolTip(label->property("what").toString() + QStringLiteral("\n") + text);
 }
 
 void MainWindow::updateSlowLabel()

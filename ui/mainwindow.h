@@ -174,7 +174,7 @@ private:
     void updateStatistics();
     void updateSlowLabel();
     /// Shows a total (`label`, the energy's or the momentum's) in the status bar, with its whole text in the tip.
-    void setTotal(ElidingLabel *label, const QString &text);
+    static void setTotal(ElidingLabel *label, const QString &text);
     void updateFrameLabelsShown();
     void fitFirstWindow();
     /// Breaks the toolbars into rows where one would not fit beside the last (on every start).

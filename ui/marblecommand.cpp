@@ -217,7 +217,9 @@ void AddMarbleCommand::redo()
     insertMarble(world, m_index, m_record);
     // In the timeline's first frame too, where it is added: Home replays the scene with it.
     const auto k = static_cast<std::size_t>(m_index);
-    m_document->marbleInserted(m_index, {{world.position[k], world.velocity[k], world.acceleration[k], world.lastHit[k]}, {}, {}, {}});
+    FrameHistory::MarbleTrack track; // the first frame only: earlier frames have no place for it
+    track.start = {world.position[k], world.velocity[k], world.acceleration[k], world.lastHit[k]};
+    m_document->marbleInserted(m_index, track);
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 
@@ -267,16 +269,11 @@ void RemoveMarbleCommand::undo()
     // its run than the others, with the delete frame's collision vectors).
     MarbleRecord record = m_record;
     if (world.frame < m_frame) {
-        if (const FrameHistory::MarbleTrack::Kept *kept = m_track.keptAt(world.frame)) {
-            record.position = kept->position;
-            record.velocity = kept->velocity;
-            record.acceleration = kept->acceleration;
-            record.lastHit = m_track.hitAt(world.frame);
-        } else if (world.frame == m_document->history().startFrame()) {
-            record.position = m_track.start.position;
-            record.velocity = m_track.start.velocity;
-            record.acceleration = m_track.start.acceleration;
-            record.lastHit = m_track.start.lastHit;
+        if (const auto state = m_track.stateAt(world.frame, m_document->history().startFrame())) {
+            record.position = state->position;
+            record.velocity = state->velocity;
+            record.acceleration = state->acceleration;
+            record.lastHit = state->lastHit;
         }
     }
     insertMarble(world, m_index, record);

@@ -36,16 +36,30 @@ inline int velocityDecimals(double zeroThreshold)
     return static_cast<int>(std::clamp(digits, 3.0, 6.0));
 }
 
+/// `text` without the zeros ending the digits after its first decimal `point`, nor the point
+/// when none is left; what follows the digits stays ("5000.00 px" gives "5000 px", "1.2340"
+/// "1.234").
+inline QString withoutTrailingZeros(const QString &text, const QString &point = QStringLiteral("."))
+{
+    const qsizetype at = text.indexOf(point);
+    if (at < 0)
+        return text;
+    const qsizetype digits = at + point.size();
+    qsizetype end = digits;
+    while (end < text.size() && text.at(end).isDigit())
+        ++end;
+    qsizetype keep = end;
+    while (keep > digits && text.at(keep - 1) == QLatin1Char('0'))
+        --keep;
+    if (keep == digits)
+        keep = at;
+    return text.left(keep) + text.mid(end);
+}
+
 /// `value` to `decimals` places, without trailing zeros ("1.2346", "6", "0.000012").
 inline QString fixedTrimmed(double value, int decimals)
 {
-    QString text = QString::number(value, 'f', decimals);
-    if (text.contains(QLatin1Char('.'))) {
-        while (text.endsWith(QLatin1Char('0')))
-            text.chop(1);
-        if (text.endsWith(QLatin1Char('.')))
-            text.chop(1);
-    }
+    const QString text = withoutTrailingZeros(QString::number(value, 'f', decimals));
     return text == QLatin1String("-0") ? QStringLiteral("0") : text;
 }
 

@@ -10,7 +10,6 @@
 #include <QChart>
 #include <QChartView>
 #include <QCheckBox>
-#include <QCursor>
 #include <QDir>
 #include <QFileDialog>
 #include <QFileInfo>

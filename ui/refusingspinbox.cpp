@@ -1,5 +1,7 @@
 #include "ui/refusingspinbox.h"
 
+#include "ui/numbertext.h"
+
 #include <QCoreApplication>
 
 #include <cmath>
@@ -14,29 +16,6 @@ QString refusedNumber(const Refusing &box, double refused, const QLocale &locale
     loc.setNumberOptions(loc.numberOptions() | QLocale::OmitGroupSeparator);
     return loc.toString(refused, 'g', 12);
 }
-
-namespace {
-
-// A field's limit as the field writes it, without the zeros its decimals add ("100000 px/frame",
-// "0.5 px"): the velocity fields' 4 to 6 decimals wrote "100000.000000 px/frame".
-QString limitText(const Refusing &box, double limit, const QLocale &locale)
-{
-    QString text = box.shown(limit);
-    const qsizetype point = text.indexOf(locale.decimalPoint());
-    if (point < 0)
-        return text;
-    qsizetype end = point + locale.decimalPoint().size();
-    while (end < text.size() && text.at(end).isDigit())
-        ++end;
-    qsizetype keep = end;
-    while (keep > point + locale.decimalPoint().size() && text.at(keep - 1) == QLatin1Char('0'))
-        --keep;
-    if (keep == point + locale.decimalPoint().size())
-        keep = point;
-    return text.left(keep) + text.mid(end);
-}
-
-} // namespace
 
 QString refusalMessage(const Refusing &box, double refused, const QLocale &locale)
 {
@@ -54,11 +33,13 @@ QString refusalMessage(const Refusing &box, double refused, const QLocale &local
                                            "%1 can be read two ways: type it without group separators, with \"%2\" "
                                            "or \"%3\" for the decimal point. It stays %4.")
             .arg(typed, locale.decimalPoint(), locale.decimalPoint() == QLatin1String(",") ? QStringLiteral(".") : QStringLiteral(","), kept);
+    // A limit as the field writes it, without the zeros its decimals add ("100000 px/frame",
+    // "0.5 px"): the velocity fields' 4 to 6 decimals wrote "100000.000000 px/frame".
     if (refused > box.high())
         return QCoreApplication::translate("marbles", "%1 is above this field's maximum (%2): it stays %3.")
-            .arg(typed, limitText(box, box.high(), locale), kept);
+            .arg(typed, withoutTrailingZeros(box.shown(box.high()), locale.decimalPoint()), kept);
     return QCoreApplication::translate("marbles", "%1 is below this field's minimum (%2): it stays %3.")
-        .arg(typed, limitText(box, box.low(), locale), kept);
+        .arg(typed, withoutTrailingZeros(box.shown(box.low()), locale.decimalPoint()), kept);
 }
 
 } // namespace marbles

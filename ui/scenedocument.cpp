@@ -11,7 +11,6 @@
 #include <QFile>
 #include <QFileInfo>
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -512,22 +511,6 @@ FrameHistory::MarbleTrack SceneDocument::marbleRemoved(int i)
     return track;
 }
 
-void SceneDocument::restartTimeline()
-{
-    // The timeline starts at the world as it is, but for a click's push still to act: a click is
-    // not an edit, and Home forgets it (the world keeps it pending). An edit at frame 0 after a
-    // click made the push part of frame 0, and every replay from Home pushed the marble again.
-    const bool clicked = std::any_of(m_world.acceleration.begin(), m_world.acceleration.end(),
-                                     [](Vec2 a) { return a.x != 0.0 || a.y != 0.0; });
-    if (!clicked) {
-        m_history.reset(m_world);
-        return;
-    }
-    World start = m_world;
-    std::fill(start.acceleration.begin(), start.acceleration.end(), Vec2{});
-    m_history.reset(start);
-}
-
 void SceneDocument::applyChange(Change change)
 {
     if (change == Change::Names) {
@@ -540,10 +523,10 @@ void SceneDocument::applyChange(Change change)
     // did not, the timeline starts again here.
     const bool restart = !m_history.fits(m_world);
     if (restart)
-        restartTimeline();
+        m_history.reset(m_world);
     else if (m_world.frame == m_history.startFrame())
-        restartTimeline(); // an edit of the timeline's first frame is what rewind() returns to
-                           // (no later frame is kept while that frame is shown)
+        m_history.reset(m_world); // an edit of the timeline's first frame is what rewind() returns to
+                                  // (no later frame is kept while that frame is shown)
     if (!validMarble(m_world, m_held))
         m_held = -1;
     emitModification();

@@ -192,8 +192,6 @@ private:
     FrameHistory m_history;
     QString m_fileName;
     bool m_dirtyWithoutUndo = false;
-    /// The timeline starts again at the world as it is, without the clicks' pushes still to act.
-    void restartTimeline();
     bool m_marblesRenumbered = false; // marbleInserted() or marbleRemoved() since the last applyChange()
     bool m_lastModified = false;
 
