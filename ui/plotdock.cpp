@@ -7,6 +7,7 @@
 #include "ui/wholefile.h"
 
 #include <QBuffer>
+#include <QCategoryAxis>
 #include <QChart>
 #include <QChartView>
 #include <QCheckBox>
@@ -291,6 +292,45 @@ void applyRange(QValueAxis *axis, const AxisRange &range)
         axis->setLabelFormat(format);
 }
 
+/// Gives a quantity that is never negative (a speed, an energy) `range`, as applyRange() does,
+/// with a label at each tick from zero up and none below: aligned with the momentum's zero line
+/// (alignZeros()) its axis reaches below zero, where "speed -2" read as a speed there could be.
+void applyNonNegativeRange(QCategoryAxis *axis, const AxisRange &range)
+{
+    applyRange(axis, range);
+    QStringList labels;
+    QList<double> ends;
+    const double step = range.ticks > 1 ? (range.max - range.min) / (range.ticks - 1) : 0.0;
+    QString blank;
+    for (int k = 0; k < std::max(range.ticks, 1); ++k) {
+        // Where Qt Charts puts tick k (min + k * spacing); a tick within rounding of zero is zero.
+        double at = range.min + k * step;
+        if (std::abs(at) <= 1e-9 * step)
+            at = 0.0;
+        QString label;
+        if (at < 0.0) {
+            blank += QLatin1Char(' '); // category labels must differ: " ", "  ", ...
+            label = blank;
+        } else {
+            label = QString::asprintf(axis->labelFormat().toLatin1().constData(), at);
+        }
+        while (labels.contains(label)) // "%g" can write two huge ticks alike
+            label += QLatin1Char(' ');
+        labels << label;
+        ends << at;
+    }
+    bool same = axis->categoriesLabels() == labels && axis->startValue() == range.min;
+    for (qsizetype k = 0; same && k < labels.size(); ++k)
+        same = axis->endValue(labels[k]) == ends[k];
+    if (same)
+        return;
+    for (const QString &old : axis->categoriesLabels())
+        axis->remove(old);
+    axis->setStartValue(range.min);
+    for (qsizetype k = 0; k < labels.size(); ++k)
+        axis->append(labels[k], ends[k]);
+}
+
 // The model's name as the legend gives it ("book (solid)").
 QString modelLabel(const World &world)
 {
@@ -352,29 +392,32 @@ PlotDock::PlotDock(QWidget *parent)
     m_chart->legend()->setAlignment(Qt::AlignBottom);
     // Legend entries drawn as short lines in each series' pen, so a dashed line reads as dashed.
     m_chart->legend()->setMarkerShape(QLegend::MarkerShapeFromSeries);
-    m_chart->setMargins(QMargins(2, 2, 2, 2));
     m_chart->layout()->setContentsMargins(0, 0, 0, 0);
     m_chart->setBackgroundRoundness(0);
 
     m_axisX = new QValueAxis(m_chart);
     m_axisX->setLabelFormat(QStringLiteral("%g"));
-    m_axisSpeed = new QValueAxis(m_chart);
+    m_axisSpeed = new QCategoryAxis(m_chart);
     m_axisSpeed->setLabelFormat(QStringLiteral("%g"));
+    m_axisSpeed->setLabelsPosition(QCategoryAxis::AxisLabelsPositionOnValue);
     m_rangeScratch = new QValueAxis(this); // never added to the chart (niceRange())
     m_chart->addAxis(m_axisX, Qt::AlignBottom);
     m_chart->addAxis(m_axisSpeed, Qt::AlignLeft);
     // Energy and momentum each on an axis of its own: they differ in units and in size (on a
     // crowd the energy's 1e7 made the momentum a flat line at 0 on a shared axis).
-    for (QValueAxis **axis : {&m_axisTotals, &m_axisMomentum}) {
-        *axis = new QValueAxis(m_chart);
-        (*axis)->setLabelFormat(QStringLiteral("%g"));
+    m_axisTotals = new QCategoryAxis(m_chart);
+    m_axisTotals->setLabelsPosition(QCategoryAxis::AxisLabelsPositionOnValue);
+    m_axisMomentum = new QValueAxis(m_chart);
+    for (QValueAxis *axis : {static_cast<QValueAxis *>(m_axisTotals), m_axisMomentum}) {
+        axis->setLabelFormat(QStringLiteral("%g"));
         // Its ticks fall elsewhere than the speed axis's: two sets of grid lines read as a double grid.
-        (*axis)->setGridLineVisible(false);
-        (*axis)->setVisible(false);
-        m_chart->addAxis(*axis, Qt::AlignRight);
+        axis->setGridLineVisible(false);
+        axis->setVisible(false);
+        m_chart->addAxis(axis, Qt::AlignRight);
     }
     m_axisTotals->setTitleText(tr("kinetic energy"));
     m_axisMomentum->setTitleText(tr("momentum"));
+    updateTotalsAxis(); // and the chart's margins
 
     m_kineticSeries = addTotalSeries(kKineticColour, m_axisTotals);
     for (int c : {0, 1})
@@ -824,8 +867,8 @@ void PlotDock::refreshChart()
     if (m_showMomentum->isChecked())
         alignZeros(m_showKinetic->isChecked() ? std::initializer_list<AxisRange *>{&speedRange, &energyRange, &momentumRange}
                                               : std::initializer_list<AxisRange *>{&speedRange, &momentumRange});
-    applyRange(m_axisSpeed, speedRange);
-    applyRange(m_axisTotals, energyRange);
+    applyNonNegativeRange(m_axisSpeed, speedRange);
+    applyNonNegativeRange(m_axisTotals, energyRange);
     applyRange(m_axisMomentum, momentumRange);
     if (m_restartMarks) {
         // Down and up at each restart, joined along the time axis, where the joins vanish.
@@ -1508,6 +1551,10 @@ void PlotDock::updateTotalsAxis()
     // Each total's axis is shown with it (the legend gives the colours).
     m_axisTotals->setVisible(m_showKinetic->isChecked());
     m_axisMomentum->setVisible(m_showMomentum->isChecked());
+    // A category axis leaves no room above the chart for its top label, which a value axis does:
+    // without the momentum's, the speed axis's top label ran off the chart by half its height.
+    const int room = m_showMomentum->isChecked() ? 0 : QFontMetrics(m_axisSpeed->labelsFont()).height() / 2;
+    m_chart->setMargins(QMargins(2, 2 + room, 2, 2));
 }
 
 void PlotDock::updateAxisTitles()

@@ -18,6 +18,7 @@
 #include <vector>
 
 class QCheckBox;
+class QCategoryAxis;
 class QChart;
 class QChartView;
 class QLabel;
@@ -323,8 +324,10 @@ private:
     QChartView *m_chartView = nullptr;
     bool m_compactLegend = false; // the marbles' legend labels are the short ones
     QValueAxis *m_axisX = nullptr;
-    QValueAxis *m_axisSpeed = nullptr;
-    QValueAxis *m_axisTotals = nullptr;   // kinetic energy, on the right
+    // Speeds and energies are never negative: their axes label no tick below zero (they have
+    // such ticks only to share the momentum's zero line), so they are category axes.
+    QCategoryAxis *m_axisSpeed = nullptr;
+    QCategoryAxis *m_axisTotals = nullptr; // kinetic energy, on the right
     QValueAxis *m_axisMomentum = nullptr; // momentum x and y, on the right beside it: its own scale
     QValueAxis *m_rangeScratch = nullptr; ///< works out nice ranges away from the chart
     QLineSeries *m_kineticSeries = nullptr;

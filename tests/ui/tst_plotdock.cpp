@@ -22,6 +22,7 @@
 #include <QTemporaryDir>
 #include <QTest>
 #include <QToolTip>
+#include <QCategoryAxis>
 #include <QValueAxis>
 
 #include <cmath>
@@ -1229,6 +1230,23 @@ void TestPlotDock::totalsOnRequest()
         // No more ticks than an axis has alone: nine were too close, each label then read "…".
         QCOMPARE_LE(axis->tickCount(), 6);
         QCOMPARE(axis->tickCount(), momentumAxis->tickCount());
+        // A speed or an energy is never negative: its axis labels its ticks from zero up, each at
+        // its tick, and none of those below ("speed -2" read as a speed there could be).
+        auto *labelled = qobject_cast<QCategoryAxis *>(axis == speedAxis ? speedAxis : energyAxis); // categoriesLabels() is not const
+        QVERIFY(labelled);
+        QCOMPARE(labelled->labelsPosition(), QCategoryAxis::AxisLabelsPositionOnValue);
+        const QStringList labels = labelled->categoriesLabels();
+        QCOMPARE(labels.size(), axis->tickCount());
+        const double step = (axis->max() - axis->min()) / (axis->tickCount() - 1);
+        for (int k = 0; k < labels.size(); ++k) {
+            const double at = axis->min() + k * step;
+            QCOMPARE_LE(std::abs(labelled->endValue(labels[k]) - at), 1e-9 * step);
+            if (at < -1e-9 * step)
+                QCOMPARE(labels[k].trimmed(), QString());
+            else
+                QCOMPARE(labels[k], QString::asprintf(axis->labelFormat().toLatin1().constData(), std::max(at, 0.0)));
+        }
+        QCOMPARE(labels[static_cast<qsizetype>(std::round(tick))], QStringLiteral("0"));
     }
     QVERIFY(energyAxis->max() >= kinetic->at(11).y() && energyAxis->max() < 2 * kinetic->at(11).y());
     dock.setKineticEnergyShown(false);
