@@ -840,15 +840,16 @@ void MainWindow::createStatusBar()
     m_slowLabel->setVisible(false);
     // While comparing they give both models' totals, too long for a narrow window's bar: cut
     // with "…" there (their whole text in the tool tip), they leave the bar room for the rest.
-    const auto addTotal = [this](const QString &name, const QString &what) {
+    // Each one's "what" property, the first line of its tip above its whole text (setTotal()),
+    // is given with its figures (updateStatistics()), in the plot's unit.
+    const auto addTotal = [this](const QString &name) {
         auto *label = new ElidingLabel(this);
         label->setObjectName(name);
-        label->setProperty("what", what); // its tip's first line, above its whole text (setTotal())
         statusBar()->addPermanentWidget(label);
         return label;
     };
-    m_energyLabel = addTotal(QStringLiteral("energyLabel"), tr("Total kinetic energy, sum of m v² / 2"));
-    m_momentumLabel = addTotal(QStringLiteral("momentumLabel"), tr("Total momentum, sum of m v"));
+    m_energyLabel = addTotal(QStringLiteral("energyLabel"));
+    m_momentumLabel = addTotal(QStringLiteral("momentumLabel"));
     // The comparison readout comes first, where the eye lands after the stage; shown while comparing.
     m_compareLabel = new ElidingLabel(this);
     m_compareLabel->setObjectName(QStringLiteral("compareLabel"));
@@ -1697,12 +1698,19 @@ void MainWindow::updateStatistics()
     m_lastPaintCount = paints;
     updateSlowLabel();
     // Plain numbers up to 1e12, as the plot's readout gives them ("KE 4.5862e+06" beside its
-    // "1336500").
-    auto energy = [](const World &w) { return readableNumber(w.kineticEnergy(), 5); };
-    auto momentum = [](const World &w) {
+    // "1336500"), in the plot's unit of time: with its axis in seconds they had stayed per frame,
+    // 2,500 times below its energy line at 20 ms a frame.
+    const double f = m_plotDock->perSecond();
+    auto energy = [f](const World &w) { return readableNumber(w.kineticEnergy() * f * f, 5); };
+    auto momentum = [f](const World &w) {
         const Vec2 p = shownMomentum(w);
-        return QStringLiteral("(%1, %2)").arg(readableNumber(p.x, 4), readableNumber(p.y, 4));
+        return QStringLiteral("(%1, %2)").arg(readableNumber(p.x * f, 4), readableNumber(p.y * f, 4));
     };
+    const bool seconds = f != 1.0;
+    m_energyLabel->setProperty("what", seconds ? tr("Total kinetic energy, sum of m v² / 2, v in px/s (as the plot)")
+                                               : tr("Total kinetic energy, sum of m v² / 2, v in px/frame"));
+    m_momentumLabel->setProperty("what", seconds ? tr("Total momentum, sum of m v, v in px/s (as the plot)")
+                                                 : tr("Total momentum, sum of m v, v in px/frame"));
     // While a comparison runs, both models' totals, each named: the scene's alone did not say
     // whose they were, and the comparison's (momentum kept where the book's is not) could only
     // be read off the plot.

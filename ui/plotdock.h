@@ -155,6 +155,9 @@ public:
     void setTimeInSeconds(bool seconds);
     /// True when the horizontal axis counts seconds.
     bool isTimeInSeconds() const;
+    /// Frames per second while the time axis is in seconds (speeds are drawn in px/s, the
+    /// energy per second squared, the momentum per second), else 1.
+    double perSecond() const;
 
     /// Hands the buffered samples to the chart now (the timer does this ~5 times a second).
     void refreshChart();
@@ -287,8 +290,6 @@ private:
     QString totalName(int k) const;
     QString totalShortName(int k) const;
     void updateAxisTitles();
-    /// Frames per second while the time axis is in seconds (speeds are drawn in px/s), else 1.
-    double perSecond() const;
     void updateTotalsAxis();
 
     std::size_t m_capacity = kDefaultCapacity;
