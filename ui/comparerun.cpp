@@ -6,7 +6,9 @@
 
 #include <QGraphicsScene>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace marbles {
 
@@ -20,8 +22,10 @@ CompareRun::CompareRun(SceneDocument *document, QObject *parent)
     connect(m_document, &SceneDocument::frameAdvanced, this, &CompareRun::onFrameAdvanced);
     connect(m_document, &SceneDocument::stepped, this, &CompareRun::onStepped);
     connect(m_document, &SceneDocument::sceneChanged, this, &CompareRun::onSceneChanged);
-    connect(m_document, &SceneDocument::timelineReset, this, &CompareRun::restart);
+    connect(m_document, &SceneDocument::timelineReset, this, &CompareRun::onTimelineReset);
     connect(m_document, &SceneDocument::timelineRewound, this, &CompareRun::rewindTo);
+    connect(m_document, &SceneDocument::timelineMarbleRemoved, this, &CompareRun::onMarbleRemoved);
+    connect(m_document, &SceneDocument::timelineMarbleInserted, this, &CompareRun::onMarbleInserted);
 }
 
 CompareRun::~CompareRun()
@@ -47,6 +51,7 @@ void CompareRun::stop()
     m_model.reset();
     m_world.reset();
     m_history = FrameHistory(); // its frames can hold a few hundred MiB
+    m_removed.clear();
     clearGapList(m_startFrame);
     m_gaps.shrink_to_fit();
     m_problem.clear();
@@ -67,6 +72,7 @@ void CompareRun::restart()
     resetGaps(source.frame);
     clearGapList(source.frame);
     m_history.reset(*m_world);
+    m_removed.clear();
     // The scene's parameters were checked for the document's model only: friction >= 1, say, is
     // the book model's instability on show, but the exact and impulse models cannot run with it.
     m_problem = QString::fromStdString(validateParams(m_world->params));
@@ -87,11 +93,15 @@ void CompareRun::onSceneChanged(SceneDocument::Change change)
         return;
     }
     const bool keepsMarbles = change == SceneDocument::Change::Params || change == SceneDocument::Change::Marbles;
+    // A marble removed or put back, which the kept frames followed: they now have the marbles the
+    // scene has (the world still has its old ones).
+    const bool followed = change == SceneDocument::Change::Structure && m_followedStructure;
     World next = source;
     next.params.model = m_model.value_or(ModelKind::Book);
-    // Anything but an edit of this frame's marbles or parameters, or one the model cannot run
-    // with, starts the comparison over.
-    if (!keepsMarbles || !isTracking() || m_world->frame != source.frame || m_world->marbleCount() != source.marbleCount()
+    // Anything but an edit of this frame's marbles or parameters (or marbles the frames
+    // followed), or one the model cannot run with, starts the comparison over.
+    if (!(keepsMarbles || followed) || !isTracking() || m_world->frame != source.frame
+        || (followed ? m_history.startSize() : m_world->marbleCount()) != source.marbleCount()
         || !validateParams(next.params).empty()) {
         restart();
         return;
@@ -107,6 +117,81 @@ void CompareRun::onSceneChanged(SceneDocument::Change change)
     resetGaps(source.frame);
     updateGhost();
     Q_EMIT restarted();
+}
+
+std::vector<std::int64_t> CompareRun::restartFrames() const
+{
+    if (m_earlierStarts.empty())
+        return {};
+    std::vector<std::int64_t> frames(m_earlierStarts.begin() + 1, m_earlierStarts.end());
+    frames.push_back(m_startFrame);
+    return frames;
+}
+
+void CompareRun::onMarbleRemoved(int i)
+{
+    // The comparison's frames lose the marble as the document's did, so that Step Back past the
+    // delete goes back to the comparison there: it had started again from the document's state
+    // at each such frame ("gap 0", both models' totals alike), its own frames unused.
+    const World &source = m_document->world();
+    if (!isTracking() || m_world->frame != source.frame || m_history.startSize() != source.marbleCount() + 1)
+        return;
+    m_removed.push_back({i, m_history.removeMarble(i)});
+    // The largest gap of the frames forgotten is renumbered, or goes with its marble.
+    if (m_earlierLargest.marble == i)
+        m_earlierLargest = {};
+    else if (m_earlierLargest.marble > i)
+        --m_earlierLargest.marble;
+    remeasureKeptGaps();
+    m_followedStructure = true;
+}
+
+void CompareRun::onMarbleInserted(int i)
+{
+    // Put back by an undo: the comparison's frames take back the part their delete took out.
+    if (m_removed.empty() || m_removed.back().marble != i)
+        return;
+    const Removed removed = std::move(m_removed.back());
+    m_removed.pop_back();
+    const World &source = m_document->world();
+    if (!isTracking() || m_world->frame != source.frame || m_history.startSize() + 1 != source.marbleCount())
+        return;
+    m_history.insertMarble(i, removed.track);
+    if (m_earlierLargest.marble >= i)
+        ++m_earlierLargest.marble;
+    remeasureKeptGaps();
+    m_followedStructure = true;
+}
+
+void CompareRun::onTimelineReset()
+{
+    if (std::exchange(m_followedStructure, false))
+        return;
+    restart();
+}
+
+CompareRun::Gap CompareRun::largestGap(const std::vector<Vec2> &a, const std::vector<Vec2> &b)
+{
+    Gap largest;
+    const std::size_t n = std::min(a.size(), b.size());
+    for (std::size_t i = 0; i < n; ++i) {
+        const double gap = distance(a[i], b[i]);
+        // A strict ">" keeps the first marble among equal gaps, and skips a NaN.
+        if (gap > largest.px)
+            largest = {gap, static_cast<int>(i)};
+    }
+    return largest;
+}
+
+void CompareRun::remeasureKeptGaps()
+{
+    const FrameHistory &document = m_document->history();
+    for (std::size_t k = 0; k < m_gaps.size(); ++k) {
+        const std::int64_t at = m_firstGapFrame + static_cast<std::int64_t>(k);
+        const std::vector<Vec2> *ours = document.positionsAt(at);
+        const std::vector<Vec2> *theirs = m_history.positionsAt(at);
+        m_gaps[k] = ours && theirs && ours->size() == theirs->size() ? largestGap(*ours, *theirs) : Gap{};
+    }
 }
 
 const std::vector<Vec2> *CompareRun::velocitiesAt(std::int64_t frame) const
@@ -200,15 +285,7 @@ void CompareRun::onStepped()
 
 void CompareRun::measureGap()
 {
-    const World &source = m_document->world();
-    const int n = std::min(source.marbleCount(), m_world->marbleCount());
-    Gap current;
-    for (int i = 0; i < n; ++i) {
-        const double gap = distance(source.position[i], m_world->position[i]);
-        // A strict ">" keeps the first marble among equal gaps, and skips a NaN.
-        if (gap > current.px)
-            current = {gap, i};
-    }
+    const Gap current = largestGap(m_document->world().position, m_world->position);
     m_gaps.push_back(current);
     takeGap(current, m_world->frame);
     // Only the frames the history can still step back to need their own gap; of the others the

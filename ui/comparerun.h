@@ -44,9 +44,11 @@ class MarbleFieldItem;
 ///   document's state at that moment: the gap goes back to 0, and "largest gap" counts from that
 ///   frame (startFrame()). An edit that keeps the marbles (a parameter, a marble's place, speed
 ///   or size) keeps the comparison's earlier frames: Step Back past it returns to the comparison
-///   as it was before it, its gaps and its start with it. While a marble is held with the mouse
-///   the comparison follows the document every frame, as the hand moves that marble outside
-///   either model's physics.
+///   as it was before it, its gaps and its start with it. So does a marble deleted mid-run (or
+///   its delete undone) where the document's frames follow it: the comparison's frames lose the
+///   marble (or take it back) as the document's do, and their gaps are measured again. While a
+///   marble is held with the mouse the comparison follows the document every frame, as the hand
+///   moves that marble outside either model's physics.
 /// - **When the comparison model cannot run.** If the scene's parameters are invalid for the
 ///   comparison model (friction >= 1 is valid for the book model only), the comparison waits,
 ///   with the reason in problem(), and starts again at the next restart once they are valid. If
@@ -87,6 +89,9 @@ public:
     const World *world() const { return isTracking() ? m_world.get() : nullptr; }
     /// Frame the comparison last (re)started from.
     std::int64_t startFrame() const { return m_startFrame; }
+    /// The frames it started again at, oldest first, since its first start (its kept frames run
+    /// through them: edits, and marbles removed or put back, that Step Back can go past).
+    std::vector<std::int64_t> restartFrames() const;
     /// The comparison marbles' velocities at `frame` (the current one, or one it keeps for
     /// stepping back), or null when it has no such frame or is not tracking.
     const std::vector<Vec2> *velocitiesAt(std::int64_t frame) const;
@@ -131,10 +136,24 @@ private:
         int marble = -1;
     };
 
+    /// The largest distance between the marbles of the same index in `a` and `b`.
+    static Gap largestGap(const std::vector<Vec2> &a, const std::vector<Vec2> &b);
     void restart();
-    /// An edit that keeps the marbles, at the current frame: the comparison starts again from
-    /// the scene as it is, but keeps its frames before it (restart() otherwise).
+    /// An edit that keeps the marbles, at the current frame, or one that removed or put back a
+    /// marble the kept frames followed: the comparison starts again from the scene as it is, but
+    /// keeps its frames before it (restart() otherwise).
     void onSceneChanged(SceneDocument::Change change);
+    /// The document's kept frames lost marble i (a delete): the comparison's lose it too, so that
+    /// Step Back past the delete returns to the comparison as it was; its part is kept for an undo.
+    void onMarbleRemoved(int i);
+    /// The document's kept frames took marble i back (a delete undone): the comparison's take
+    /// back the part its own frames lost.
+    void onMarbleInserted(int i);
+    /// A new timeline restarts the comparison, except after a marble its kept frames followed.
+    void onTimelineReset();
+    /// Measures again the gaps of the kept frames, from both histories (a marble removed or put
+    /// back changes them).
+    void remeasureKeptGaps();
     void rewindTo(std::int64_t frame);
     void onFrameAdvanced();
     void onStepped();
@@ -159,6 +178,16 @@ private:
     Gap m_earlierLargest;
     std::int64_t m_earlierLargestFrame = 0;
     QString m_problem;
+    /// The comparison's part of the kept frames of each marble they lost, newest last, for an undo
+    /// that puts the marble back (onMarbleRemoved(), onMarbleInserted()).
+    struct Removed {
+        int marble = -1;
+        FrameHistory::MarbleTrack track;
+    };
+    std::vector<Removed> m_removed;
+    /// The kept frames followed a marble removed or put back: the edit's sceneChanged() keeps them,
+    /// and its timelineReset() does not restart.
+    bool m_followedStructure = false;
 
     std::int64_t m_startFrame = 0;
     /// The frames earlier starts were made at, oldest first: after an edit the comparison starts

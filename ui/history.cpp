@@ -105,15 +105,36 @@ void FrameHistory::record(const World &world)
         takeOldest();
 }
 
-const std::vector<Vec2> *FrameHistory::velocitiesAt(std::int64_t frame) const
+const FrameHistory::Frame *FrameHistory::keptFrame(std::int64_t frame) const
 {
     if (frame == m_start.frame)
-        return &m_start.velocity;
+        return &m_start;
     // The kept frames follow one another, newest last.
     if (m_frames.empty() || frame < m_frames.front().frame || frame > m_frames.back().frame)
         return nullptr;
     const Frame &kept = m_frames[static_cast<std::size_t>(frame - m_frames.front().frame)];
-    return kept.frame == frame ? &kept.velocity : nullptr;
+    return kept.frame == frame ? &kept : nullptr;
+}
+
+std::int64_t FrameHistory::firstUnbrokenFrame(std::int64_t now) const
+{
+    // The kept frames follow one another, newest last; the start may lie before a gap.
+    if (m_frames.empty() || m_frames.back().frame + 1 != now)
+        return m_start.frame + 1 == now ? m_start.frame : now;
+    const std::int64_t oldest = m_frames.front().frame;
+    return m_start.frame + 1 == oldest ? m_start.frame : oldest;
+}
+
+const std::vector<Vec2> *FrameHistory::velocitiesAt(std::int64_t frame) const
+{
+    const Frame *kept = keptFrame(frame);
+    return kept ? &kept->velocity : nullptr;
+}
+
+const std::vector<Vec2> *FrameHistory::positionsAt(std::int64_t frame) const
+{
+    const Frame *kept = keptFrame(frame);
+    return kept ? &kept->position : nullptr;
 }
 
 bool FrameHistory::canStepBack(const World &world) const

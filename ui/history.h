@@ -95,6 +95,12 @@ public:
     /// The marbles' velocities at `frame` as kept (the start of the timeline or a step-back
     /// frame), or null when that frame is not kept.
     const std::vector<Vec2> *velocitiesAt(std::int64_t frame) const;
+    /// The oldest frame from which every frame up to the one before `now` is kept (the start of
+    /// the timeline or a step-back frame): what Step Back from `now` goes through without a break.
+    /// `now` itself when the frame before it is not kept.
+    std::int64_t firstUnbrokenFrame(std::int64_t now) const;
+    /// The marbles' positions at `frame` as kept, or null when that frame is not kept.
+    const std::vector<Vec2> *positionsAt(std::int64_t frame) const;
     /// The same, with `now` (the world this history follows) answering for its own frame.
     const std::vector<Vec2> *velocitiesAt(std::int64_t frame, const World &now) const
     {
@@ -123,6 +129,8 @@ private:
     };
 
     void noteHitChanges(const World &world);
+    /// The start of the timeline or a kept frame, `frame`; null when it is neither.
+    const Frame *keptFrame(std::int64_t frame) const;
     /// Removes the oldest kept frame from the history and returns it (its buffers can be reused).
     Frame takeOldest();
 

@@ -497,16 +497,21 @@ QString SceneDocument::setParam(const QString &key, const QString &value)
 void SceneDocument::marbleInserted(int i, const FrameHistory::MarbleTrack &track)
 {
     // Only while the first frame follows the world (one marble fewer there than here now).
-    if (m_history.startSize() + 1 == m_world.marbleCount())
+    if (m_history.startSize() + 1 == m_world.marbleCount()) {
         m_history.insertMarble(i, track);
+        if (m_history.size() > 0)
+            Q_EMIT timelineMarbleInserted(i);
+    }
     m_marblesRenumbered = true;
 }
 
 FrameHistory::MarbleTrack SceneDocument::marbleRemoved(int i)
 {
     FrameHistory::MarbleTrack track;
-    if (m_history.startSize() == m_world.marbleCount() + 1)
+    if (m_history.startSize() == m_world.marbleCount() + 1) {
         track = m_history.removeMarble(i);
+        Q_EMIT timelineMarbleRemoved(i);
+    }
     m_marblesRenumbered = true;
     return track;
 }

@@ -169,6 +169,14 @@ Q_SIGNALS:
     /// The timeline went back to `frame` (Step Back, Rewind): what was recorded of later frames
     /// is void, what was recorded of `frame` and earlier still holds.
     void timelineRewound(std::int64_t frame);
+    /// Marble i left the scene (deleted, or an add undone) and the step-back frames lost it: Step
+    /// Back still goes back through them, without it. Emitted before the sceneChanged(Structure)
+    /// and timelineReset() of the edit.
+    void timelineMarbleRemoved(int i);
+    /// Marble i came back (a delete undone) and the step-back frames took it back: Step Back goes
+    /// back through them with it. Emitted before the edit's sceneChanged(Structure) and
+    /// timelineReset().
+    void timelineMarbleInserted(int i);
     /// The simulation left finite numbers; `message` names the frame and the marble.
     void simulationFailed(const QString &message);
     /// The exact model held marbles at rest to finish a frame where energy should have been

@@ -126,6 +126,7 @@ private Q_SLOTS:
     void restartsFromDocument_data();
     void restartsFromDocument();
     void stepsBackWithTheDocument();
+    void stepsBackPastADeletedMarble();
     void randomSessionFollowsTheRules_data();
     void randomSessionFollowsTheRules();
     void forgottenFramesKeepOnlyTheLargestGap();
@@ -356,6 +357,81 @@ void TestCompareRun::stepsBackWithTheDocument()
     QCOMPARE(restarted.count(), 1);
     QVERIFY(sameDynamics(*compare.world(), seen[0].world));
     QVERIFY(compare.largestGapPx() == 0.0);
+}
+
+void TestCompareRun::stepsBackPastADeletedMarble()
+{
+    // A marble deleted mid-run: the comparison starts again there, and Step Back past the delete
+    // returns to it as it was at each frame, without that marble, as the document's frames are
+    // (it had started again from the document's state there: "gap 0", both models' totals
+    // alike). The delete undone puts the marble back into its frames too.
+    SceneDocument doc;
+    doc.resetScene(presetWorld("masses", ModelKind::Book));
+    CompareRun compare(&doc);
+    compare.setModel(ModelKind::Exact);
+    std::vector<World> ours{doc.world()};
+    std::vector<World> theirs{*compare.world()};
+    for (int f = 1; f <= 60; ++f) {
+        doc.advance(1);
+        ours.push_back(doc.world());
+        theirs.push_back(*compare.world());
+    }
+    const int gone = 0; // the marble with the largest gap (the book's light marble 0)
+    QCOMPARE(compare.largestGapMarble(), gone);
+    const auto without = [gone](World w) {
+        w.removeMarble(gone);
+        return w;
+    };
+    // The largest gap from frame 1 to `last` over the marbles of `a` and `b`.
+    const auto largestUpTo = [](const std::vector<World> &a, const std::vector<World> &b, int last) {
+        double largest = 0.0;
+        for (int f = 1; f <= last; ++f)
+            largest = std::max(largest, gapBetween(a[f], b[f]).px);
+        return largest;
+    };
+    doc.removeMarble(gone);
+    QVERIFY(compare.isTracking());
+    QCOMPARE(compare.startFrame(), std::int64_t(60));
+    QVERIFY(isCopyOf(*compare.world(), doc.world(), ModelKind::Exact));
+    QCOMPARE(compare.largestGapPx(), 0.0);
+
+    for (int f = 59; f >= 40; --f)
+        QVERIFY(doc.stepBack());
+    QVERIFY(compare.isTracking());
+    QCOMPARE(compare.startFrame(), std::int64_t(0));
+    QVERIFY(sameDynamics(*compare.world(), without(theirs[40])));
+    QVERIFY(!isCopyOf(*compare.world(), doc.world(), ModelKind::Exact));
+    const Gap at40 = gapBetween(doc.world(), *compare.world());
+    QCOMPARE_GT(at40.px, 1.0);
+    QVERIFY(compare.currentGapPx() == at40.px);
+    QCOMPARE(compare.currentGapMarble(), at40.marble);
+    std::vector<World> oursWithout;
+    std::vector<World> theirsWithout;
+    for (int f = 0; f <= 40; ++f) {
+        oursWithout.push_back(without(ours[f]));
+        theirsWithout.push_back(without(theirs[f]));
+    }
+    const double largest = largestUpTo(oursWithout, theirsWithout, 40);
+    QCOMPARE_LE(std::abs(compare.largestGapPx() - largest), 1e-9 * largest);
+
+    // Undone here: the marble comes back as it was at frame 40, the comparison starts again from
+    // the scene as it is then, and Step Back returns to its frames with the marble in them.
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().frame, std::int64_t(40));
+    QVERIFY(sameDynamics(doc.world(), ours[40]));
+    QVERIFY(compare.isTracking());
+    QCOMPARE(compare.startFrame(), std::int64_t(40));
+    QVERIFY(isCopyOf(*compare.world(), doc.world(), ModelKind::Exact));
+    for (int f = 39; f >= 30; --f)
+        QVERIFY(doc.stepBack());
+    QCOMPARE(compare.startFrame(), std::int64_t(0));
+    QVERIFY(sameDynamics(*compare.world(), theirs[30]));
+    QVERIFY(compare.currentGapPx() == gapBetween(ours[30], theirs[30]).px);
+    QCOMPARE_LE(std::abs(compare.largestGapPx() - largestUpTo(ours, theirs, 30)), 1e-9 * largestUpTo(ours, theirs, 30));
+    // And on from there, the same run as before the delete.
+    doc.advance(30);
+    QVERIFY(sameDynamics(doc.world(), ours[60]));
+    QVERIFY(sameDynamics(*compare.world(), theirs[60]));
 }
 
 void TestCompareRun::randomSessionFollowsTheRules_data()
