@@ -793,8 +793,22 @@ void MainWindow::createDocks()
             [this] { m_plotDock->appendFrame(m_document->world(), m_compare->world()); });
     // The comparison restarted on this signal before (its connection is older): both worlds are at
     // the timeline's first frame, which the lines start from.
-    connect(m_document, &SceneDocument::timelineReset, this,
-            [this] { m_plotDock->startAt(m_document->world(), m_compare->world()); });
+    connect(m_document, &SceneDocument::timelineReset, this, [this] {
+        if (!std::exchange(m_plotReplaysKeptFrames, false)) {
+            m_plotDock->startAt(m_document->world(), m_compare->world());
+            return;
+        }
+        // A marble left mid-run or came back, and the kept frames followed it: the lines run on
+        // through them (they had started again at the edit, and Step Back past it left one dot).
+        m_plotDock->replayKeptFrames(m_document->world(), m_compare->world(),
+                                     m_document->history().firstUnbrokenFrame(m_document->world().frame));
+        if (m_compare->isTracking()) {
+            for (const std::int64_t frame : m_compare->restartFrames())
+                m_plotDock->markCompareRestart(frame);
+        }
+    });
+    for (auto followed : {&SceneDocument::timelineMarbleRemoved, &SceneDocument::timelineMarbleInserted})
+        connect(m_document, followed, this, [this] { m_plotReplaysKeptFrames = true; });
     // An edit that keeps the marbles (friction changed mid-run, say) bends the lines where it was
     // made rather than wiping the run before it.
     connect(m_document, &SceneDocument::timelineEdited, this,

@@ -513,6 +513,38 @@ void PlotDock::startAt(const World &world, const World *compare)
     appendFrame(world, compare);
 }
 
+void PlotDock::replayKeptFrames(const World &world, const World *compare, std::int64_t firstFrame)
+{
+    // No further back than the lines went (nor than the plot holds).
+    const std::int64_t heldFrom = m_frames.isEmpty() ? world.frame : m_frames.at(0);
+    reset(world);
+    if (m_documentVelocities) {
+        // The marbles and masses of now, with the velocities of each kept frame: what the frames
+        // hold is what Step Back returns to.
+        World ours = world;
+        std::optional<World> theirs;
+        if (compare)
+            theirs = *compare;
+        const std::int64_t held = static_cast<std::int64_t>(capacity());
+        for (std::int64_t f = std::max({firstFrame, heldFrom, world.frame - held + 1}); f < world.frame; ++f) {
+            const std::vector<Vec2> *velocities = m_documentVelocities(f);
+            if (!velocities || velocities->size() != ours.velocity.size())
+                continue;
+            ours.velocity = *velocities;
+            ours.frame = f;
+            const std::vector<Vec2> *compared = theirs && m_compareVelocities ? m_compareVelocities(f) : nullptr;
+            if (compared && compared->size() == theirs->velocity.size()) {
+                theirs->velocity = *compared;
+                theirs->frame = f;
+            } else {
+                compared = nullptr;
+            }
+            appendFrame(ours, compared ? &*theirs : nullptr);
+        }
+    }
+    appendFrame(world, compare);
+}
+
 void PlotDock::resample(const World &world, const World *compare)
 {
     if (!m_frames.isEmpty() && m_frames.last() == world.frame) {

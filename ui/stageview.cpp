@@ -18,6 +18,7 @@
 #include <QWheelEvent>
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 
 namespace marbles {
@@ -76,6 +77,10 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
     });
     connect(m_document, &SceneDocument::frameAdvanced, this, &StageView::sampleTrail);
     connect(m_document, &SceneDocument::timelineReset, this, &StageView::resetTrail);
+    // A marble that left mid-run or came back, which the kept frames followed: the next
+    // timelineReset() draws the trails through them.
+    for (auto followed : {&SceneDocument::timelineMarbleRemoved, &SceneDocument::timelineMarbleInserted})
+        connect(m_document, followed, this, [this] { m_trailReplaysKeptFrames = true; });
     // An edit can renumber the marbles (a removal), and a step back brings back the pushes made
     // at the frame it returns to: the pushes still to come are found again.
     connect(m_document, &SceneDocument::sceneChanged, this, &StageView::findPendingPushes);
@@ -424,7 +429,25 @@ void StageView::resetTrail()
 {
     // Started from where the marbles are: sampled only after each frame, a trail began a frame
     // late, without its first segment.
+    const std::optional<std::int64_t> trailsFrom = m_trail->firstFrame();
     m_trail->clear();
+    if (std::exchange(m_trailReplaysKeptFrames, false) && m_trailsVisible && trailsFrom) {
+        // After a marble left mid-run or came back: the trails run on through the frames they
+        // held that Step Back goes to (they had started again there), with the marbles there are
+        // now. (Not further back: a trail starts again where a marble was moved by hand.)
+        const World &world = m_document->world();
+        const FrameHistory &history = m_document->history();
+        World at = world;
+        const std::int64_t first = std::max(history.firstUnbrokenFrame(world.frame), *trailsFrom);
+        for (std::int64_t f = first; f < world.frame; ++f) {
+            const std::vector<Vec2> *positions = history.positionsAt(f);
+            if (!positions || positions->size() != at.position.size())
+                continue;
+            at.position = *positions;
+            at.frame = f;
+            m_trail->sample(at);
+        }
+    }
     sampleTrail();
 }
 

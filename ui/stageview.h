@@ -202,6 +202,7 @@ private:
     int m_selectionIndex = -1;
     bool m_vectorsVisible = true;
     bool m_trailsVisible = false;
+    bool m_trailReplaysKeptFrames = false; ///< see resetTrail()
     bool m_trailsSuppressed = false;
     bool m_vectorNoteShown = false;
     bool m_autoFit = true;

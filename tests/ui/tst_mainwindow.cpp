@@ -144,6 +144,7 @@ private Q_SLOTS:
     void compareOffersOnlyModelsThatCanRun();
     void comparisonStartsWithItsTotals();
     void compareSteppedBackPastAnEditMeetsAtTheRestart();
+    void deleteMidRunKeepsTheRunBeforeIt();
     void homeAfterALongRunPlotsFrameZero();
     void newOpensAnEmptyScene();
     void longStatusMessageIsElided();
@@ -1355,6 +1356,52 @@ void TestMainWindow::compareSteppedBackPastAnEditMeetsAtTheRestart()
     QCOMPARE(plot->sampleCompareSpeed(last, 0), speedAt50);
     QVERIFY(plot->sampleCompareSpeed(last, 0) != plot->sampleSpeed(last, 0));
     QVERIFY(plot->compareRestarts().empty()); // stepped back past it
+}
+
+void TestMainWindow::deleteMidRunKeepsTheRunBeforeIt()
+{
+    // Comparing, marble 1 deleted at frame 60, then Step Back to frame 40: the plot's lines run
+    // through the frames before the delete (they had started again there, and stepped back past
+    // it left one dot), and the comparison there is its own (it had started again from the
+    // scene's state: "gap 0", both models' totals alike).
+    QVERIFY(m_window->openPreset(QStringLiteral("masses")));
+    SceneDocument *doc = m_window->document();
+    PlotDock *plot = m_window->plotDock();
+    compareExact()->trigger();
+    const CompareRun *compare = m_window->compareRun();
+    std::vector<World> ours{doc->world()};
+    std::vector<World> theirs{*compare->world()};
+    for (int f = 1; f <= 60; ++f) {
+        doc->advance(1);
+        ours.push_back(doc->world());
+        theirs.push_back(*compare->world());
+    }
+    for (World *w : {&ours[40], &theirs[40], &ours[20], &theirs[20]})
+        w->removeMarble(1);
+    doc->removeMarble(1);
+    QCOMPARE(doc->world().marbleCount(), 4);
+    // Every frame since the start, each without marble 1, and the restart at 60 marked.
+    QCOMPARE(plot->sampleCount(), 61);
+    QCOMPARE(plot->sampleFrame(20), std::int64_t(20));
+    QCOMPARE_LE(std::abs(plot->sampleKineticEnergy(20) - ours[20].kineticEnergy()), 1e-9 * ours[20].kineticEnergy());
+    QCOMPARE_LE(std::abs(plot->sampleCompareKineticEnergy(20) - theirs[20].kineticEnergy()),
+                1e-9 * theirs[20].kineticEnergy());
+    QCOMPARE(plot->compareRestarts(), std::vector<std::int64_t>{60});
+    QCOMPARE(compare->startFrame(), std::int64_t(60));
+
+    for (int k = 0; k < 20; ++k)
+        QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+    QCOMPARE(doc->world().frame, 40);
+    QCOMPARE(compare->world()->velocity, theirs[40].velocity);
+    QCOMPARE(compare->startFrame(), std::int64_t(0));
+    QCOMPARE(plot->sampleCount(), 41);
+    QVERIFY(plot->compareRestarts().empty());
+    QCOMPARE_LE(std::abs(plot->sampleCompareKineticEnergy(40) - theirs[40].kineticEnergy()), 1e-9 * theirs[40].kineticEnergy());
+    // The status bar gives both models' totals there, two different numbers.
+    auto *energy = m_window->findChild<QLabel *>(QStringLiteral("energyLabel"));
+    QTRY_COMPARE(energy->text(), QStringLiteral("KE %1 (book), %2 (exact)")
+                                     .arg(readableNumber(ours[40].kineticEnergy(), 5), readableNumber(theirs[40].kineticEnergy(), 5)));
+    QVERIFY(std::abs(ours[40].kineticEnergy() - theirs[40].kineticEnergy()) > 100.0);
 }
 
 void TestMainWindow::homeAfterALongRunPlotsFrameZero()

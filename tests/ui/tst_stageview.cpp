@@ -798,6 +798,34 @@ void TestStageView::stepBackCutsTrails()
     QCOMPARE(static_cast<int>(trail->points(0).size()), 1);
     const Vec2 now = m_document->world().position[0];
     QVERIFY(trail->points(0).front().x() == now.x && trail->points(0).front().y() == now.y);
+
+    // A marble deleted mid-run: the others' trails run on through the frames Step Back goes to
+    // (they had started again at the delete), and so do they once it is undone, its own too.
+    std::vector<Vec2> since[7];
+    since[0] = m_document->world().position;
+    for (int f = 1; f <= 6; ++f) {
+        m_document->advance(1);
+        since[f] = m_document->world().position;
+    }
+    m_document->removeMarble(1);
+    QCOMPARE(m_document->world().marbleCount(), marbles - 1);
+    const auto followsRun = [&](int trailIndex, int marble, int frames) {
+        const std::vector<QPointF> points = trail->points(trailIndex);
+        if (static_cast<int>(points.size()) != frames + 1)
+            return false;
+        for (int f = 0; f <= frames; ++f) {
+            const Vec2 p = since[f][static_cast<std::size_t>(marble)];
+            if (points[static_cast<std::size_t>(f)] != QPointF(p.x, p.y))
+                return false;
+        }
+        return true;
+    };
+    QVERIFY(followsRun(0, 0, 6));
+    QVERIFY(followsRun(1, 2, 6)); // marble 2, now 1
+    m_document->undoStack()->undo();
+    QCOMPARE(m_document->world().marbleCount(), marbles);
+    for (int i = 0; i < marbles; ++i)
+        QVERIFY2(followsRun(i, i, 6), qPrintable(QString::number(i)));
 }
 
 void TestStageView::selectedMarbleKeepsLongTrail()
