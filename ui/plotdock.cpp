@@ -417,6 +417,10 @@ PlotDock::PlotDock(QWidget *parent)
     }
     m_axisTotals->setTitleText(tr("kinetic energy"));
     m_axisMomentum->setTitleText(tr("momentum"));
+    // In its lines' navy: three axes side by side, and a line at the height of a label of another
+    // axis read as that value (a momentum of 100 beside an energy of 200 at the same height).
+    m_axisMomentum->setLabelsColor(kMomentumColour);
+    m_axisMomentum->setTitleBrush(kMomentumColour);
     updateTotalsAxis(); // and the chart's margins
 
     m_kineticSeries = addTotalSeries(kKineticColour, m_axisTotals);

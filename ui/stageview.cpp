@@ -18,8 +18,8 @@
 #include <QWheelEvent>
 
 #include <algorithm>
-#include <utility>
 #include <cmath>
+#include <utility>
 
 namespace marbles {
 

@@ -1197,6 +1197,9 @@ void TestPlotDock::totalsOnRequest()
     }
     QVERIFY(energyAxis && momentumAxis);
     QCOMPARE(momentumAxis->titleText(), QStringLiteral("momentum"));
+    // Its labels and title in its lines' colour: which of three axes side by side is its.
+    QCOMPARE(momentumAxis->labelsColor(), momentum->pen().color());
+    QCOMPARE(momentumAxis->titleBrush().color(), momentum->pen().color());
     QVERIFY(energyAxis->isVisible());
     QVERIFY(!momentumAxis->isVisible());
     QVERIFY(kinetic->attachedAxes().contains(energyAxis));
