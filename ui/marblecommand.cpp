@@ -240,7 +240,14 @@ RemoveMarbleCommand::RemoveMarbleCommand(SceneDocument *document, int marble)
     , m_index(marble)
     , m_frame(document->world().frame)
 {
-    setText(atFrame(QCoreApplication::translate("marbles", "Delete marble %1").arg(marble), m_frame));
+    // With its name where it has one: after a delete the later marbles are renumbered, and two
+    // deletes in a row could both read "Delete marble 3".
+    const std::string &name = document->world().info[static_cast<std::size_t>(marble)].name;
+    const QString text = name.empty() ? QCoreApplication::translate("marbles", "Delete marble %1").arg(marble)
+                                      : QCoreApplication::translate("marbles", "Delete marble %1 (%2)")
+                                            .arg(marble)
+                                            .arg(QString::fromStdString(name));
+    setText(atFrame(text, m_frame));
 }
 
 void RemoveMarbleCommand::redo()

@@ -840,7 +840,7 @@ void TestSceneDocument::undoLaterInTheRunGoesBackToTheEdit()
     QCOMPARE(deleted.advance(10), 10);
     const World beforeDelete = deleted.world();
     deleted.removeMarble(1);
-    QCOMPARE(deleted.undoStack()->undoText(), QStringLiteral("Delete marble 1 at frame 10"));
+    QCOMPARE(deleted.undoStack()->undoText(), QStringLiteral("Delete marble 1 (big) at frame 10"));
     const World afterDelete = deleted.world();
     QCOMPARE(deleted.advance(20), 20);
     deleted.undoStack()->undo();
@@ -961,7 +961,12 @@ void TestSceneDocument::structureEditsAreNamed()
     doc.removePin(0);
     QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete pin 0"));
     doc.removeMarble(2);
-    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete marble 2"));
+    // Named by its name too: after a delete the later marbles are renumbered, and two deletes
+    // in a row both read "Delete marble 1".
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete marble 2 (largest)"));
+    QVERIFY(doc.setMarbleName(1, QString()).isEmpty());
+    doc.removeMarble(1);
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete marble 1")); // no name: its number alone
 }
 
 void TestSceneDocument::radiusGrownIntoAnotherIsRefused()
