@@ -399,14 +399,14 @@ int runCommand(const std::vector<std::string> &args)
         file->commit();
     std::fflush(stdout);
     if (firstHeld >= 0) {
-        std::cerr << "marbles-cli: " << sceneLabel(scene) << ": note: from frame " << firstHeld
+        std::cerr << sceneLabel(scene) << ": note: from frame " << firstHeld
                   << " on, the exact model held up to " << mostHeld << " marble(s) in " << heldFrames
                   << " frame(s) to finish them (at rest where a marble has more collisions in a frame than it "
                      "follows; between two walls where it is wider than the stage); kinetic energy is not "
                      "conserved there\n";
     }
     if (status != ExitOk)
-        std::cerr << "marbles-cli: " << sceneLabel(scene) << ": " << failure << '\n';
+        std::cerr << sceneLabel(scene) << ": " << failure << '\n';
     return status;
 }
 
@@ -539,7 +539,7 @@ int main(int argc, char **argv)
     const auto written = [](int code) {
         std::cout.flush();
         if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {
-            std::cerr << "marbles-cli: writing to standard output failed: " << std::strerror(errno) << '\n';
+            std::cerr << "writing to standard output failed: " << std::strerror(errno) << '\n';
             return code == ExitOk ? ExitInternal : code;
         }
         return code;
@@ -592,13 +592,13 @@ int main(int argc, char **argv)
         std::cout << "usage:\n" << usage << notes;
         return written(ExitOk);
     } catch (const InvalidInput &e) {
-        std::cerr << "marbles-cli: " << e.message << '\n';
+        std::cerr << e.message << '\n';
         return ExitInvalid;
     } catch (const WriteFailed &e) {
-        std::cerr << "marbles-cli: " << e.message << '\n';
+        std::cerr << e.message << '\n';
         return ExitInternal;
     } catch (const std::exception &e) {
-        std::cerr << "marbles-cli: internal error: " << e.what() << '\n';
+        std::cerr << "internal error: " << e.what() << '\n';
         return ExitInternal;
     }
 }

@@ -122,6 +122,7 @@ private slots:
     void nonFiniteExitsThree();
     void heldMarblesAreSaid();
     void checkPrintsSummary();
+    void invalidSceneMessageIsTheContractsLine();
     void commandHelpShowsItsUsage();
     void presetsRoundTripThroughFiles();
     void genCrowdIsDeterministic();
@@ -336,22 +337,22 @@ void TestCli::invalidInputExitsTwo_data()
     QTest::addRow("set without =") << QStringList{"run", "preset:pins", "--set", "friction"} << QByteArray()
                                    << "KEY=VALUE";
     QTest::addRow("set unknown key") << QStringList{"run", "preset:pins", "--set", "spin=3"} << QByteArray()
-                                     << "marbles-cli: --set spin=3: unknown key; the keys are";
+                                     << "--set spin=3: unknown key; the keys are";
     QTest::addRow("set gravity one number") << QStringList{"run", "preset:pins", "--set", "gravity=1"} << QByteArray()
-                                            << "marbles-cli: --set gravity=1: must be two numbers";
+                                            << "--set gravity=1: must be two numbers";
     QTest::addRow("set negative friction") << QStringList{"run", "preset:pins", "--set", "friction=-1"}
                                            << QByteArray() << "friction";
     QTest::addRow("set friction 1.5 with exact")
         << QStringList{"run", "preset:pins", "--set", "friction=1.5", "--set", "model=exact"} << QByteArray()
-        << "marbles-cli: preset:pins with --set: params.friction: must be < 1 for the exact model, got 1.5";
+        << "preset:pins with --set: params.friction: must be < 1 for the exact model, got 1.5";
     // Taken at its last value without a word, the first was lost (a.csv never written).
     QTest::addRow("option given twice") << QStringList{"run", "preset:pins", "--out", "a.csv", "--out", "b.csv"}
-                                        << QByteArray() << "marbles-cli: --out: given twice ('a.csv', then 'b.csv')";
+                                        << QByteArray() << "--out: given twice ('a.csv', then 'b.csv')";
     QTest::addRow("flag value given twice") << QStringList{"gen", "crowd", "--n", "5", "--n=6"} << QByteArray()
                                             << "--n: given twice ('5', then '6')";
     // A flag too (stress --quick --quick ran, where README says only --set may come twice).
     QTest::addRow("flag given twice") << QStringList{"stress", "--quick", "--quick"} << QByteArray()
-                                      << "marbles-cli: --quick: given twice";
+                                      << "--quick: given twice";
     QTest::addRow("set unknown model") << QStringList{"run", "preset:pins", "--set", "model=verlet"}
                                        << QByteArray() << "model";
     QTest::addRow("check invalid") << QStringList{"check", "-"}
@@ -441,14 +442,14 @@ void TestCli::standardInputIsNamedAndItsErrorsSaid()
     folder.start(QStringLiteral(MARBLES_CLI_PATH), {"check", "-"});
     QVERIFY(folder.waitForFinished(60000));
     QCOMPARE(folder.exitCode(), 2);
-    QCOMPARE(folder.readAllStandardError().trimmed(), QByteArray("marbles-cli: stdin: cannot read: Is a directory"));
+    QCOMPARE(folder.readAllStandardError().trimmed(), QByteArray("stdin: cannot read: Is a directory"));
 
     const CliResult ok = runCli({"check", "-"}, runCli({"preset", "pins"}).out);
     QCOMPARE(ok.exitCode, 0);
     QVERIFY2(ok.out.startsWith("stdin: ok: "), ok.out.constData());
     const CliResult blowUp = runCli({"run", "-", "--frames", "3000", "--set", "friction=2.5"}, runCli({"preset", "pins"}).out);
     QCOMPARE(blowUp.exitCode, 3);
-    QVERIFY2(blowUp.err.startsWith("marbles-cli: stdin: frame "), blowUp.err.constData());
+    QVERIFY2(blowUp.err.startsWith("stdin: frame "), blowUp.err.constData());
 }
 
 void TestCli::stoppedRunLeavesNoTemporary()
@@ -572,7 +573,7 @@ void TestCli::heldMarblesAreSaid()
         {"x":700,"y":100,"radius":10,"vx":-1e9,"vy":3e8}],"pins":[{"x":500,"y":300.5}]})";
     const CliResult r = runCli({"run", "-", "--frames", "3"}, fast);
     QCOMPARE(r.exitCode, 0);
-    QVERIFY2(r.err.startsWith("marbles-cli: stdin: note: from frame 1 on, the exact model held up to 3 marble(s) in "
+    QVERIFY2(r.err.startsWith("stdin: note: from frame 1 on, the exact model held up to 3 marble(s) in "
                               "1 frame(s)"),
              r.err.constData());
     QVERIFY(r.err.contains("kinetic energy is not conserved there"));
@@ -582,7 +583,7 @@ void TestCli::heldMarblesAreSaid()
         "zeroThreshold":0},"marbles":[{"x":400,"y":300,"radius":350,"vx":1,"vy":1}]})";
     const CliResult w = runCli({"run", "-", "--frames", "3"}, wide);
     QCOMPARE(w.exitCode, 0);
-    QVERIFY2(w.err.startsWith("marbles-cli: stdin: note: from frame 1 on, the exact model held up to 1 marble(s) in "
+    QVERIFY2(w.err.startsWith("stdin: note: from frame 1 on, the exact model held up to 1 marble(s) in "
                               "1 frame(s)"),
              w.err.constData());
     QVERIFY(w.err.contains("between two walls where it is wider than the stage"));
@@ -642,6 +643,26 @@ void TestCli::checkPrintsSummary()
     QCOMPARE(r.out.count('\n'), 1);
     QVERIFY2(r.out.contains("2 marbles") && r.out.contains("1 pin") && r.out.contains("model book"),
              r.out.constData());
+}
+
+void TestCli::invalidSceneMessageIsTheContractsLine()
+{
+    // INTERFACES.md's message, as it gives it: the file, the place and the rule, and nothing
+    // else on the line (it was prefixed "marbles-cli: ", which a harness comparing the line or
+    // its start would not match).
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("demo.marbles.json"));
+    QFile file(path);
+    QVERIFY(file.open(QIODevice::WriteOnly));
+    file.write(R"({"format":"marbles-scene","version":1,"marbles":[{"x":100,"y":100},{"x":200,"y":100},)"
+               R"({"x":300,"y":100},{"x":400,"y":100,"radius":-5}]})");
+    file.close();
+    for (const QString &command : {QStringLiteral("check"), QStringLiteral("run")}) {
+        const CliResult r = runCli({command, path});
+        QCOMPARE(r.exitCode, 2);
+        QCOMPARE(r.out, QByteArray());
+        QCOMPARE(QString::fromUtf8(r.err), path + QStringLiteral(": marbles[3].radius: must be > 0, got -5\n"));
+    }
 }
 
 void TestCli::presetsRoundTripThroughFiles()
