@@ -310,14 +310,20 @@ struct Contact {
     bool recheck = false;  // true: no contact before tau, predict again then
 };
 
+double straightContactScaled(double dx, double dy, double dvx, double dvy, double R, double sMax);
+
 // Straight relative paths (no relative acceleration): d(s) = d0 + dv s in s = phi1(tau). The s of
 // the first contact while approaching, 0 if touching or overlapping and approaching already, or
 // infinity if none with s <= sMax. Scalar arguments: this is the innermost loop of the model.
 inline double straightContact(double dx, double dy, double dvx, double dvy, double R, double sMax)
 {
+    constexpr double largest = std::numeric_limits<double>::max();
     // |d0 + dv s|^2 = R^2, i.e. a s^2 + 2 b s + c = 0.
     const double b = dx * dvx + dy * dvy;
     const double d2 = dx * dx + dy * dy;
+    // Products beyond a double (speeds or distances of about 1e154 and more): solved scaled.
+    if (!((std::abs(b) <= largest) & (d2 <= largest))) [[unlikely]]
+        return straightContactScaled(dx, dy, dvx, dvy, R, sMax);
     const double c = d2 - R * R;
     // Most pairs fail here: separating or sliding past (b >= 0), or too far to close the gap in
     // time (the root below is s = c / (-b + sqrt(disc)) >= c / (-2 b) > sMax). One branch for
@@ -325,6 +331,8 @@ inline double straightContact(double dx, double dy, double dvx, double dvy, doub
     if (!((b < 0.0) & (c <= -2.0 * b * sMax)))
         return infinity;
     const double a = dvx * dvx + dvy * dvy;
+    if (!((b * b <= largest) & (d2 * a <= largest))) [[unlikely]]
+        return straightContactScaled(dx, dy, dvx, dvy, R, sMax);
     if (b * b <= grazingApproach * grazingApproach * d2 * a)
         return infinity; // an approach within rounding of zero (b < -grazingApproach |d0| |dv| fails)
     if (c <= 0.0)
@@ -333,6 +341,26 @@ inline double straightContact(double dx, double dy, double dvx, double dvy, doub
     if (!(disc > 0.0))
         return infinity; // misses (or grazes without approach)
     const double s = c / (-b + std::sqrt(disc)); // citardauq form of (-b - sqrt(disc)) / a
+    return s <= sMax ? s : infinity;
+}
+
+// straightContact() where its squares and products overflow (a pair 1e160 px/frame apart in
+// speed went through each other, every test failing on infinities): the same equation with d0
+// and R scaled by 2^-f and dv by 2^-e, powers of two that bring them below 1 and change no bit of
+// a mantissa. |D + U sigma| = R 2^-f with s = sigma 2^(f - e).
+double straightContactScaled(double dx, double dy, double dvx, double dvy, double R, double sMax)
+{
+    const double speed = std::max(std::abs(dvx), std::abs(dvy));
+    const double size = std::max({std::abs(dx), std::abs(dy), R});
+    if (!(speed > 0.0) || !std::isfinite(speed) || !std::isfinite(size) || !(size > 0.0))
+        return infinity;
+    int e = 0;
+    int f = 0;
+    std::frexp(speed, &e);
+    std::frexp(size, &f);
+    const double sigma = straightContact(std::ldexp(dx, -f), std::ldexp(dy, -f), std::ldexp(dvx, -e), std::ldexp(dvy, -e),
+                                         std::ldexp(R, -f), std::ldexp(sMax, e - f));
+    const double s = std::ldexp(sigma, f - e);
     return s <= sMax ? s : infinity;
 }
 
