@@ -1071,12 +1071,13 @@ void ExactModel::keepWithinWalls(Vec2 start, double r, Vec2 &p, Vec2 &v) const
         const double tolerance = wallTouchTolerance(side, r);
         const double lo = r;
         const double hi = side - r;
-        if (from < lo - tolerance || from > hi + tolerance)
-            return; // began past a wall (placed so): it leaves by its own motion
-        if (x < lo - tolerance) {
+        // One that began past a wall (placed so) leaves through it by its own motion, but never
+        // through the other: one placed across the ceiling ended 3.7e277 px below the floor
+        // under a gravity of 1e308.
+        if (x < lo - tolerance && !(from < lo - tolerance)) {
             x = lo;
             speed = std::max(speed, 0.0);
-        } else if (x > hi + tolerance) {
+        } else if (x > hi + tolerance && !(from > hi + tolerance)) {
             x = hi;
             speed = std::min(speed, 0.0);
         }

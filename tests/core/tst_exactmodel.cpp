@@ -882,6 +882,10 @@ void TestExactModel::hugeGravityKeepsMarblesInside_data()
     QTest::addRow("1e34 up") << Vec2{0, -1e34};
     QTest::addRow("1e34 sideways") << Vec2{1e34, 0};
     QTest::addRow("1e300 down") << Vec2{0, 1e300};
+    QTest::addRow("1e308 down") << Vec2{0, 1e308};
+    QTest::addRow("1e308 up") << Vec2{0, -1e308};
+    QTest::addRow("1e308 left") << Vec2{-1e308, 0};
+    QTest::addRow("1e308 right") << Vec2{1e308, 0};
 }
 
 void TestExactModel::hugeGravityKeepsMarblesInside()
@@ -909,6 +913,42 @@ void TestExactModel::hugeGravityKeepsMarblesInside()
         }
         if (gravity.y > 0.0 && f == 0)
             QVERIFY2(w.position[8].y > 580.0 + 1e-9 || w.position[8] == placed, "the placed marble was snapped");
+    }
+
+    // Placed across a wall, alone: it may leave through that wall, never through the opposite
+    // one (placed across the ceiling under 1e308 px/frame^2 down, it ended 3.7e277 px below the
+    // floor; a conformance tester's finding).
+    constexpr double tolerance = 1e-6;
+    const struct {
+        Vec2 at;
+        double low;  // its least x or y: within the opposite wall
+        double high; // its greatest
+        bool vertical;
+        bool falls;  // gravity takes it towards the opposite wall
+    } placements[] = {
+        {{400, 10}, -1e300, 575.0, true, gravity.y > 0.0},   // across the ceiling: never below the floor
+        {{400, 590}, 25.0, 1e300, true, gravity.y < 0.0},    // across the floor: never above the ceiling
+        {{10, 300}, -1e300, 775.0, false, gravity.x > 0.0},  // across the left wall
+        {{790, 300}, 25.0, 1e300, false, gravity.x < 0.0},   // across the right wall
+    };
+    for (const auto &placed : placements) {
+        // (From 1e33 on the old code let it through; a frame that ends resting on a wall under
+        // 1e33 to 1e35 takes up to a second, at 1e300 and more a moment.)
+        if (!placed.falls || length(gravity) < 1e300)
+            continue;
+        World across = bareWorld(0.1, true, 1.0); // the default friction and threshold, as where it was found
+        across.params.zeroThreshold = 0.01;
+        across.params.gravity = gravity;
+        across.addMarble(placed.at, 25, {0, 0});
+        ExactModel alone;
+        for (int f = 0; f < 3; ++f) {
+            run(across, alone, 1);
+            const Vec2 p = across.position[0];
+            const double along = placed.vertical ? p.y : p.x;
+            QVERIFY2(along >= placed.low - tolerance && along <= placed.high + tolerance,
+                     qPrintable(QStringLiteral("placed at (%1, %2), frame %3: (%4, %5)")
+                                    .arg(placed.at.x).arg(placed.at.y).arg(f + 1).arg(p.x).arg(p.y)));
+        }
     }
 }
 
