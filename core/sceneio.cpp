@@ -553,7 +553,7 @@ public:
     bool binary(Json::binary_t &b) { return admit(b.size() + kHeapBlock) && m_dom.binary(b); }
     bool start_object(std::size_t n)
     {
-        if (!admit(kObjectCost))
+        if (!admit(kObjectCost) || !admitInWorld(worldCostOfElement()))
             return false;
         m_path.push_back({false, 0, {}, m_keys.size()});
         return m_dom.start_object(n);
@@ -607,6 +607,8 @@ public:
 
     bool failed() const { return m_failed; }
     bool overBudget() const { return m_overBudget; }
+    /// True when the World would outgrow kMaxSceneWorldBytes (too many marbles, pins or pushes).
+    bool overWorldBudget() const { return m_overWorldBudget; }
     std::size_t position() const { return m_position; }
     const std::string &lastToken() const { return m_lastToken; }
     int errorId() const { return m_errorId; }
@@ -644,6 +646,23 @@ private:
 
     static std::size_t heapString(std::size_t length) { return length > 15 ? length + kHeapBlock : 0; }
 
+    // What the World built from the document takes for each marble, pin and push, on top of the
+    // document, which lives until the World is built: 10 million marbles "{}", a 30 MB file
+    // within the document's budget, took 3.5 GB.
+    static constexpr std::size_t kWorldMarble = 3 * sizeof(Vec2) + 2 * sizeof(double) + sizeof(MarbleInfo) + sizeof(HitRecord);
+    static constexpr std::size_t kWorldPin = sizeof(Vec2) + sizeof(std::string);
+    static constexpr std::size_t kWorldPush = sizeof(Push);
+
+    /// The World's cost of the object about to begin, when it is an element of the scene's
+    /// marbles, pins or pushes.
+    std::size_t worldCostOfElement() const
+    {
+        if (m_path.size() != 2 || m_path[0].isArray || !m_path[1].isArray)
+            return 0;
+        const std::string &list = m_path[0].key;
+        return list == "marbles" ? kWorldMarble : list == "pins" ? kWorldPin : list == "pushes" ? kWorldPush : 0;
+    }
+
     /// Counts a value about to be added (its place in the parent plus `own` bytes); false once
     /// the document would outgrow kMaxSceneMemoryBytes, which stops the parse before it allocates.
     bool admit(std::size_t own)
@@ -660,6 +679,18 @@ private:
         m_bytes += cost;
         if (m_bytes > kMaxSceneMemoryBytes) {
             m_overBudget = true;
+            return false;
+        }
+        return true;
+    }
+
+    /// Counts `bytes` of the World about to be built; false once it would outgrow
+    /// kMaxSceneWorldBytes, which stops the parse.
+    bool admitInWorld(std::size_t bytes)
+    {
+        m_worldBytes += bytes;
+        if (m_worldBytes > kMaxSceneWorldBytes) {
+            m_overWorldBudget = true;
             return false;
         }
         return true;
@@ -687,6 +718,8 @@ private:
     std::vector<Level> m_path;
     bool m_failed = false;
     bool m_overBudget = false;
+    bool m_overWorldBudget = false;
+    std::size_t m_worldBytes = 0;
     std::size_t m_bytes = 0;
     std::size_t m_position = 0;
     std::string m_lastToken;
@@ -785,6 +818,9 @@ std::string parseInto(std::string_view text, World &world)
     if (builder.overBudget())
         return "size: reading this scene would take more than " + std::to_string(kMaxSceneMemoryBytes >> 20)
             + " MiB of memory (it holds too many values)";
+    if (builder.overWorldBudget())
+        return "size: this scene's marbles, pins and pushes would take more than "
+            + std::to_string(kMaxSceneWorldBytes >> 20) + " MiB of memory (it holds too many of them)";
     if (!builder.duplicateKey().empty())
         return builder.duplicateKey() + ": is given twice in the same object: keep one of them";
     // The parser takes a NUL byte for the end of the text: whatever followed it was never read

@@ -14,6 +14,10 @@ inline constexpr std::size_t kMaxSceneBytes = std::size_t{256} * 1024 * 1024;
 /// parsing): `[{},{},...]` costs about 27 times its size in memory, so the file limit alone
 /// would still let a hostile 256 MiB file take 7 GiB.
 inline constexpr std::size_t kMaxSceneMemoryBytes = std::size_t{1} << 30;
+/// Most memory the World built from a scene may take, in bytes (1 GiB, estimated while parsing,
+/// by its marbles, pins and pushes): 10 million marbles "{}", a 30 MB file, took 3.5 GB in all.
+/// About 4.8 million marbles; the largest `gen crowd`, 1.5 million, takes 1.6 GB in all.
+inline constexpr std::size_t kMaxSceneWorldBytes = std::size_t{1} << 30;
 /// Deepest nesting of JSON arrays and objects the loader accepts (a scene needs 3 levels).
 inline constexpr int kMaxSceneNesting = 256;
 /// Largest `params.substeps` accepted: more would make one impulse-model frame take minutes.

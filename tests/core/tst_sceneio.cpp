@@ -534,6 +534,20 @@ void TestSceneIo::memoryBudget()
     QCOMPARE(q(load.error),
              QString("demo.marbles.json: size: reading this scene would take more than 1024 MiB of memory "
                      "(it holds too many values)"));
+
+    // 5 million marbles "{}": 15 MB of text, within the document's budget, but the World built
+    // from it would hold 1.1 GB more (10 million took 3.5 GB in all; a conformance tester's
+    // finding). The parse stops when the World's estimate passes kMaxSceneWorldBytes.
+    const int marbles = 5'000'000;
+    QByteArray many = R"({"format": "marbles-scene", "version": 1, "marbles": [{})";
+    many.reserve(many.size() + 3 * marbles + 2);
+    for (int i = 1; i < marbles; ++i)
+        many += ",{}";
+    many += "]}";
+    const SceneLoad crowded = parseScene(view(many), kSource);
+    QVERIFY(!crowded.ok);
+    QCOMPARE(q(crowded.error), QString("demo.marbles.json: size: this scene's marbles, pins and pushes would take more "
+                                       "than 1024 MiB of memory (it holds too many of them)"));
 }
 
 void TestSceneIo::largeSceneRoundTrips()
