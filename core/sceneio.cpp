@@ -1178,8 +1178,17 @@ std::string parseDouble(std::string_view text, double &out)
     const auto result = std::from_chars(text.data(), text.data() + text.size(), out);
     if (result.ptr != text.data() + text.size())
         return "must be a number";
-    if (result.ec == std::errc::result_out_of_range)
-        return "must be a number within the range of a double";
+    if (result.ec == std::errc::result_out_of_range) {
+        // Too close to 0 for a double ("1e-400") reads as its nearest double, 0, as JSON's in a
+        // scene file does ("friction": 1e-400 loaded, --set friction=1e-400 was refused); too
+        // large is refused.
+        long double wide = 0.0L;
+        const auto again = std::from_chars(text.data(), text.data() + text.size(), wide);
+        if (again.ec != std::errc() || !(std::abs(wide) < 1.0L))
+            return "must be a number within the range of a double";
+        out = static_cast<double>(wide);
+        return {};
+    }
     return result.ec == std::errc() ? std::string() : std::string("must be a number");
 }
 

@@ -1108,6 +1108,10 @@ void TestSceneIo::setParamAccepts_data()
     QTest::addRow("zeroThreshold") << "zeroThreshold" << "0" << "0";
     QTest::addRow("pushScale negative") << "pushScale" << "-3" << "-3";
     QTest::addRow("pushScale exponent") << "pushScale" << "1e3" << "1000";
+    // Too close to 0 for a double: its nearest, 0, as a scene file's "friction": 1e-400 reads.
+    QTest::addRow("friction 1e-400") << "friction" << "1e-400" << "0";
+    QTest::addRow("pushScale -1e-400") << "pushScale" << "-1e-400" << "0";
+    QTest::addRow("zeroThreshold subnormal") << "zeroThreshold" << "1e-310" << "9.9999999999999694e-311";
     QTest::addRow("frameMs") << "frameMs" << "16.5" << "16.5";
     QTest::addRow("restitution 0") << "restitution" << "0" << "0";
     QTest::addRow("restitution 1") << "restitution" << "1" << "1";
