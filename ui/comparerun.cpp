@@ -96,6 +96,11 @@ void CompareRun::onSceneChanged(SceneDocument::Change change)
     // A marble removed or put back, which the kept frames followed: they now have the marbles the
     // scene has (the world still has its old ones).
     const bool followed = change == SceneDocument::Change::Structure && m_followedStructure;
+    if (followed && std::exchange(m_restoredOwnState, false)) {
+        // A marble put back, the comparison's own state with it (onMarbleInserted()).
+        updateGhost();
+        return;
+    }
     World next = source;
     next.params.model = m_model.value_or(ModelKind::Book);
     // Anything but an edit of this frame's marbles or parameters (or marbles the frames
@@ -136,7 +141,7 @@ void CompareRun::onMarbleRemoved(int i)
     const World &source = m_document->world();
     if (!isTracking() || m_world->frame != source.frame || m_history.startSize() != source.marbleCount() + 1)
         return;
-    m_removed.push_back({i, m_history.removeMarble(i)});
+    m_removed.push_back({i, source.frame, m_history.removeMarble(i), *m_world, m_startFrame, m_earlierStarts.size()});
     // The largest gap of the frames forgotten is renumbered, or goes with its marble.
     if (m_earlierLargest.marble == i)
         m_earlierLargest = {};
@@ -161,6 +166,73 @@ void CompareRun::onMarbleInserted(int i)
         ++m_earlierLargest.marble;
     remeasureKeptGaps();
     m_followedStructure = true;
+    m_restoredOwnState = restoreOwnState(i, removed);
+}
+
+bool CompareRun::restoreOwnState(int i, const Removed &removed)
+{
+    // The undo gives the comparison back what the delete took: its own state (it had started
+    // again from the scene's, "gap 0", and a teacher's mistaken delete lost the comparison's
+    // state until Step Back went past it).
+    const World &source = m_document->world();
+    const std::int64_t frame = source.frame;
+    World own = source;
+    own.params.model = *m_model;
+    own.frame = frame;
+    const auto copyFrom = [&own, i](const World &from, bool withMarble) {
+        for (int k = 0, j = 0; k < own.marbleCount(); ++k) {
+            if (!withMarble && k == i)
+                continue;
+            const auto to = static_cast<std::size_t>(k);
+            const auto at = static_cast<std::size_t>(j++);
+            own.position[to] = from.position[at];
+            own.velocity[to] = from.velocity[at];
+            own.lastHit[to] = from.lastHit[at];
+        }
+    };
+    if (frame == removed.frame && m_startFrame == frame && m_earlierStarts.size() > removed.earlierStarts
+        && removed.before.marbleCount() == own.marbleCount()) {
+        // Where it was removed, the comparison started again there: back to its state and start then.
+        copyFrom(removed.before, true);
+        m_startFrame = removed.startFrame;
+        m_earlierStarts.resize(removed.earlierStarts);
+    } else if (frame < removed.frame && m_world->frame == frame && m_world->marbleCount() + 1 == own.marbleCount()) {
+        // Stepped back past the removal: its state here, and the marble's from its kept frames.
+        const std::optional<FrameHistory::MarbleStart> state = removed.track.stateAt(frame, m_history.startFrame());
+        if (!state)
+            return false;
+        copyFrom(*m_world, false);
+        const auto k = static_cast<std::size_t>(i);
+        own.position[k] = state->position;
+        own.velocity[k] = state->velocity;
+        own.lastHit[k] = state->lastHit;
+    } else {
+        return false;
+    }
+    // The pushes still to act are the document's (a click gives both the same).
+    own.acceleration = source.acceleration;
+    *m_world = std::move(own);
+    const std::int64_t kept = frame - m_firstGapFrame + 1;
+    if (kept >= 1 && kept <= static_cast<std::int64_t>(m_gaps.size())) {
+        m_gaps.resize(static_cast<std::size_t>(kept));
+        m_gaps.back() = largestGap(source.position, m_world->position);
+    }
+    retakeGaps();
+    return true;
+}
+
+void CompareRun::retakeGaps()
+{
+    // The largest gap of the frames forgotten, then the gaps of the frames up to this one, as
+    // they were measured then, taken again in order.
+    resetGaps(m_startFrame);
+    if (m_earlierLargest.px > 0.0 && m_earlierLargestFrame > m_startFrame)
+        takeGap(m_earlierLargest, m_earlierLargestFrame);
+    for (std::size_t k = 0; k < m_gaps.size(); ++k) {
+        const std::int64_t at = m_firstGapFrame + static_cast<std::int64_t>(k);
+        if (at > m_startFrame) // since the start this frame belongs to
+            takeGap(m_gaps[k], at);
+    }
 }
 
 void CompareRun::onTimelineReset()
@@ -221,17 +293,8 @@ void CompareRun::rewindTo(std::int64_t frame)
         restart(); // the history no longer holds that frame
         return;
     }
-    // The largest gap of the frames forgotten, then the gaps of the frames up to this one, as
-    // they were measured then, taken again in order.
     m_gaps.resize(static_cast<std::size_t>(kept));
-    resetGaps(m_startFrame);
-    if (m_earlierLargest.px > 0.0 && m_earlierLargestFrame > m_startFrame)
-        takeGap(m_earlierLargest, m_earlierLargestFrame);
-    for (std::size_t k = 0; k < m_gaps.size(); ++k) {
-        const std::int64_t at = m_firstGapFrame + static_cast<std::int64_t>(k);
-        if (at > m_startFrame) // since the start this frame belongs to
-            takeGap(m_gaps[k], at);
-    }
+    retakeGaps();
     if (m_ghost)
         m_ghost->syncFromWorld();
 }

@@ -46,9 +46,10 @@ class MarbleFieldItem;
 ///   or size) keeps the comparison's earlier frames: Step Back past it returns to the comparison
 ///   as it was before it, its gaps and its start with it. So does a marble deleted mid-run (or
 ///   its delete undone) where the document's frames follow it: the comparison's frames lose the
-///   marble (or take it back) as the document's do, and their gaps are measured again. While a
-///   marble is held with the mouse the comparison follows the document every frame, as the hand
-///   moves that marble outside either model's physics.
+///   marble (or take it back) as the document's do, and their gaps are measured again; the
+///   delete undone gives the comparison back its own state at that frame. While a marble is
+///   held with the mouse the comparison follows the document every frame, as the hand moves
+///   that marble outside either model's physics.
 /// - **When the comparison model cannot run.** If the scene's parameters are invalid for the
 ///   comparison model (friction >= 1 is valid for the book model only), the comparison waits,
 ///   with the reason in problem(), and starts again at the next restart once they are valid. If
@@ -136,6 +137,8 @@ private:
         int marble = -1;
     };
 
+    struct Removed; // below
+
     /// The largest distance between the marbles of the same index in `a` and `b`.
     static Gap largestGap(const std::vector<Vec2> &a, const std::vector<Vec2> &b);
     void restart();
@@ -154,6 +157,12 @@ private:
     /// Measures again the gaps of the kept frames, from both histories (a marble removed or put
     /// back changes them).
     void remeasureKeptGaps();
+    /// The current and largest gaps taken again from the gaps kept up to the current frame (and
+    /// the largest of those forgotten), since the current start.
+    void retakeGaps();
+    /// Marble i put back at the current frame: the comparison takes the state it had (at the
+    /// removal's frame, or at an earlier one its kept frames hold); false when it has none.
+    bool restoreOwnState(int i, const Removed &removed);
     void rewindTo(std::int64_t frame);
     void onFrameAdvanced();
     void onStepped();
@@ -182,12 +191,19 @@ private:
     /// that puts the marble back (onMarbleRemoved(), onMarbleInserted()).
     struct Removed {
         int marble = -1;
-        FrameHistory::MarbleTrack track;
+        std::int64_t frame = 0;          ///< the frame it was removed at
+        FrameHistory::MarbleTrack track; ///< its part of the comparison's kept frames
+        World before;                    ///< the comparison at that frame, before the removal
+        std::int64_t startFrame = 0;     ///< its start then
+        std::size_t earlierStarts = 0;   ///< and how many earlier starts it had
     };
     std::vector<Removed> m_removed;
     /// The kept frames followed a marble removed or put back: the edit's sceneChanged() keeps them,
     /// and its timelineReset() does not restart.
     bool m_followedStructure = false;
+    /// A marble put back where the comparison has its own state for it (onMarbleInserted()): the
+    /// edit's sceneChanged() keeps that state rather than starting again from the scene.
+    bool m_restoredOwnState = false;
 
     std::int64_t m_startFrame = 0;
     /// The frames earlier starts were made at, oldest first: after an edit the comparison starts

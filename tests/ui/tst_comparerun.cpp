@@ -414,14 +414,17 @@ void TestCompareRun::stepsBackPastADeletedMarble()
     const double largest = largestUpTo(oursWithout, theirsWithout, 40);
     QCOMPARE_LE(std::abs(compare.largestGapPx() - largest), 1e-9 * largest);
 
-    // Undone here: the marble comes back as it was at frame 40, the comparison starts again from
-    // the scene as it is then, and Step Back returns to its frames with the marble in them.
+    // Undone here: the marble comes back as it was at frame 40, in both models (the comparison
+    // had started again from the scene's state there, its own lost), and Step Back returns to
+    // the comparison's frames with the marble in them.
     doc.undoStack()->undo();
     QCOMPARE(doc.world().frame, std::int64_t(40));
     QVERIFY(sameDynamics(doc.world(), ours[40]));
     QVERIFY(compare.isTracking());
-    QCOMPARE(compare.startFrame(), std::int64_t(40));
-    QVERIFY(isCopyOf(*compare.world(), doc.world(), ModelKind::Exact));
+    QCOMPARE(compare.startFrame(), std::int64_t(0));
+    QVERIFY(sameDynamics(*compare.world(), theirs[40]));
+    QVERIFY(compare.currentGapPx() == gapBetween(ours[40], theirs[40]).px);
+    QCOMPARE_LE(std::abs(compare.largestGapPx() - largestUpTo(ours, theirs, 40)), 1e-9 * largestUpTo(ours, theirs, 40));
     for (int f = 39; f >= 30; --f)
         QVERIFY(doc.stepBack());
     QCOMPARE(compare.startFrame(), std::int64_t(0));
@@ -432,6 +435,22 @@ void TestCompareRun::stepsBackPastADeletedMarble()
     doc.advance(30);
     QVERIFY(sameDynamics(doc.world(), ours[60]));
     QVERIFY(sameDynamics(*compare.world(), theirs[60]));
+
+    // Deleted and undone at once: the comparison is as it was, its start and gaps too.
+    const double largest60 = compare.largestGapPx();
+    const int largestMarble = compare.largestGapMarble();
+    doc.removeMarble(2);
+    QCOMPARE(compare.startFrame(), std::int64_t(60));
+    doc.undoStack()->undo();
+    QCOMPARE(compare.startFrame(), std::int64_t(0));
+    QVERIFY(sameDynamics(*compare.world(), theirs[60]));
+    QVERIFY(compare.largestGapPx() == largest60);
+    QCOMPARE(compare.largestGapMarble(), largestMarble);
+    QVERIFY(compare.currentGapPx() == gapBetween(ours[60], theirs[60]).px);
+    doc.advance(1);
+    World next = theirs[60];
+    QVERIFY(next.step().finite);
+    QVERIFY(sameDynamics(*compare.world(), next));
 }
 
 void TestCompareRun::randomSessionFollowsTheRules_data()
