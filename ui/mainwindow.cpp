@@ -809,6 +809,15 @@ void MainWindow::createDocks()
     });
     for (auto followed : {&SceneDocument::timelineMarbleRemoved, &SceneDocument::timelineMarbleInserted})
         connect(m_document, followed, this, [this] { m_plotReplaysKeptFrames = true; });
+    // Colours follow the marbles through deletes and their undos (a new scene starts them over).
+    connect(m_document, &SceneDocument::marbleRemovedAt, this,
+            [this](int i) { m_plotDock->marbleRemovedAt(i, m_document->world().marbleCount() + 1); });
+    connect(m_document, &SceneDocument::marbleInsertedAt, this,
+            [this](int i) { m_plotDock->marbleInsertedAt(i, m_document->world().marbleCount()); });
+    connect(m_document, &SceneDocument::sceneChanged, this, [this](SceneDocument::Change change) {
+        if (change == SceneDocument::Change::Scene)
+            m_plotDock->forgetColourOrder();
+    });
     // An edit that keeps the marbles (friction changed mid-run, say) bends the lines where it was
     // made rather than wiping the run before it.
     connect(m_document, &SceneDocument::timelineEdited, this,

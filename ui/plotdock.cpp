@@ -1557,7 +1557,51 @@ QColor PlotDock::marbleColor(int marble) const
         if (colour.isValid())
             return colour;
     }
-    return defaultMarbleColor(marble);
+    return defaultMarbleColor(i < m_hues.size() ? m_hues[i] : marble);
+}
+
+void PlotDock::ensureColourOrder(int count)
+{
+    while (static_cast<int>(m_hues.size()) < count) {
+        int hue = 0;
+        while (std::find(m_hues.begin(), m_hues.end(), hue) != m_hues.end())
+            ++hue;
+        m_hues.push_back(hue);
+    }
+}
+
+void PlotDock::marbleRemovedAt(int i, int countBefore)
+{
+    ensureColourOrder(countBefore);
+    const auto at = static_cast<std::size_t>(i);
+    if (at >= m_hues.size())
+        return;
+    m_removedHues.emplace_back(i, m_hues[at]);
+    m_hues.erase(m_hues.begin() + static_cast<std::ptrdiff_t>(at));
+}
+
+void PlotDock::marbleInsertedAt(int i, int countAfter)
+{
+    ensureColourOrder(countAfter - 1);
+    if (i < 0 || i > static_cast<int>(m_hues.size()))
+        return;
+    int hue = -1;
+    if (!m_removedHues.empty() && m_removedHues.back().first == i) {
+        hue = m_removedHues.back().second; // a delete undone: its colour back
+        m_removedHues.pop_back();
+    }
+    if (hue < 0 || std::find(m_hues.begin(), m_hues.end(), hue) != m_hues.end()) {
+        hue = 0;
+        while (std::find(m_hues.begin(), m_hues.end(), hue) != m_hues.end())
+            ++hue;
+    }
+    m_hues.insert(m_hues.begin() + i, hue);
+}
+
+void PlotDock::forgetColourOrder()
+{
+    m_hues.clear();
+    m_removedHues.clear();
 }
 
 QString PlotDock::marbleLabel(int marble) const

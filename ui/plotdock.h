@@ -102,6 +102,14 @@ public:
     /// Changes how many samples are kept (at least 1); forgets every sample.
     void setCapacity(qsizetype samples);
 
+    /// Marble colours follow the marbles, not their numbers: a marble removed at index i takes
+    /// its colour with it (the later marbles keep theirs), and one put back at i gets it back; a
+    /// marble added gets the first colour no marble has. (Deleting a marble had given every
+    /// later marble, and its line, the colour of the one before it.)
+    void marbleRemovedAt(int i, int countBefore);
+    void marbleInsertedAt(int i, int countAfter);
+    /// A new scene: marble i gets the i-th colour again.
+    void forgetColourOrder();
     /// Scene indices of the marbles plotted now, in plotting order.
     QList<int> plottedMarbles() const;
     /// Frame number of sample `i` (0 = oldest held).
@@ -274,6 +282,8 @@ private:
     bool fullLegendFits() const;
     QList<int> wantedMarbles() const;
     QColor marbleColor(int marble) const;
+    /// Gives marbles 0..count-1 a place in the colour list (the first free ones to those without).
+    void ensureColourOrder(int count);
     QString marbleLabel(int marble) const;
     double xOf(std::int64_t frame) const;
     const Track *trackOf(int marble) const;
@@ -310,6 +320,10 @@ private:
     // back whole (they were started again from what Step Back keeps, a few hundred frames in a
     // crowd).
     std::vector<Track> m_parked;
+    /// Each marble's place in the default colour list (marbles past its end: their index).
+    std::vector<int> m_hues;
+    /// The places of the marbles removed, with their index then, newest last (marbleInsertedAt()).
+    std::vector<std::pair<int, int>> m_removedHues;
     VelocityLookup m_documentVelocities; ///< may be empty (no earlier speeds for new lines)
     VelocityLookup m_compareVelocities;  ///< may be empty
 

@@ -496,6 +496,7 @@ QString SceneDocument::setParam(const QString &key, const QString &value)
 
 void SceneDocument::marbleInserted(int i, const FrameHistory::MarbleTrack &track)
 {
+    Q_EMIT marbleInsertedAt(i);
     // Only while the first frame follows the world (one marble fewer there than here now).
     if (m_history.startSize() + 1 == m_world.marbleCount()) {
         m_history.insertMarble(i, track);
@@ -507,6 +508,7 @@ void SceneDocument::marbleInserted(int i, const FrameHistory::MarbleTrack &track
 
 FrameHistory::MarbleTrack SceneDocument::marbleRemoved(int i)
 {
+    Q_EMIT marbleRemovedAt(i);
     FrameHistory::MarbleTrack track;
     if (m_history.startSize() == m_world.marbleCount() + 1) {
         track = m_history.removeMarble(i);

@@ -169,6 +169,12 @@ Q_SIGNALS:
     /// The timeline went back to `frame` (Step Back, Rewind): what was recorded of later frames
     /// is void, what was recorded of `frame` and earlier still holds.
     void timelineRewound(std::int64_t frame);
+    /// Marble i left the scene (deleted, or an add undone): the later marbles are renumbered.
+    /// Emitted before the edit's sceneChanged(Structure).
+    void marbleRemovedAt(int i);
+    /// A marble joined the scene at index i (added, or a delete undone): the marbles from i on
+    /// are renumbered. Emitted before the edit's sceneChanged(Structure).
+    void marbleInsertedAt(int i);
     /// Marble i left the scene (deleted, or an add undone) and the step-back frames lost it: Step
     /// Back still goes back through them, without it. Emitted before the sceneChanged(Structure)
     /// and timelineReset() of the edit.

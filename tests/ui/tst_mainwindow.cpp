@@ -145,6 +145,7 @@ private Q_SLOTS:
     void comparisonStartsWithItsTotals();
     void compareSteppedBackPastAnEditMeetsAtTheRestart();
     void deleteMidRunKeepsTheRunBeforeIt();
+    void coloursFollowTheMarbles();
     void homeAfterALongRunPlotsFrameZero();
     void newOpensAnEmptyScene();
     void longStatusMessageIsElided();
@@ -1402,6 +1403,39 @@ void TestMainWindow::deleteMidRunKeepsTheRunBeforeIt()
     QTRY_COMPARE(energy->text(), QStringLiteral("KE %1 (book), %2 (exact)")
                                      .arg(readableNumber(ours[40].kineticEnergy(), 5), readableNumber(theirs[40].kineticEnergy(), 5)));
     QVERIFY(std::abs(ours[40].kineticEnergy() - theirs[40].kineticEnergy()) > 100.0);
+}
+
+void TestMainWindow::coloursFollowTheMarbles()
+{
+    // Each marble keeps its colour on the stage and in the plot when one before it is deleted
+    // (deleting marble 3 of five gave marble 4 marble 3's colour, and its whole line with it),
+    // gets it back when the delete is undone, and a marble added takes a colour no other has.
+    QVERIFY(m_window->openPreset(QStringLiteral("masses")));
+    SceneDocument *doc = m_window->document();
+    PlotDock *plot = m_window->plotDock();
+    const auto colours = [plot] {
+        QList<QRgb> out;
+        for (const auto &[marble, colour] : plot->plottedColours())
+            out.append(colour.rgb());
+        return out;
+    };
+    const QList<QRgb> before = colours();
+    QCOMPARE(before.size(), 5);
+    doc->advance(10);
+    doc->removeMarble(3);
+    QCOMPARE(colours(), (QList<QRgb>{before[0], before[1], before[2], before[4]}));
+    doc->undoStack()->undo();
+    QCOMPARE(colours(), before);
+    doc->removeMarble(0);
+    QCOMPARE(colours(), before.mid(1));
+    QVERIFY(doc->addMarble({400.0, 100.0}, 10.0).isEmpty());
+    const QList<QRgb> added = colours();
+    QCOMPARE(added.mid(0, 4), before.mid(1));
+    QCOMPARE(added.value(4), before[0]); // the colour no marble has
+    // A new scene starts them over.
+    m_prompts->saveChoice = Prompts::SaveChoice::Discard;
+    QVERIFY(m_window->openPreset(QStringLiteral("masses")));
+    QCOMPARE(colours(), before);
 }
 
 void TestMainWindow::homeAfterALongRunPlotsFrameZero()
