@@ -521,15 +521,17 @@ void TestSceneIo::deepButAllowedNesting()
 
 void TestSceneIo::memoryBudget()
 {
+    // A scene whose top-level `key` is an array of `count` empty objects.
+    const auto emptyObjects = [](const char *key, int count) {
+        QByteArray text = QByteArray(R"({"format": "marbles-scene", "version": 1, ")") + key + R"(": [{})";
+        text.reserve(text.size() + 3 * count + 2);
+        for (int i = 1; i < count; ++i)
+            text += ",{}";
+        return text + "]}";
+    };
     // 13 million empty objects: 39 MB of text that nlohmann would turn into about 1.1 GB.
     // The parse stops when its estimate passes kMaxSceneMemoryBytes.
-    const int count = 13'000'000;
-    QByteArray text = R"({"format": "marbles-scene", "version": 1, "note": [{})";
-    text.reserve(text.size() + 3 * count + 2);
-    for (int i = 1; i < count; ++i)
-        text += ",{}";
-    text += "]}";
-    const SceneLoad load = parseScene(view(text), kSource);
+    const SceneLoad load = parseScene(view(emptyObjects("note", 13'000'000)), kSource);
     QVERIFY(!load.ok);
     QCOMPARE(q(load.error),
              QString("demo.marbles.json: size: reading this scene would take more than 1024 MiB of memory "
@@ -538,13 +540,7 @@ void TestSceneIo::memoryBudget()
     // 5 million marbles "{}": 15 MB of text, within the document's budget, but the World built
     // from it would hold 1.1 GB more (10 million took 3.5 GB in all; a conformance tester's
     // finding). The parse stops when the World's estimate passes kMaxSceneWorldBytes.
-    const int marbles = 5'000'000;
-    QByteArray many = R"({"format": "marbles-scene", "version": 1, "marbles": [{})";
-    many.reserve(many.size() + 3 * marbles + 2);
-    for (int i = 1; i < marbles; ++i)
-        many += ",{}";
-    many += "]}";
-    const SceneLoad crowded = parseScene(view(many), kSource);
+    const SceneLoad crowded = parseScene(view(emptyObjects("marbles", 5'000'000)), kSource);
     QVERIFY(!crowded.ok);
     QCOMPARE(q(crowded.error), QString("demo.marbles.json: size: this scene's marbles, pins and pushes would take more "
                                        "than 1024 MiB of memory (it holds too many of them)"));
