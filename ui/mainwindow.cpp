@@ -1677,6 +1677,7 @@ void MainWindow::updateTitle()
     setWindowTitle(tr("%1[*] — Marbles").arg(sceneName()));
     setWindowModified(m_document->isModified());
     m_plotDock->setSceneName(sceneName());
+    m_plotDock->setSceneEdited(m_document->isModified());
     m_plotDock->setSceneFile(m_document->fileName());
 }
 

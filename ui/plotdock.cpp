@@ -1130,6 +1130,8 @@ QString PlotDock::exportCaption() const
     QStringList parts;
     if (!m_sceneName.isEmpty())
         parts << m_sceneName;
+    if (m_sceneEdited)
+        parts << tr("edited");
     const QString models = solidModels();
     parts << (m_compareModel.isEmpty() ? tr("model: %1").arg(models)
                                        : tr("model: %1 (solid), %2 (dashed)").arg(models, m_compareModel));

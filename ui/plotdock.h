@@ -211,6 +211,9 @@ public:
     QString exportPng(const QString &path);
     /// The scene's name, for the PNG's caption.
     void setSceneName(const QString &name) { m_sceneName = name; }
+    /// Whether the scene has edits not saved: the caption says "edited" after its name (a
+    /// preset's picture, with a pin added and friction raised, read as the preset's).
+    void setSceneEdited(bool edited) { m_sceneEdited = edited; }
     /// The scene's file ("" for an untitled scene): the exports are offered beside it.
     void setSceneFile(const QString &path) { m_sceneFile = path; }
     /// The file name the export dialogs offer, `extension` "csv" or "png": the scene's name and
@@ -336,6 +339,7 @@ private:
     QStringList m_models{QStringLiteral("book")};
     QString m_compareModel; ///< the comparison model's name, "" when none
     QString m_sceneName;
+    bool m_sceneEdited = false;
     QString m_sceneFile;
     double m_frameMs = 20.0;
     bool m_timeInSeconds = false;

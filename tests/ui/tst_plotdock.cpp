@@ -1540,6 +1540,10 @@ void TestPlotDock::exportPng()
              QStringLiteral("Pachinko board (preset) \u2014 model: book \u2014 %1 of 20 marbles plotted \u2014 frames 1 to 2, "
                             "0.02 to 0.04 s")
                  .arg(PlotDock::kMaxPlottedMarbles));
+    // A scene with edits not saved says so: a preset's picture, a pin added and friction
+    // raised, read as the preset's (a teacher's finding).
+    dock.setSceneEdited(true);
+    QVERIFY(dock.exportCaption().startsWith(QStringLiteral("Pachinko board (preset) \u2014 edited \u2014 model: book")));
 }
 
 void TestPlotDock::exportsAreOfferedByTheScenesName()
