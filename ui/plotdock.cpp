@@ -921,6 +921,7 @@ void PlotDock::refreshChart()
         // Qt Charts 6.4 draws a marker shown afterwards over its neighbour ("mediumparison
         // restarted", a regression tester's finding) until the legend is laid out again.
         if (changed) {
+            updateLegendLabels(); // the key takes room in the row
             m_chart->legend()->hide();
             m_chart->legend()->show();
         }
@@ -1497,6 +1498,10 @@ bool PlotDock::fullLegendFits() const
         if (key)
             entry(key->name());
     }
+    // The restarts' key while there is one (with it the legend's labels were cut: "compari…",
+    // "kinetic e…", "moment…"; a teacher's finding).
+    if (m_restartMarks && !m_compareRestarts.empty())
+        entry(m_restartMarks->name());
     const std::array<QLineSeries *, 3> totals = sceneTotals();
     for (std::size_t k = 0; k < totals.size(); ++k) {
         if (totals[k] && totals[k]->isVisible())

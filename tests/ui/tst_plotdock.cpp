@@ -1083,6 +1083,22 @@ void TestPlotDock::legendLabelsFitTheRow()
     QTRY_VERIFY(!dock.legendIsCompact());
     QCOMPARE(dock.speedSeries(3)->name(), QStringLiteral("marble 3"));
     QCOMPARE(dock.momentumSeries(0)->name(), QStringLiteral("momentum x"));
+
+    // The comparison's restart key takes room in the row too: at the narrowest width where the
+    // full labels fit without it, they do not with it (they were cut, "compari…", "moment…").
+    int width = 700;
+    for (; width < 3000; width += 10) {
+        dock.resize(width, 350);
+        QCoreApplication::processEvents();
+        if (!dock.legendIsCompact())
+            break;
+    }
+    QVERIFY(!dock.legendIsCompact());
+    runFrames(dock, world, 2);
+    dock.markCompareRestart(dock.sampleFrame(dock.sampleCount() - 1));
+    QCOMPARE(dock.compareRestarts().size(), std::size_t(1));
+    dock.refreshChart();
+    QVERIFY(dock.legendIsCompact());
 }
 
 void TestPlotDock::legendListsMarblesInOrder()
