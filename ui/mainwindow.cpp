@@ -1428,8 +1428,9 @@ void MainWindow::stepBackward()
     m_run->pause();
     if (!m_document->stepBack())
         // Where the keys go first, why after: a projector's narrow status bar cuts the end off.
+        // (Short: a 1600-px window's bar cut its end off. A removal keeps the frames before it.)
         showFrameStatus(tr("Frame %1 is not kept: Step Back reaches frame %2, Home frame %4 (%3 frames at most, "
-                           "none from before a marble was added or removed).")
+                           "none before a marble added).")
                             .arg(m_document->world().frame - 1)
                             .arg(m_document->world().frame - static_cast<std::int64_t>(m_document->history().size()))
                             .arg(FrameHistory::kDefaultMaxFrames)

@@ -432,7 +432,7 @@ void TestMainWindow::stepBackSaysWhereItStops()
     QCOMPARE(doc->world().frame, 12);
     QCOMPARE(m_window->statusBar()->currentMessage(),
              QStringLiteral("Frame 11 is not kept: Step Back reaches frame 12, Home frame 0 (%1 frames at most, none "
-                            "from before a marble was added or removed).")
+                            "before a marble added).")
                  .arg(FrameHistory::kDefaultMaxFrames));
     QTest::keyClick(view, Qt::Key_Home);
     QCOMPARE(doc->world().frame, 0);
