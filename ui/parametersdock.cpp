@@ -197,18 +197,25 @@ void ParametersDock::buildUi()
              tr("book: a += \u2212v \u00d7 k\nexact, impulse: the velocity falls by (1 \u2212 k) a frame, smoothly over the frame"),
              tr("Fraction of its speed a marble loses to air each frame. The book model takes up to 3, "
                 "to show where its arithmetic breaks (above 1 a marble swings back and forth)."));
-    m_frictionWarning = new QLabel(page);
-    m_frictionWarning->setObjectName(QStringLiteral("frictionWarning"));
-    m_frictionWarning->setWordWrap(true);
-    m_frictionWarning->setTextFormat(Qt::PlainText);
-    m_frictionWarning->setContentsMargins(0, 0, 0, 6);
-    form->addRow(m_frictionWarning);
+    // A warning line under a field, shown while what it says holds (updateWarnings()).
+    const auto addWarning = [page, form](const QString &name) {
+        auto *warning = new QLabel(page);
+        warning->setObjectName(name);
+        warning->setWordWrap(true);
+        warning->setTextFormat(Qt::PlainText);
+        warning->setContentsMargins(0, 0, 0, 6);
+        warning->setVisible(false);
+        form->addRow(warning);
+        return warning;
+    };
+    m_frictionWarning = addWarning(QStringLiteral("frictionWarning"));
 
     m_zeroThreshold = makeSpin("zeroThresholdEdit", 0.0, 1000.0, 0.005, tr(" px/frame"));
     addField(tr("&Zero threshold"), m_zeroThreshold,
              tr("if \u2212Z \u2264 v.x \u2264 Z then v.x = 0 (the same for v.y)"),
              tr("A velocity component (x or y) no larger than this snaps to exactly zero: a slow marble "
                 "comes to rest, and one moving nearly along an axis loses its small sideways part."));
+    m_thresholdWarning = addWarning(QStringLiteral("thresholdWarning"));
 
     m_pushScale = makeSpin("pushScaleEdit", -1000000.0, 1000000.0, 1.0, QString());
     addField(tr("&Push scale"), m_pushScale, tr("a += (p \u2212 click) \u00d7 pushScale / m"),
@@ -365,7 +372,7 @@ void ParametersDock::setParams(const Params &params)
     show(m_substeps, params.substeps, true);
     m_shortCircuit->setChecked(params.shortCircuit);
 
-    updateFrictionWarning();
+    updateWarnings();
     updateModelChoices();
 }
 
@@ -418,29 +425,40 @@ void ParametersDock::updateForModel(ModelKind model)
     enable(m_restitution, !book, kRestitutionUnused, kRestitutionUnusedShort);
     enable(m_substeps, impulse, kSubstepsUnused, kSubstepsUnusedShort);
     enable(m_shortCircuit, book, kShortCircuitUnused, kShortCircuitUnusedShort);
-    updateFrictionWarning();
+    updateWarnings();
 }
 
-void ParametersDock::updateFrictionWarning()
+void ParametersDock::updateWarnings()
 {
+    const auto show = [](QLabel *warning, const QString &text, QColor colour) {
+        warning->setText(text);
+        warning->setStyleSheet(
+            text.isEmpty() ? QString() : QStringLiteral("QLabel { color: %1; font-weight: bold; }").arg(colour.name()));
+        warning->setVisible(!text.isEmpty());
+    };
+    const QColor orange(0xb3, 0x5c, 0x00);
     // The book's update is v' = v + (-v k) = (1 - k) v each frame. For 1 < k <= 2 the factor
     // (1 - k) lies in [-1, 0): the velocity reverses every frame while it shrinks (or, at k = 2,
     // keeps its size). For k > 2, |1 - k| > 1: each frame multiplies the speed, so it grows
     // without bound. The exact and impulse models refuse k >= 1, so only the book can show this.
     const double k = m_friction->value();
-    QString text;
-    QColor colour;
-    if (shownModel() == ModelKind::Book && k > 2.0) {
-        text = tr("\u26a0 The book's update is unstable: speeds grow without bound (|1 \u2212 k| > 1).");
-        colour = QColor(0xc6, 0x28, 0x28);
-    } else if (shownModel() == ModelKind::Book && k > 1.0) {
-        text = tr("\u26a0 Velocity flips sign every frame (1 \u2212 k < 0).");
-        colour = QColor(0xb3, 0x5c, 0x00);
-    }
-    m_frictionWarning->setText(text);
-    m_frictionWarning->setStyleSheet(
-        text.isEmpty() ? QString() : QStringLiteral("QLabel { color: %1; font-weight: bold; }").arg(colour.name()));
-    m_frictionWarning->setVisible(!text.isEmpty());
+    if (shownModel() == ModelKind::Book && k > 2.0)
+        show(m_frictionWarning, tr("\u26a0 The book's update is unstable: speeds grow without bound (|1 \u2212 k| > 1)."),
+             QColor(0xc6, 0x28, 0x28));
+    else if (shownModel() == ModelKind::Book && k > 1.0)
+        show(m_frictionWarning, tr("\u26a0 Velocity flips sign every frame (1 \u2212 k < 0)."), orange);
+    else
+        show(m_frictionWarning, QString(), QColor());
+    // A marble at rest gains |g| in a frame (a little less with drag): no more than the threshold,
+    // it snaps back to 0 and never falls, hanging in mid-air with no word why (a teacher's finding).
+    const double z = m_zeroThreshold->value();
+    const auto held = [z](double g) { return g != 0.0 && std::abs(g) <= z; };
+    if (held(m_gravityX->value()) || held(m_gravityY->value()))
+        show(m_thresholdWarning,
+             tr("\u26a0 Gravity is within the zero threshold: a marble at rest stays where it is, even in mid-air."),
+             orange);
+    else
+        show(m_thresholdWarning, QString(), QColor());
     fitPageHeight();
 }
 
@@ -510,15 +528,15 @@ void ParametersDock::updateModelChoices()
 
 void ParametersDock::onDoubleEdited(const QString &key, double value)
 {
-    if (key == QLatin1String("friction")) {
-        updateFrictionWarning();
+    if (key == QLatin1String("friction"))
         updateModelChoices();
-    }
+    updateWarnings();
     emit paramEdited(key, numberText(value));
 }
 
 void ParametersDock::onGravityEdited()
 {
+    updateWarnings();
     emit paramEdited(QStringLiteral("gravity"),
                      numberText(m_gravityX->value()) + QLatin1Char(',') + numberText(m_gravityY->value()));
 }

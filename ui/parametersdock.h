@@ -61,8 +61,9 @@ private:
     void buildUi();
     /// Enables the fields the model uses, sets the friction range and the warning.
     void updateForModel(ModelKind model);
-    /// Shows the book model's friction warnings for 1 < k <= 2 and k > 2.
-    void updateFrictionWarning();
+    /// Shows the book model's friction warnings for 1 < k <= 2 and k > 2, and the zero
+    /// threshold's when gravity cannot set a marble at rest moving.
+    void updateWarnings();
     /// Disables the exact and impulse entries of the model box while friction >= 1.
     void updateModelChoices();
     ModelKind shownModel() const;
@@ -76,6 +77,7 @@ private:
     QDoubleSpinBox *m_massScale = nullptr;
     QDoubleSpinBox *m_friction = nullptr;
     QLabel *m_frictionWarning = nullptr;
+    QLabel *m_thresholdWarning = nullptr;
     QLabel *m_refusalShown = nullptr; ///< the explanation line showing a refusal now, if any
     QDoubleSpinBox *m_zeroThreshold = nullptr;
     QDoubleSpinBox *m_pushScale = nullptr;
