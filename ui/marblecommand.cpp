@@ -188,6 +188,16 @@ void backToItsFrame(SceneDocument *document, std::int64_t frame)
         document->goToFrame(frame);
 }
 
+/// To `frame`, where a structural edit was made, for its redo: back to it when the scene has run
+/// on past it and the frame is kept, on to it when the scene was stepped back before it (a delete
+/// redone after Step Back applied at the frame stepped back to, its Undo History text still
+/// naming the other: its undo then went to a frame where the kept frames had no place for the
+/// marble, and the plot and the comparison started again there; a regression tester's finding).
+void toItsFrame(SceneDocument *document, std::int64_t frame)
+{
+    document->goToFrame(frame);
+}
+
 /// `text`, with the frame a mid-run edit was made at (as SetMarbleCommand names its edits).
 QString atFrame(const QString &text, std::int64_t frame)
 {
@@ -202,17 +212,22 @@ AddMarbleCommand::AddMarbleCommand(SceneDocument *document, const MarbleRecord &
     , m_frame(document->world().frame)
 {
     // Named by the number it will have and where (the Undo History said "Add marble" alone).
-    setText(atFrame(QCoreApplication::translate("marbles", "Add marble %1 at (%2, %3)")
-                        .arg(document->world().marbleCount())
-                        .arg(record.position.x, 0, 'f', 0)
-                        .arg(record.position.y, 0, 'f', 0),
-                    m_frame));
+    m_name = QCoreApplication::translate("marbles", "Add marble %1 at (%2, %3)")
+                 .arg(document->world().marbleCount())
+                 .arg(record.position.x, 0, 'f', 0)
+                 .arg(record.position.y, 0, 'f', 0);
+    setText(atFrame(m_name, m_frame));
 }
 
 void AddMarbleCommand::redo()
 {
-    backToItsFrame(m_document, m_frame);
+    toItsFrame(m_document, m_frame);
     World &world = m_document->editableWorld();
+    // Where that frame could not be reached (no longer kept), it belongs to the frame it is made at.
+    if (world.frame != m_frame) {
+        m_frame = world.frame;
+        setText(atFrame(m_name, m_frame));
+    }
     m_index = world.marbleCount();
     insertMarble(world, m_index, m_record);
     // In the timeline's first frame too, where it is added: Home replays the scene with it.
@@ -243,20 +258,25 @@ RemoveMarbleCommand::RemoveMarbleCommand(SceneDocument *document, int marble)
     // With its name where it has one: after a delete the later marbles are renumbered, and two
     // deletes in a row could both read "Delete marble 3".
     const std::string &name = document->world().info[static_cast<std::size_t>(marble)].name;
-    const QString text = name.empty() ? QCoreApplication::translate("marbles", "Delete marble %1").arg(marble)
-                                      : QCoreApplication::translate("marbles", "Delete marble %1 (%2)")
-                                            .arg(marble)
-                                            .arg(QString::fromStdString(name));
-    setText(atFrame(text, m_frame));
+    m_name = name.empty() ? QCoreApplication::translate("marbles", "Delete marble %1").arg(marble)
+                          : QCoreApplication::translate("marbles", "Delete marble %1 (%2)")
+                                .arg(marble)
+                                .arg(QString::fromStdString(name));
+    setText(atFrame(m_name, m_frame));
 }
 
 void RemoveMarbleCommand::redo()
 {
-    backToItsFrame(m_document, m_frame);
+    toItsFrame(m_document, m_frame);
     World &world = m_document->editableWorld();
     assert(m_index >= 0 && m_index < world.marbleCount());
     if (m_index < 0 || m_index >= world.marbleCount())
         return;
+    // Where that frame could not be reached (no longer kept), it belongs to the frame it is made at.
+    if (world.frame != m_frame) {
+        m_frame = world.frame;
+        setText(atFrame(m_name, m_frame));
+    }
     m_record = marbleRecord(world, m_index);
     m_pushes = world.pushes;
     world.removeMarble(m_index);

@@ -84,7 +84,8 @@ private:
 };
 
 /// Adds a marble at the end of the scene order. Undone or redone later in the run, it takes the
-/// scene back to the frame it was made at first, where that frame is kept (as SetMarbleCommand).
+/// scene back to the frame it was made at first, where that frame is kept; redone earlier, it
+/// runs the scene on to that frame first (as SetMarbleCommand).
 class AddMarbleCommand : public QUndoCommand {
 public:
     AddMarbleCommand(SceneDocument *document, const MarbleRecord &record);
@@ -96,12 +97,14 @@ private:
     MarbleRecord m_record;
     int m_index = -1;
     std::int64_t m_frame = 0; // the frame the marble was added at
+    QString m_name;           // its text without the frame
 };
 
 /// Removes a marble; undo puts it back at its index, with the scripted pushes that named it.
 /// Undone or redone later in the run, it takes the scene back to the frame of the delete first,
 /// where that frame is kept: the marble came back where it had been deleted, frames later, among
-/// marbles that had moved on without it.
+/// marbles that had moved on without it. Redone earlier (after Step Back past it), it runs the
+/// scene on to that frame first.
 class RemoveMarbleCommand : public QUndoCommand {
 public:
     RemoveMarbleCommand(SceneDocument *document, int marble);
@@ -115,6 +118,7 @@ private:
     std::vector<Push> m_pushes;
     FrameHistory::MarbleTrack m_track; // its part of the timeline's first frame and step-back frames
     std::int64_t m_frame = 0;          // the frame of the delete
+    QString m_name;                    // its text without the frame
 };
 
 } // namespace marbles

@@ -127,6 +127,7 @@ private Q_SLOTS:
     void restartsFromDocument();
     void stepsBackWithTheDocument();
     void stepsBackPastADeletedMarble();
+    void deleteRedoneAfterStepBackKeepsItsFrame();
     void randomSessionFollowsTheRules_data();
     void randomSessionFollowsTheRules();
     void forgottenFramesKeepOnlyTheLargestGap();
@@ -451,6 +452,47 @@ void TestCompareRun::stepsBackPastADeletedMarble()
     World next = theirs[60];
     QVERIFY(next.step().finite);
     QVERIFY(sameDynamics(*compare.world(), next));
+}
+
+void TestCompareRun::deleteRedoneAfterStepBackKeepsItsFrame()
+{
+    // Delete at 60, Step Back to 50, undo, redo: the redo runs on to frame 60 and deletes there
+    // (it deleted at 50 while the Undo History said 60, and its undo from later in the run went
+    // back to 60, where the kept frames had no place for the marble: the plot and the comparison
+    // started again; a regression tester's finding). Undone from frame 80, the comparison is its
+    // own again at 60.
+    SceneDocument doc;
+    doc.resetScene(presetWorld("masses", ModelKind::Book));
+    CompareRun compare(&doc);
+    compare.setModel(ModelKind::Exact);
+    std::vector<World> theirs{*compare.world()};
+    for (int f = 1; f <= 60; ++f) {
+        doc.advance(1);
+        theirs.push_back(*compare.world());
+    }
+    const double largest60 = compare.largestGapPx();
+    doc.removeMarble(2);
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete marble 2 (heavy mover) at frame 60"));
+    for (int f = 59; f >= 50; --f)
+        QVERIFY(doc.stepBack());
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().frame, std::int64_t(50));
+    QCOMPARE(doc.world().marbleCount(), 5);
+    doc.undoStack()->redo();
+    QCOMPARE(doc.world().frame, std::int64_t(60));
+    QCOMPARE(doc.world().marbleCount(), 4);
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete marble 2 (heavy mover) at frame 60"));
+    QCOMPARE(compare.startFrame(), std::int64_t(60));
+    doc.advance(20);
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().frame, std::int64_t(60));
+    QCOMPARE(doc.world().marbleCount(), 5);
+    QVERIFY(compare.isTracking());
+    QCOMPARE(compare.startFrame(), std::int64_t(0));
+    QVERIFY(sameDynamics(*compare.world(), theirs[60]));
+    QVERIFY(compare.largestGapPx() == largest60);
+    QVERIFY(doc.stepBack()); // and the frames before it are still kept
+    QVERIFY(sameDynamics(*compare.world(), theirs[59]));
 }
 
 void TestCompareRun::randomSessionFollowsTheRules_data()
