@@ -1490,8 +1490,10 @@ bool PlotDock::fullLegendFits() const
     const QFontMetrics metrics(m_chart->legend()->font());
     int needed = 0;
     // Each entry is its label, its marker (about a line high) and Qt 6.4's margins and gap (about
-    // 10 px): twelve "marble N" fit a 1040-px plot, fourteen with the comparison's keys do not.
-    const auto entry = [&](const QString &label) { needed += metrics.horizontalAdvance(label) + metrics.height() + 10; };
+    // 16 px): twelve "marble N" fit a 1040-px plot, fourteen with the comparison's keys do not.
+    // (With 10 px, five named marbles, both totals and both models' keys were taken to fit a
+    // 1240-px plot, and Qt cut one label: "heavy mover (mar…"; a regression tester's finding.)
+    const auto entry = [&](const QString &label) { needed += metrics.horizontalAdvance(label) + metrics.height() + 16; };
     for (const Track &t : m_tracks)
         entry(marbleLabel(t.marble));
     for (const QLineSeries *key : {m_modelKey, m_compareKey}) {
