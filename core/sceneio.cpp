@@ -366,10 +366,15 @@ void readParams(Json &j, Params &p, std::string &extraJson)
 std::string derivedMassRule(double massScale, double radius)
 {
     const double m = massScale * radius;
-    if (std::isfinite(m) && m > 0.0)
+    if (std::isfinite(m) && m > 0.0 && std::isfinite(1.0 / m))
         return {};
-    return "its mass massScale x radius = " + formatNumber(massScale) + " x " + formatNumber(radius) + " is "
-           + (m > 0.0 ? "beyond" : "below") + " what a double can hold: give the marble a mass, or change massScale";
+    const std::string product = "its mass massScale x radius = " + formatNumber(massScale) + " x " + formatNumber(radius);
+    // A mass so small that 1 / m overflows (massScale 1e-320) loaded, and the first push or
+    // collision, which divide by it, left finite numbers.
+    if (std::isfinite(m) && m > 0.0)
+        return product + " = " + formatNumber(m) + " is too close to 0: 1 / m, which a push and a collision divide by, "
+               + "is beyond what a double can hold: give the marble a mass, or change massScale";
+    return product + " is " + (m > 0.0 ? "beyond" : "below") + " what a double can hold: give the marble a mass, or change massScale";
 }
 
 void readMarble(Json &j, const std::string &place, World &world)
@@ -395,6 +400,9 @@ void readMarble(Json &j, const std::string &place, World &world)
             r = readPositive(value, at);
         } else if (key == "mass") {
             m = readPositive(value, at);
+            if (!std::isfinite(1.0 / m))
+                fail(at, "must be at least " + formatNumber(1.0 / std::numeric_limits<double>::max())
+                             + ", whose 1 / m a push and a collision divide by, got " + formatNumber(m));
         } else if (key == "name") {
             info.name = readString(value, at);
         } else if (key == "color") {

@@ -412,6 +412,9 @@ void TestSceneIo::malformed_data()
         << QByteArray(R"({"format": "marbles-scene", "version": 1, "marbles": [{"x": 50, "y": 50}, {"x": 90, "y": 50, "x": 91}]})")
         << "marbles[1].x" << "is given twice";
     // Too small for a double: read as 0, and quoted as written when it breaks a rule.
+    QTest::addRow("subnormal mass")
+        << QByteArray(R"({"format": "marbles-scene", "version": 1, "marbles": [{"x": 50, "y": 50, "mass": 1e-320}]})")
+        << "marbles[0].mass" << "must be at least 5.562684646268003e-309, whose 1 / m a push and a collision divide by, got 1e-320";
     QTest::addRow("1e-400 radius")
         << QByteArray(R"({"format": "marbles-scene", "version": 1, "marbles": [{"x": 50, "y": 50, "radius": 1e-400}]})")
         << "marbles[0].radius" << "must be > 0, got 0 (the file's 1e-400 is too close to 0 for a double, which holds it as 0)";
@@ -748,11 +751,13 @@ void TestSceneIo::roundTripWorld()
     if (a <= 1)
         w.params.restitution = a;
     // Marble 0's mass is derived (massScale x radius) where that is a mass; where it would be
-    // no number (1e300 x 1e300) or 0 (1e-300 x 1e-300) the loader refuses it, so it is given.
+    // no number (1e300 x 1e300), 0 (1e-300 x 1e-300) or so small that 1 / m overflows, the loader
+    // refuses it, so it is given. Marble 1's is given: |v| where it is a mass.
+    const auto isMass = [](double m) { return std::isfinite(m) && m > 0 && std::isfinite(1.0 / m); };
     const double radius = a > 0 ? a : 1.0;
     const double derived = w.params.massScale * radius;
-    w.addMarble({v, -v}, radius, {-v, v}, std::isfinite(derived) && derived > 0 ? 0.0 : 5.0);
-    w.addMarble({v, v}, 2.0, {v, v}, a > 0 ? a : 3.0);
+    w.addMarble({v, -v}, radius, {-v, v}, isMass(derived) ? 0.0 : 5.0);
+    w.addMarble({v, v}, 2.0, {v, v}, isMass(a) ? a : 3.0);
     w.addPin({v, -v});
     w.pushes.push_back({7, 1, {v, v}, {}});
 
@@ -1154,6 +1159,9 @@ void TestSceneIo::setParamRejects_data()
     QTest::addRow("friction hexadecimal") << "friction" << "0x10" << "friction=0x10: must be a number";
     QTest::addRow("friction leading space") << "friction" << " 0.1" << "friction= 0.1: must be a number";
     QTest::addRow("massScale zero") << "massScale" << "0" << "massScale=0: must be > 0";
+    // A mass whose 1 / m overflows: the first push or collision left finite numbers.
+    QTest::addRow("massScale underflows a mass's inverse")
+        << "massScale" << "1e-320" << "massScale=1e-320: marble 0: its mass massScale x radius = 1e-320 x 4 = ";
     QTest::addRow("massScale overflows a mass") << "massScale" << "1e308"
                                                 << "massScale=1e308: marble 0: its mass massScale x radius = 1e+308 x 4 is beyond";
     QTest::addRow("zeroThreshold negative") << "zeroThreshold" << "-0.5" << "zeroThreshold=-0.5: must be >= 0";
