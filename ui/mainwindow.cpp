@@ -793,13 +793,10 @@ void MainWindow::createDocks()
             [this] { m_plotDock->appendFrame(m_document->world(), m_compare->world()); });
     // The comparison restarted on this signal before (its connection is older): both worlds are at
     // the timeline's first frame, which the lines start from.
+    // The lines run on through the frames Step Back can still go to: after a marble left mid-run
+    // or came back, the kept frames followed it (they had started again at the edit, and Step
+    // Back past it left one dot); a new timeline keeps none, and the lines start where it does.
     connect(m_document, &SceneDocument::timelineReset, this, [this] {
-        if (!std::exchange(m_plotReplaysKeptFrames, false)) {
-            m_plotDock->startAt(m_document->world(), m_compare->world());
-            return;
-        }
-        // A marble left mid-run or came back, and the kept frames followed it: the lines run on
-        // through them (they had started again at the edit, and Step Back past it left one dot).
         m_plotDock->replayKeptFrames(m_document->world(), m_compare->world(),
                                      m_document->history().firstUnbrokenFrame(m_document->world().frame));
         if (m_compare->isTracking()) {
@@ -807,8 +804,6 @@ void MainWindow::createDocks()
                 m_plotDock->markCompareRestart(frame);
         }
     });
-    for (auto followed : {&SceneDocument::timelineMarbleRemoved, &SceneDocument::timelineMarbleInserted})
-        connect(m_document, followed, this, [this] { m_plotReplaysKeptFrames = true; });
     // Colours follow the marbles through deletes and their undos (a new scene starts them over).
     connect(m_document, &SceneDocument::marbleRemovedAt, this,
             [this](int i) { m_plotDock->marbleRemovedAt(i, m_document->world().marbleCount() + 1); });

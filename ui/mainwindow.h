@@ -204,9 +204,6 @@ private:
     int m_toolBarsFitWidth = -1; ///< the width fitToolBars() last laid the toolbars out for
     QByteArray m_stateToRestore; // the kept layout, restored when the window is first shown
     bool m_warnedNoAutosave = false;
-    /// The next timelineReset() follows a marble removed or put back that the kept frames followed:
-    /// the plot replays them instead of starting over.
-    bool m_plotReplaysKeptFrames = false;
     /// A toggle a preset set for its lesson (PresetView): the teacher's own setting before it,
     /// given back when another scene opens (and saved in its place) unless changed meanwhile.
     struct PresetToggle {

@@ -513,8 +513,7 @@ void PlotDock::reset(const World &world)
 
 void PlotDock::startAt(const World &world, const World *compare)
 {
-    reset(world);
-    appendFrame(world, compare);
+    replayKeptFrames(world, compare, world.frame); // no frame before it
 }
 
 void PlotDock::replayKeptFrames(const World &world, const World *compare, std::int64_t firstFrame)
@@ -522,15 +521,15 @@ void PlotDock::replayKeptFrames(const World &world, const World *compare, std::i
     // No further back than the lines went (nor than the plot holds).
     const std::int64_t heldFrom = m_frames.isEmpty() ? world.frame : m_frames.at(0);
     reset(world);
-    if (m_documentVelocities) {
+    const std::int64_t from = std::max({firstFrame, heldFrom, world.frame - static_cast<std::int64_t>(capacity()) + 1});
+    if (m_documentVelocities && from < world.frame) {
         // The marbles and masses of now, with the velocities of each kept frame: what the frames
         // hold is what Step Back returns to.
         World ours = world;
         std::optional<World> theirs;
         if (compare)
             theirs = *compare;
-        const std::int64_t held = static_cast<std::int64_t>(capacity());
-        for (std::int64_t f = std::max({firstFrame, heldFrom, world.frame - held + 1}); f < world.frame; ++f) {
+        for (std::int64_t f = from; f < world.frame; ++f) {
             const std::vector<Vec2> *velocities = m_documentVelocities(f);
             if (!velocities || velocities->size() != ours.velocity.size())
                 continue;

@@ -76,11 +76,7 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
             viewport()->update();
     });
     connect(m_document, &SceneDocument::frameAdvanced, this, &StageView::sampleTrail);
-    connect(m_document, &SceneDocument::timelineReset, this, &StageView::resetTrail);
-    // A marble that left mid-run or came back, which the kept frames followed: the next
-    // timelineReset() draws the trails through them.
-    for (auto followed : {&SceneDocument::timelineMarbleRemoved, &SceneDocument::timelineMarbleInserted})
-        connect(m_document, followed, this, [this] { m_trailReplaysKeptFrames = true; });
+    connect(m_document, &SceneDocument::timelineReset, this, &StageView::replayTrail);
     // An edit can renumber the marbles (a removal), and a step back brings back the pushes made
     // at the frame it returns to: the pushes still to come are found again.
     connect(m_document, &SceneDocument::sceneChanged, this, &StageView::findPendingPushes);
@@ -429,23 +425,32 @@ void StageView::resetTrail()
 {
     // Started from where the marbles are: sampled only after each frame, a trail began a frame
     // late, without its first segment.
+    m_trail->clear();
+    sampleTrail();
+}
+
+void StageView::replayTrail()
+{
     const std::optional<std::int64_t> trailsFrom = m_trail->firstFrame();
     m_trail->clear();
-    if (std::exchange(m_trailReplaysKeptFrames, false) && m_trailsVisible && trailsFrom) {
-        // After a marble left mid-run or came back: the trails run on through the frames they
-        // held that Step Back goes to (they had started again there), with the marbles there are
-        // now. (Not further back: a trail starts again where a marble was moved by hand.)
+    if (m_trailsVisible && trailsFrom) {
+        // The trails run on through the frames they held that Step Back can still go to: after a
+        // marble left mid-run or came back, the kept frames followed it (the trails had started
+        // again there); a new timeline keeps none. (Not further back than they went: a trail
+        // starts again where a marble was moved by hand.)
         const World &world = m_document->world();
         const FrameHistory &history = m_document->history();
-        World at = world;
         const std::int64_t first = std::max(history.firstUnbrokenFrame(world.frame), *trailsFrom);
+        std::optional<World> at; // the marbles of now at each kept frame (copied only if there is one)
         for (std::int64_t f = first; f < world.frame; ++f) {
             const std::vector<Vec2> *positions = history.positionsAt(f);
-            if (!positions || positions->size() != at.position.size())
+            if (!positions || positions->size() != world.position.size())
                 continue;
-            at.position = *positions;
-            at.frame = f;
-            m_trail->sample(at);
+            if (!at)
+                at = world;
+            at->position = *positions;
+            at->frame = f;
+            m_trail->sample(*at);
         }
     }
     sampleTrail();

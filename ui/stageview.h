@@ -182,6 +182,8 @@ private:
     void syncPoses();
     void sampleTrail();
     void resetTrail();
+    /// A new timeline: the trails start again, through the frames Step Back can still go to.
+    void replayTrail();
     void updateHighlights();
     void pickAt(Vec2 p);
     void findPendingPushes();
@@ -202,7 +204,6 @@ private:
     int m_selectionIndex = -1;
     bool m_vectorsVisible = true;
     bool m_trailsVisible = false;
-    bool m_trailReplaysKeptFrames = false; ///< see resetTrail()
     bool m_trailsSuppressed = false;
     bool m_vectorNoteShown = false;
     bool m_autoFit = true;
