@@ -142,6 +142,17 @@ std::string rulePositive(double v)
     return v > 0.0 ? std::string() : std::string("must be > 0");
 }
 
+// A mass: > 0, and not so small that 1 / m, which a push and a collision divide by, overflows
+// (a mass of 1e-320 loaded, and its first push or collision left finite numbers).
+std::string ruleMass(double m)
+{
+    if (std::string rule = rulePositive(m); !rule.empty())
+        return rule;
+    return std::isfinite(1.0 / m) ? std::string()
+                                  : "must be at least " + formatNumber(1.0 / std::numeric_limits<double>::max())
+            + ", whose 1 / m a push and a collision divide by";
+}
+
 std::string ruleNonNegative(double v)
 {
     if (!std::isfinite(v))
@@ -215,12 +226,18 @@ double readNumber(const Json &j, const std::string &place)
     return v;
 }
 
-double readPositive(const Json &j, const std::string &place)
+/// A number that keeps `rule` (rulePositive(), ruleMass()).
+double readRuled(const Json &j, const std::string &place, std::string (*rule)(double))
 {
     const double v = readNumber(j, place);
-    if (std::string rule = rulePositive(v); !rule.empty())
-        fail(place, rule + ", got " + formatNumber(v));
+    if (std::string broken = rule(v); !broken.empty())
+        fail(place, broken + ", got " + formatNumber(v));
     return v;
+}
+
+double readPositive(const Json &j, const std::string &place)
+{
+    return readRuled(j, place, rulePositive);
 }
 
 bool readBool(const Json &j, const std::string &place)
@@ -366,12 +383,10 @@ void readParams(Json &j, Params &p, std::string &extraJson)
 std::string derivedMassRule(double massScale, double radius)
 {
     const double m = massScale * radius;
-    if (std::isfinite(m) && m > 0.0 && std::isfinite(1.0 / m))
+    if (ruleMass(m).empty())
         return {};
     const std::string product = "its mass massScale x radius = " + formatNumber(massScale) + " x " + formatNumber(radius);
-    // A mass so small that 1 / m overflows (massScale 1e-320) loaded, and the first push or
-    // collision, which divide by it, left finite numbers.
-    if (std::isfinite(m) && m > 0.0)
+    if (rulePositive(m).empty()) // a mass too close to 0 (massScale 1e-320), ruleMass()'s other half
         return product + " = " + formatNumber(m) + " is too close to 0: 1 / m, which a push and a collision divide by, "
                + "is beyond what a double can hold: give the marble a mass, or change massScale";
     return product + " is " + (m > 0.0 ? "beyond" : "below") + " what a double can hold: give the marble a mass, or change massScale";
@@ -399,10 +414,7 @@ void readMarble(Json &j, const std::string &place, World &world)
         } else if (key == "radius") {
             r = readPositive(value, at);
         } else if (key == "mass") {
-            m = readPositive(value, at);
-            if (!std::isfinite(1.0 / m))
-                fail(at, "must be at least " + formatNumber(1.0 / std::numeric_limits<double>::max())
-                             + ", whose 1 / m a push and a collision divide by, got " + formatNumber(m));
+            m = readRuled(value, at, ruleMass);
         } else if (key == "name") {
             info.name = readString(value, at);
         } else if (key == "color") {

@@ -188,20 +188,26 @@ void backToItsFrame(SceneDocument *document, std::int64_t frame)
         document->goToFrame(frame);
 }
 
+/// `text`, with the frame a mid-run edit was made at (as SetMarbleCommand names its edits).
+QString atFrame(const QString &text, std::int64_t frame)
+{
+    return frame > 0 ? QCoreApplication::translate("marbles", "%1 at frame %2").arg(text).arg(frame) : text;
+}
+
 /// To `frame`, where a structural edit was made, for its redo: back to it when the scene has run
 /// on past it and the frame is kept, on to it when the scene was stepped back before it (a delete
 /// redone after Step Back applied at the frame stepped back to, its Undo History text still
 /// naming the other: its undo then went to a frame where the kept frames had no place for the
 /// marble, and the plot and the comparison started again there; a regression tester's finding).
-void toItsFrame(SceneDocument *document, std::int64_t frame)
+/// Where that frame cannot be reached (no longer kept), the edit belongs to the frame it is made
+/// at: `frame` becomes it, and `command`'s text (`name` at that frame) says so.
+void toItsFrame(SceneDocument *document, std::int64_t &frame, QUndoCommand &command, const QString &name)
 {
     document->goToFrame(frame);
-}
-
-/// `text`, with the frame a mid-run edit was made at (as SetMarbleCommand names its edits).
-QString atFrame(const QString &text, std::int64_t frame)
-{
-    return frame > 0 ? QCoreApplication::translate("marbles", "%1 at frame %2").arg(text).arg(frame) : text;
+    if (document->world().frame != frame) {
+        frame = document->world().frame;
+        command.setText(atFrame(name, frame));
+    }
 }
 
 } // namespace
@@ -221,13 +227,8 @@ AddMarbleCommand::AddMarbleCommand(SceneDocument *document, const MarbleRecord &
 
 void AddMarbleCommand::redo()
 {
-    toItsFrame(m_document, m_frame);
+    toItsFrame(m_document, m_frame, *this, m_name);
     World &world = m_document->editableWorld();
-    // Where that frame could not be reached (no longer kept), it belongs to the frame it is made at.
-    if (world.frame != m_frame) {
-        m_frame = world.frame;
-        setText(atFrame(m_name, m_frame));
-    }
     m_index = world.marbleCount();
     insertMarble(world, m_index, m_record);
     // In the timeline's first frame too, where it is added: Home replays the scene with it.
@@ -267,16 +268,11 @@ RemoveMarbleCommand::RemoveMarbleCommand(SceneDocument *document, int marble)
 
 void RemoveMarbleCommand::redo()
 {
-    toItsFrame(m_document, m_frame);
+    toItsFrame(m_document, m_frame, *this, m_name);
     World &world = m_document->editableWorld();
     assert(m_index >= 0 && m_index < world.marbleCount());
     if (m_index < 0 || m_index >= world.marbleCount())
         return;
-    // Where that frame could not be reached (no longer kept), it belongs to the frame it is made at.
-    if (world.frame != m_frame) {
-        m_frame = world.frame;
-        setText(atFrame(m_name, m_frame));
-    }
     m_record = marbleRecord(world, m_index);
     m_pushes = world.pushes;
     world.removeMarble(m_index);
