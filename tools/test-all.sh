@@ -65,9 +65,23 @@ if [ "$fuzz_seconds" != "0" ]; then
         section "libFuzzer: ${name} from fuzz/${folder}/${pattern} for ${seconds}s"
         corpus=$(mktemp -d)
         cp "fuzz/${folder}"/$pattern "$corpus"/
+        log=build-fuzz/fuzz_"$name".log
+        status=0
         ./build-fuzz/fuzz/fuzz_"$name" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=30 \
-            -artifact_prefix=build-fuzz/artifacts/ -print_final_stats=1 "$corpus" 2>&1 | tail -n 15
+            -artifact_prefix=build-fuzz/artifacts/ -print_final_stats=1 "$corpus" >"$log" 2>&1 || status=$?
         rm -rf "$corpus"
+        if [ "$status" != "0" ]; then
+            # The cause comes first in a failure's report (the target's own message, a sanitizer's,
+            # or libFuzzer's), its stack after: the report from its first line, and the input.
+            first=$(grep -n -m1 -E '^(fuzz_[a-z]+:|==[0-9]+==|[^ ].*runtime error:|ALARM|ERROR: libFuzzer)' "$log" | cut -d: -f1)
+            sed -n "${first:-1},\$p" "$log" | head -n 80
+            for input in build-fuzz/artifacts/*; do
+                printf '\n-- %s (%s bytes), its first 2000 as text:\n' "$input" "$(stat -c %s "$input")"
+                head -c 2000 "$input" | tr -c '[:print:]\n' '?'; echo
+            done
+            exit "$status"
+        fi
+        tail -n 15 "$log"
     done
 fi
 

@@ -36,10 +36,34 @@ FrameHistory::FrameHistory(std::size_t maxFrames, std::size_t maxBytes)
 {
 }
 
-void FrameHistory::reset(const World &world)
+void FrameHistory::forgetFrames()
 {
     m_frames.clear();
     m_bytes = 0;
+    m_setAside.clear();
+    m_setAsideFrames = 0;
+    m_setAsideBytes = 0;
+}
+
+void FrameHistory::forgetOldestSetAside()
+{
+    SetAside &oldest = m_setAside.front();
+    m_setAsideBytes -= oldest.frames.front().byteSize();
+    --m_setAsideFrames;
+    oldest.frames.pop_front();
+    if (oldest.frames.empty())
+        m_setAside.erase(m_setAside.begin());
+}
+
+bool FrameHistory::overBudget(std::size_t incomingFrames, std::size_t incomingBytes) const
+{
+    return m_frames.size() + m_setAsideFrames + incomingFrames > m_maxFrames
+        || m_bytes + m_setAsideBytes + incomingBytes > m_maxBytes;
+}
+
+void FrameHistory::reset(const World &world)
+{
+    forgetFrames();
     m_start.copyFrom(world);
     // A timeline starts without the clicks' pushes still to act (what is pending between frames;
     // a scene's scripted pushes are added as their frame is stepped): a click is not an edit,
@@ -81,10 +105,8 @@ void FrameHistory::record(const World &world)
         return;
     }
     // A gap (a jump the history did not see) breaks step-back: what lies before it is stale.
-    if (!m_frames.empty() && m_frames.back().frame + 1 != world.frame) {
-        m_frames.clear();
-        m_bytes = 0;
-    }
+    if (!m_frames.empty() && m_frames.back().frame + 1 != world.frame)
+        forgetFrames();
     if (m_frames.empty())
         m_hits = world.lastHit;
     else
@@ -92,7 +114,10 @@ void FrameHistory::record(const World &world)
     // Once the history is full, the oldest frame's buffers are reused for the newest: a big
     // scene then costs one copy per frame, not an allocation, page faults and a free.
     const std::size_t incoming = sizeof(Frame) + static_cast<std::size_t>(world.marbleCount()) * 3 * sizeof(Vec2);
-    if (!m_frames.empty() && (m_frames.size() >= m_maxFrames || m_bytes + incoming > m_maxBytes)) {
+    // The frames set aside for undoing an add are the first to go.
+    while (!m_setAside.empty() && overBudget(1, incoming))
+        forgetOldestSetAside();
+    if (!m_frames.empty() && overBudget(1, incoming)) {
         Frame recycled = takeOldest();
         recycled.copyFrom(world);
         m_frames.push_back(std::move(recycled));
@@ -209,11 +234,11 @@ std::optional<FrameHistory::MarbleStart> FrameHistory::MarbleTrack::stateAt(std:
     return std::nullopt;
 }
 
-void FrameHistory::insertMarble(int i, const MarbleTrack &track)
+std::uint64_t FrameHistory::insertMarble(int i, const MarbleTrack &track)
 {
     const auto k = static_cast<std::size_t>(i);
     if (i < 0 || k > m_start.position.size() || m_startHits.size() != m_start.position.size())
-        return;
+        return 0;
     const auto at = [k](auto &values) { return values.begin() + static_cast<std::ptrdiff_t>(k); };
     const MarbleStart &start = track.start;
     m_start.position.insert(at(m_start.position), start.position);
@@ -225,9 +250,22 @@ void FrameHistory::insertMarble(int i, const MarbleTrack &track)
     const bool fits = !m_frames.empty() && k <= m_hits.size()
         && std::all_of(m_frames.begin(), m_frames.end(), [&](const Frame &f) { return track.keptAt(f.frame) != nullptr; });
     if (!fits) {
-        m_frames.clear();
-        m_bytes = 0;
-        return;
+        std::uint64_t number = 0;
+        if (track.frames.empty() && !m_frames.empty()) {
+            // A marble added: its undo takes them back.
+            number = ++m_setAsideCount;
+            m_setAside.push_back({number, std::move(m_frames), m_hits});
+            m_setAsideFrames += m_setAside.back().frames.size();
+            m_setAsideBytes += m_bytes;
+            m_frames.clear();
+            m_bytes = 0;
+        } else if (!m_frames.empty()) {
+            forgetFrames(); // a deleted marble whose frames these are not
+        }
+        // No frame kept: the records follow the world, which now has the marble.
+        if (k <= m_hits.size())
+            m_hits.insert(at(m_hits), start.lastHit);
+        return number;
     }
     for (Frame &f : m_frames) {
         const MarbleTrack::Kept &kept = *track.keptAt(f.frame);
@@ -248,6 +286,35 @@ void FrameHistory::insertMarble(int i, const MarbleTrack &track)
     // As of the newest kept frame, which is the one before the world's (a delete undone where it
     // was made, or after Step Back took the scene back past it).
     m_hits.insert(at(m_hits), track.hitAt(m_frames.back().frame));
+    return 0;
+}
+
+bool FrameHistory::takeBackSetAside(std::uint64_t setAside, const World &world)
+{
+    const auto its = std::find_if(m_setAside.begin(), m_setAside.end(),
+                                  [setAside](const SetAside &s) { return s.number == setAside; });
+    if (setAside == 0 || its == m_setAside.end())
+        return false;
+    // Those set aside after it were set aside by adds undone before (or not where they were made).
+    for (auto later = its; later != m_setAside.end(); ++later) {
+        for (const Frame &f : later->frames)
+            m_setAsideBytes -= f.byteSize();
+        m_setAsideFrames -= later->frames.size();
+    }
+    SetAside taken = std::move(*its);
+    m_setAside.erase(its, m_setAside.end());
+    const bool fits = m_frames.empty() && !taken.frames.empty() && taken.frames.back().frame + 1 == world.frame
+        && static_cast<int>(taken.frames.back().position.size()) == world.marbleCount()
+        && startSize() == world.marbleCount() && taken.hits.size() == world.lastHit.size();
+    if (!fits)
+        return false;
+    // The newest of them is the one before the world's, its last-hit records m_hits (its
+    // hitsBefore are filled in when the world is recorded, as for any newest frame).
+    for (const Frame &f : taken.frames)
+        m_bytes += f.byteSize();
+    m_frames = std::move(taken.frames);
+    m_hits = std::move(taken.hits);
+    return true;
 }
 
 FrameHistory::MarbleTrack FrameHistory::removeMarble(int i)
@@ -263,8 +330,7 @@ FrameHistory::MarbleTrack FrameHistory::removeMarble(int i)
     m_start.acceleration.erase(at(m_start.acceleration));
     m_startHits.erase(at(m_startHits));
     if (k >= m_hits.size()) { // (never: the frames and m_hits follow the first frame's marbles)
-        m_frames.clear();
-        m_bytes = 0;
+        forgetFrames();
         return track;
     }
     track.newestHit = m_hits[k];
@@ -293,8 +359,7 @@ bool FrameHistory::rewind(World &world)
 {
     if (!restoreStart(world))
         return false;
-    m_frames.clear();
-    m_bytes = 0;
+    forgetFrames();
     m_hits = m_startHits;
     return true;
 }

@@ -76,9 +76,19 @@ public:
     };
     /// A marble joins the scene at index i (0 <= i <= count): the first frame gets it as
     /// `track.start`, so that rewind() still reaches it. The step-back frames get it back too when
-    /// they are frames `track` was taken from (a deleted marble put back where it was deleted);
-    /// frames that have no place for it (a marble added) are forgotten.
-    void insertMarble(int i, const MarbleTrack &track);
+    /// they are frames `track` was taken from (a deleted marble put back where it was deleted).
+    /// Frames that have no place for it leave Step Back: those before a marble added (a `track`
+    /// without frames) are set aside for its undo, others are forgotten. Returns the number that
+    /// takeBackSetAside() takes them back by, or 0 when none were set aside.
+    std::uint64_t insertMarble(int i, const MarbleTrack &track);
+    /// The add that set aside frames `setAside` undone where it was made (its column already
+    /// removed by removeMarble(), `world` as it is now, no step-back frame kept since): those
+    /// frames come back, so that Step Back goes on past the add, and those set aside after them
+    /// (adds undone before) are forgotten. False (nothing comes back) when they do not fit there.
+    bool takeBackSetAside(std::uint64_t setAside, const World &world);
+    /// Frames set aside for undoing adds (they count in the frame and byte budgets, and are the
+    /// first forgotten when a budget is reached).
+    std::size_t setAsideSize() const { return m_setAsideFrames; }
     /// Marble i leaves the scene: the first frame and the step-back frames lose it (the others'
     /// frames stay, so that Step Back still goes back past the delete); returns its part of them.
     MarbleTrack removeMarble(int i);
@@ -129,6 +139,12 @@ private:
     };
 
     void noteHitChanges(const World &world);
+    /// Forgets every step-back frame, and those set aside (which can only follow on from them).
+    void forgetFrames();
+    /// Forgets the oldest frame set aside.
+    void forgetOldestSetAside();
+    /// True while the frames (set aside too), with `incoming` bytes more, are over a budget.
+    bool overBudget(std::size_t incomingFrames, std::size_t incomingBytes) const;
     /// The start of the timeline or a kept frame, `frame`; null when it is neither.
     const Frame *keptFrame(std::int64_t frame) const;
     /// Removes the oldest kept frame from the history and returns it (its buffers can be reused).
@@ -143,6 +159,17 @@ private:
     // history last saw): the newest frame's hitsBefore are filled in from it at the next record.
     std::vector<HitRecord> m_hits;
     std::size_t m_bytes = 0;
+    /// Step-back frames that preceded a marble added (insertMarble()), with the last-hit records
+    /// as of the newest of them, oldest adds first: an add's undo takes its own back.
+    struct SetAside {
+        std::uint64_t number = 0;
+        std::deque<Frame> frames;
+        std::vector<HitRecord> hits;
+    };
+    std::vector<SetAside> m_setAside;
+    std::size_t m_setAsideFrames = 0;
+    std::size_t m_setAsideBytes = 0;
+    std::uint64_t m_setAsideCount = 0; // numbers them
 };
 
 } // namespace marbles

@@ -5,6 +5,7 @@
 #include <QCoreApplication>
 
 #include <cassert>
+#include <utility>
 
 namespace marbles {
 
@@ -235,7 +236,7 @@ void AddMarbleCommand::redo()
     const auto k = static_cast<std::size_t>(m_index);
     FrameHistory::MarbleTrack track; // the first frame only: earlier frames have no place for it
     track.start = {world.position[k], world.velocity[k], world.acceleration[k], world.lastHit[k]};
-    m_document->marbleInserted(m_index, track);
+    m_setAside = m_document->marbleInserted(m_index, track);
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 
@@ -247,7 +248,7 @@ void AddMarbleCommand::undo()
     if (m_index < 0 || m_index >= world.marbleCount())
         return;
     world.removeMarble(m_index);
-    m_document->marbleRemoved(m_index);
+    m_document->addUndone(m_index, std::exchange(m_setAside, 0));
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 

@@ -85,7 +85,9 @@ private:
 
 /// Adds a marble at the end of the scene order. Undone or redone later in the run, it takes the
 /// scene back to the frame it was made at first, where that frame is kept; redone earlier, it
-/// runs the scene on to that frame first (as SetMarbleCommand).
+/// runs the scene on to that frame first (as SetMarbleCommand). The frames kept for Step Back
+/// before the add, which have no place for the marble, are set aside, and its undo there gives
+/// them back.
 class AddMarbleCommand : public QUndoCommand {
 public:
     AddMarbleCommand(SceneDocument *document, const MarbleRecord &record);
@@ -96,8 +98,9 @@ private:
     SceneDocument *m_document;
     MarbleRecord m_record;
     int m_index = -1;
-    std::int64_t m_frame = 0; // the frame the marble was added at
-    QString m_name;           // its text without the frame
+    std::int64_t m_frame = 0;     // the frame the marble was added at
+    std::uint64_t m_setAside = 0; // the step-back frames set aside there (FrameHistory::insertMarble())
+    QString m_name;               // its text without the frame
 };
 
 /// Removes a marble; undo puts it back at its index, with the scripted pushes that named it.

@@ -494,16 +494,24 @@ QString SceneDocument::setParam(const QString &key, const QString &value)
     return {};
 }
 
-void SceneDocument::marbleInserted(int i, const FrameHistory::MarbleTrack &track)
+std::uint64_t SceneDocument::marbleInserted(int i, const FrameHistory::MarbleTrack &track)
 {
     Q_EMIT marbleInsertedAt(i);
+    std::uint64_t setAside = 0;
     // Only while the first frame follows the world (one marble fewer there than here now).
     if (m_history.startSize() + 1 == m_world.marbleCount()) {
-        m_history.insertMarble(i, track);
+        setAside = m_history.insertMarble(i, track);
         if (m_history.size() > 0)
             Q_EMIT timelineMarbleInserted(i);
     }
     m_marblesRenumbered = true;
+    return setAside;
+}
+
+void SceneDocument::addUndone(int i, std::uint64_t setAside)
+{
+    marbleRemoved(i);
+    m_history.takeBackSetAside(setAside, m_world);
 }
 
 FrameHistory::MarbleTrack SceneDocument::marbleRemoved(int i)

@@ -70,6 +70,8 @@ private Q_SLOTS:
     void structureEditsAreNamed();
     void undoLaterInTheRunGoesBackToTheEdit();
     void stepBackGoesPastADeletedMarble();
+    void stepBackGoesPastAnAddUndone();
+    void framesSetAsideCountInTheBudget();
     void homeForgetsAClickAfterAnEdit();
     void nonFiniteStateStopsWithMessage();
     void paramEditsAreNamedAsTheDockNamesThem();
@@ -909,6 +911,127 @@ void TestSceneDocument::stepBackGoesPastADeletedMarble()
     // And forward again, the same run.
     QCOMPARE(undone.advance(30), 30);
     QVERIFY(sameDynamicState(undone.world(), atDelete));
+}
+
+void TestSceneDocument::stepBackGoesPastAnAddUndone()
+{
+    // A marble added mid-run, the add undone later: the scene goes back to the add's frame, and
+    // Step Back goes on through the frames before it as they were, bit for bit (they were
+    // forgotten at the add, which they have no place for: Step Back stopped at its frame).
+    SceneDocument doc;
+    doc.resetScene(preset("four-marbles"));
+    std::vector<World> states;
+    for (int f = 0; f < 30; ++f) {
+        states.push_back(doc.world());
+        doc.step();
+    }
+    QVERIFY(std::any_of(states.back().lastHit.begin(), states.back().lastHit.end(),
+                        [](const HitRecord &h) { return h.frame > 0; })); // collisions to walk back through
+    states.push_back(doc.world());
+    QVERIFY(doc.addMarble({700.0, 80.0}, 10.0).isEmpty());
+    QVERIFY(!doc.canStepBack()); // the frames before have no place for it
+    QCOMPARE(doc.advance(20), 20);
+    doc.undoStack()->undo();
+    QVERIFY(sameDynamicState(doc.world(), states[30]));
+    for (int f = 29; f >= 0; --f) {
+        QVERIFY2(doc.stepBack(), qPrintable(QStringLiteral("frame %1").arg(f)));
+        QVERIFY2(sameDynamicState(doc.world(), states[static_cast<std::size_t>(f)]), qPrintable(QStringLiteral("frame %1").arg(f)));
+    }
+    // And forward again, the same run.
+    QCOMPARE(doc.advance(30), 30);
+    QVERIFY(sameDynamicState(doc.world(), states[30]));
+
+    // Redone from frame 0 (it runs on to its frame) and undone there: the same again.
+    QVERIFY(doc.rewind());
+    doc.undoStack()->redo();
+    QCOMPARE(doc.world().frame, std::int64_t(30));
+    QCOMPARE(doc.world().marbleCount(), states[30].marbleCount() + 1);
+    doc.undoStack()->undo();
+    for (int f = 29; f >= 0; --f) {
+        QVERIFY2(doc.stepBack(), qPrintable(QStringLiteral("frame %1 after the redo").arg(f)));
+        QVERIFY2(sameDynamicState(doc.world(), states[static_cast<std::size_t>(f)]), qPrintable(QStringLiteral("frame %1 after the redo").arg(f)));
+    }
+
+    // Two adds, at frames 10 and 20, undone in turn: each goes back through its own frames.
+    SceneDocument two;
+    two.resetScene(preset("four-marbles"));
+    QCOMPARE(two.advance(10), 10);
+    QVERIFY(two.addMarble({700.0, 80.0}, 10.0).isEmpty());
+    QCOMPARE(two.advance(10), 10);
+    const World atSecond = two.world();
+    QVERIFY(two.addMarble({700.0, 520.0}, 10.0).isEmpty());
+    QCOMPARE(two.advance(10), 10);
+    two.undoStack()->undo();
+    QVERIFY(sameDynamicState(two.world(), atSecond));
+    for (int f = 19; f >= 10; --f)
+        QVERIFY2(two.stepBack(), qPrintable(QStringLiteral("frame %1").arg(f)));
+    QVERIFY(!two.canStepBack()); // the first marble added: none before it has a place for it
+    two.undoStack()->undo();
+    QVERIFY(sameDynamicState(two.world(), states[10]));
+    for (int f = 9; f >= 0; --f) {
+        QVERIFY2(two.stepBack(), qPrintable(QStringLiteral("frame %1").arg(f)));
+        QVERIFY2(sameDynamicState(two.world(), states[static_cast<std::size_t>(f)]), qPrintable(QStringLiteral("frame %1").arg(f)));
+    }
+
+    // Undone elsewhere than at its frame (Home first: the frames before it are gone), nothing
+    // comes back; nor after a delete made and undone in between that could not keep them.
+    SceneDocument home;
+    home.resetScene(preset("four-marbles"));
+    QCOMPARE(home.advance(10), 10);
+    QVERIFY(home.addMarble({700.0, 80.0}, 10.0).isEmpty());
+    QCOMPARE(home.advance(5), 5);
+    QVERIFY(home.rewind());
+    home.undoStack()->undo();
+    QCOMPARE(home.world().frame, std::int64_t(0));
+    QVERIFY(sameDynamicState(home.world(), states[0]));
+    QVERIFY(!home.canStepBack());
+    QCOMPARE(home.advance(10), 10);
+    QVERIFY(sameDynamicState(home.world(), states[10]));
+}
+
+void TestSceneDocument::framesSetAsideCountInTheBudget()
+{
+    // The frames set aside for an add's undo count in the history's frame budget, and are the
+    // first it forgets: what is left of them still comes back, the newest of them.
+    World w = preset("four-marbles");
+    FrameHistory history(10, FrameHistory::kDefaultMaxBytes);
+    history.reset(w);
+    std::vector<World> states;
+    for (int f = 0; f < 8; ++f) {
+        states.push_back(w);
+        history.record(w);
+        w.step();
+    }
+    const World atAdd = w;
+    const int n = w.marbleCount();
+    w.addMarble({700.0, 80.0}, 10.0);
+    FrameHistory::MarbleTrack track;
+    track.start = {w.position.back(), w.velocity.back(), w.acceleration.back(), w.lastHit.back()};
+    const std::uint64_t setAside = history.insertMarble(n, track);
+    QVERIFY(setAside != 0);
+    QCOMPARE(history.size(), std::size_t{0});
+    QCOMPARE(history.setAsideSize(), std::size_t{8});
+    for (int f = 0; f < 5; ++f) {
+        history.record(w);
+        w.step();
+    }
+    QCOMPARE(history.size() + history.setAsideSize(), std::size_t{10});
+    QCOMPARE(history.setAsideSize(), std::size_t{5}); // its three oldest forgotten
+    // Back at the add's frame (Step Back), the marble taken out: the five newest come back.
+    for (int f = 0; f < 5; ++f)
+        QVERIFY(history.stepBack(w));
+    w.removeMarble(n);
+    history.removeMarble(n);
+    QVERIFY(!history.takeBackSetAside(setAside + 1, w)); // not its number
+    QVERIFY(history.takeBackSetAside(setAside, w));
+    QCOMPARE(history.setAsideSize(), std::size_t{0});
+    QVERIFY(!history.takeBackSetAside(setAside, w)); // taken already
+    QVERIFY(sameDynamicState(w, atAdd));
+    for (int f = 7; f >= 3; --f) {
+        QVERIFY(history.stepBack(w));
+        QVERIFY(sameDynamicState(w, states[static_cast<std::size_t>(f)]));
+    }
+    QVERIFY(!history.stepBack(w));
 }
 
 void TestSceneDocument::homeForgetsAClickAfterAnEdit()
