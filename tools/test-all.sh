@@ -74,10 +74,12 @@ if [ "$fuzz_seconds" != "0" ]; then
             # The cause comes first in a failure's report (the target's own message, a sanitizer's,
             # or libFuzzer's), its stack after: the report from its first line, and the input.
             first=$(grep -n -m1 -E '^(fuzz_[a-z]+:|==[0-9]+==|[^ ].*runtime error:|ALARM|ERROR: libFuzzer)' "$log" | cut -d: -f1)
-            sed -n "${first:-1},\$p" "$log" | head -n 80
+            sed -n "${first:-1},\$p" "$log" | head -n 80 || true
             for input in build-fuzz/artifacts/*; do
+                [ -f "$input" ] || continue
                 printf '\n-- %s (%s bytes), its first 2000 as text:\n' "$input" "$(stat -c %s "$input")"
-                head -c 2000 "$input" | tr -c '[:print:]\n' '?'; echo
+                { head -c 2000 "$input" | tr -c '[:print:]\n' '?'; } || true
+                echo
             done
             exit "$status"
         fi
