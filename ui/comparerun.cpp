@@ -26,6 +26,8 @@ CompareRun::CompareRun(SceneDocument *document, QObject *parent)
     connect(m_document, &SceneDocument::timelineRewound, this, &CompareRun::rewindTo);
     connect(m_document, &SceneDocument::timelineMarbleRemoved, this, &CompareRun::onMarbleRemoved);
     connect(m_document, &SceneDocument::timelineMarbleInserted, this, &CompareRun::onMarbleInserted);
+    connect(m_document, &SceneDocument::timelineMarbleAdded, this, &CompareRun::onMarbleAdded);
+    connect(m_document, &SceneDocument::timelineAddUndone, this, &CompareRun::onAddUndone);
 }
 
 CompareRun::~CompareRun()
@@ -52,6 +54,7 @@ void CompareRun::stop()
     m_world.reset();
     m_history = FrameHistory(); // its frames can hold a few hundred MiB
     m_removed.clear();
+    m_added.clear();
     clearGapList(m_startFrame);
     m_gaps.shrink_to_fit();
     m_problem.clear();
@@ -73,6 +76,7 @@ void CompareRun::restart()
     clearGapList(source.frame);
     m_history.reset(*m_world);
     m_removed.clear();
+    m_added.clear();
     // The scene's parameters were checked for the document's model only: friction >= 1, say, is
     // the book model's instability on show, but the exact and impulse models cannot run with it.
     m_problem = QString::fromStdString(validateParams(m_world->params));
@@ -221,6 +225,57 @@ bool CompareRun::restoreOwnState(int i, const Removed &removed)
     return true;
 }
 
+void CompareRun::onMarbleAdded(int i)
+{
+    const World &source = m_document->world();
+    if (!isTracking() || m_world->frame != source.frame || m_world->marbleCount() + 1 != source.marbleCount()
+        || m_history.startSize() + 1 != source.marbleCount())
+        return; // the timelineReset() that follows restarts it
+    Added added{i, source.frame, 0, *m_world, m_startFrame, m_earlierStarts.size()};
+    // In its first frame as the document's: where it was added (Home replays the scene with it).
+    const auto k = static_cast<std::size_t>(i);
+    FrameHistory::MarbleTrack track;
+    track.start = {source.position[k], source.velocity[k], source.acceleration[k], source.lastHit[k]};
+    added.setAside = m_history.insertMarble(i, track);
+    if (added.setAside == 0)
+        return; // no frame kept before it: it restarts
+    m_added.push_back(std::move(added));
+    m_followedStructure = true; // sceneChanged() starts it again from the scene, its frames kept
+}
+
+void CompareRun::onAddUndone(int i)
+{
+    const World &source = m_document->world();
+    if (m_added.empty() || m_added.back().marble != i)
+        return; // restarted since: the timelineReset() that follows restarts it again
+    Added added = std::move(m_added.back());
+    m_added.pop_back();
+    if (!isTracking() || m_world->frame != source.frame || source.frame != added.frame
+        || m_history.startSize() != source.marbleCount() + 1 || added.before.marbleCount() != source.marbleCount())
+        return;
+    m_history.removeMarble(i);
+    World own = std::move(added.before);
+    if (!m_history.takeBackSetAside(added.setAside, own))
+        return; // it restarts
+    // Its state and start before the add: the add had started it again at this frame.
+    own.acceleration = source.acceleration; // the clicks' pushes still to act are the document's
+    *m_world = std::move(own);
+    if (m_startFrame == added.frame && m_earlierStarts.size() > added.earlierStarts) {
+        m_startFrame = added.startFrame;
+        m_earlierStarts.resize(added.earlierStarts);
+    }
+    if (m_earlierLargest.marble == i)
+        m_earlierLargest = {};
+    const std::int64_t kept = source.frame - m_firstGapFrame + 1;
+    if (kept >= 1 && kept <= static_cast<std::int64_t>(m_gaps.size())) {
+        m_gaps.resize(static_cast<std::size_t>(kept));
+        m_gaps.back() = largestGap(source.position, m_world->position);
+    }
+    retakeGaps();
+    m_followedStructure = true;
+    m_restoredOwnState = true;
+}
+
 void CompareRun::retakeGaps()
 {
     // The largest gap of the frames forgotten, then the gaps of the frames up to this one, as
@@ -353,7 +408,9 @@ void CompareRun::measureGap()
     takeGap(current, m_world->frame);
     // Only the frames the history can still step back to need their own gap; of the others the
     // largest is enough (the history forgets its oldest frames past its budget).
-    const std::int64_t oldest = m_world->frame - static_cast<std::int64_t>(m_history.size());
+    // (Those set aside at a marble added mid-run, which its undo gives back, count too.)
+    const std::int64_t oldest
+        = m_world->frame - static_cast<std::int64_t>(m_history.size() + m_history.setAsideSize());
     while (m_firstGapFrame < oldest && !m_gaps.empty()) {
         if (m_gaps.front().px > m_earlierLargest.px) {
             m_earlierLargest = m_gaps.front();

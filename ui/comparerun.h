@@ -47,7 +47,9 @@ class MarbleFieldItem;
 ///   as it was before it, its gaps and its start with it. So does a marble deleted mid-run (or
 ///   its delete undone) where the document's frames follow it: the comparison's frames lose the
 ///   marble (or take it back) as the document's do, and their gaps are measured again; the
-///   delete undone gives the comparison back its own state at that frame. While a marble is
+///   delete undone gives the comparison back its own state at that frame. A marble added mid-run
+///   starts it again there, its frames before set aside, and the add undone where it was made
+///   gives them back, with the comparison's own state and start. While a marble is
 ///   held with the mouse the comparison follows the document every frame, as the hand moves
 ///   that marble outside either model's physics.
 /// - **When the comparison model cannot run.** If the scene's parameters are invalid for the
@@ -152,6 +154,13 @@ private:
     /// The document's kept frames took marble i back (a delete undone): the comparison's take
     /// back the part its own frames lost.
     void onMarbleInserted(int i);
+    /// The document's kept frames before a marble added mid-run were set aside: the comparison's
+    /// are too, and it takes the marble and starts again there (as after any edit), so that the
+    /// add's undo can give back its frames and its state before it.
+    void onMarbleAdded(int i);
+    /// The add of marble i undone where it was made, the document's frames before it back: the
+    /// comparison's come back too, with its own state and start before the add.
+    void onAddUndone(int i);
     /// A new timeline restarts the comparison, except after a marble its kept frames followed.
     void onTimelineReset();
     /// Measures again the gaps of the kept frames, from both histories (a marble removed or put
@@ -198,6 +207,17 @@ private:
         std::size_t earlierStarts = 0;   ///< and how many earlier starts it had
     };
     std::vector<Removed> m_removed;
+    /// For each marble added mid-run, newest last, what its undo gives back (onMarbleAdded(),
+    /// onAddUndone()).
+    struct Added {
+        int marble = -1;
+        std::int64_t frame = 0;      ///< the frame it was added at
+        std::uint64_t setAside = 0;  ///< the comparison's frames set aside there
+        World before;                ///< the comparison at that frame, before the add
+        std::int64_t startFrame = 0; ///< its start then
+        std::size_t earlierStarts = 0;
+    };
+    std::vector<Added> m_added;
     /// The kept frames followed a marble removed or put back: the edit's sceneChanged() keeps them,
     /// and its timelineReset() does not restart.
     bool m_followedStructure = false;

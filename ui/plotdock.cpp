@@ -518,10 +518,10 @@ void PlotDock::startAt(const World &world, const World *compare)
 
 void PlotDock::replayKeptFrames(const World &world, const World *compare, std::int64_t firstFrame)
 {
-    // No further back than the lines went (nor than the plot holds).
-    const std::int64_t heldFrom = m_frames.isEmpty() ? world.frame : m_frames.at(0);
+    // No further back than the plot holds. (Further back than the lines went: an add undone
+    // gives back the frames before it, where the lines had started again.)
     reset(world);
-    const std::int64_t from = std::max({firstFrame, heldFrom, world.frame - static_cast<std::int64_t>(capacity()) + 1});
+    const std::int64_t from = std::max(firstFrame, world.frame - static_cast<std::int64_t>(capacity()) + 1);
     if (m_documentVelocities && from < world.frame) {
         // The marbles and masses of now, with the velocities of each kept frame: what the frames
         // hold is what Step Back returns to.

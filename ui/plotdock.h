@@ -68,11 +68,12 @@ public:
     /// the speed before it. (replayKeptFrames() with no frame kept before it.)
     void startAt(const World &world, const World *compare = nullptr);
     /// reset(), then a sample of each frame Step Back can return to (the velocity lookups',
-    /// setVelocityLookup(), from `firstFrame` on, those of a gap left out, and none older than
-    /// the samples held were), and of `world` and `compare` now. What the window does on a new
-    /// timeline: after a marble left the scene mid-run or came back, whose frames the timeline
-    /// kept, the lines run on through them, with the marbles there are now (they had started
-    /// again at the edit); a new scene keeps no frame, and they start where it does.
+    /// setVelocityLookup(), from `firstFrame` on, those of a gap left out, as many as it holds),
+    /// and of `world` and `compare` now. What the window does on a new timeline: after a marble
+    /// left the scene mid-run or came back, whose frames the timeline kept, or an add undone,
+    /// which gives back those before it, the lines run on through them, with the marbles there
+    /// are now (they had started again at the edit); a new scene keeps no frame, and they start
+    /// where it does.
     void replayKeptFrames(const World &world, const World *compare, std::int64_t firstFrame);
     /// After an edit that kept the marbles: the sample of the current frame (if held) is taken
     /// again from `world` as edited (and `compare`), the earlier ones stay; the model's name in

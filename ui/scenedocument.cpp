@@ -501,7 +501,9 @@ std::uint64_t SceneDocument::marbleInserted(int i, const FrameHistory::MarbleTra
     // Only while the first frame follows the world (one marble fewer there than here now).
     if (m_history.startSize() + 1 == m_world.marbleCount()) {
         setAside = m_history.insertMarble(i, track);
-        if (m_history.size() > 0)
+        if (setAside != 0)
+            Q_EMIT timelineMarbleAdded(i);
+        else if (m_history.size() > 0)
             Q_EMIT timelineMarbleInserted(i);
     }
     m_marblesRenumbered = true;
@@ -510,8 +512,15 @@ std::uint64_t SceneDocument::marbleInserted(int i, const FrameHistory::MarbleTra
 
 void SceneDocument::addUndone(int i, std::uint64_t setAside)
 {
-    marbleRemoved(i);
-    m_history.takeBackSetAside(setAside, m_world);
+    Q_EMIT marbleRemovedAt(i);
+    if (m_history.startSize() == m_world.marbleCount() + 1) {
+        m_history.removeMarble(i);
+        if (m_history.takeBackSetAside(setAside, m_world))
+            Q_EMIT timelineAddUndone(i);
+        else
+            Q_EMIT timelineMarbleRemoved(i);
+    }
+    m_marblesRenumbered = true;
 }
 
 FrameHistory::MarbleTrack SceneDocument::marbleRemoved(int i)

@@ -187,6 +187,14 @@ Q_SIGNALS:
     /// back through them with it. Emitted before the edit's sceneChanged(Structure) and
     /// timelineReset().
     void timelineMarbleInserted(int i);
+    /// Marble i was added mid-run, and the step-back frames before it, which have no place for
+    /// it, were set aside for its undo (Step Back stops at the add). Emitted before the edit's
+    /// sceneChanged(Structure) and timelineReset().
+    void timelineMarbleAdded(int i);
+    /// The add of marble i undone where it was made: it left the scene, and the frames set aside
+    /// at the add came back (Step Back goes on past it). Emitted where timelineMarbleRemoved()
+    /// would be, in its place.
+    void timelineAddUndone(int i);
     /// The simulation left finite numbers; `message` names the frame and the marble.
     void simulationFailed(const QString &message);
     /// The exact model held marbles at rest to finish a frame where energy should have been

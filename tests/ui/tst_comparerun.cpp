@@ -128,6 +128,7 @@ private Q_SLOTS:
     void stepsBackWithTheDocument();
     void stepsBackPastADeletedMarble();
     void deleteRedoneAfterStepBackKeepsItsFrame();
+    void addUndoneGivesBackTheComparison();
     void randomSessionFollowsTheRules_data();
     void randomSessionFollowsTheRules();
     void forgottenFramesKeepOnlyTheLargestGap();
@@ -452,6 +453,71 @@ void TestCompareRun::stepsBackPastADeletedMarble()
     World next = theirs[60];
     QVERIFY(next.step().finite);
     QVERIFY(sameDynamics(*compare.world(), next));
+}
+
+void TestCompareRun::addUndoneGivesBackTheComparison()
+{
+    // A marble added mid-run starts the comparison again there (the marble is in both models);
+    // the add undone later goes back to its frame with the comparison as it was there, its start
+    // and gaps too, and Step Back goes on through the comparison's own frames before it (it had
+    // started again at the add, "gap 0", and Step Back stopped there).
+    SceneDocument doc;
+    doc.resetScene(presetWorld("masses", ModelKind::Book));
+    CompareRun compare(&doc);
+    compare.setModel(ModelKind::Exact);
+    std::vector<World> ours{doc.world()};
+    std::vector<World> theirs{*compare.world()};
+    for (int f = 1; f <= 60; ++f) {
+        doc.advance(1);
+        ours.push_back(doc.world());
+        theirs.push_back(*compare.world());
+    }
+    const double largest60 = compare.largestGapPx();
+    const int largestMarble = compare.largestGapMarble();
+    const std::int64_t largestFrame = compare.largestGapFrame();
+    QCOMPARE_GT(largest60, 1.0);
+    QVERIFY(doc.addMarble({60.0, 60.0}, 12.0).isEmpty());
+    QVERIFY(compare.isTracking());
+    QCOMPARE(compare.startFrame(), std::int64_t(60));
+    QVERIFY(isCopyOf(*compare.world(), doc.world(), ModelKind::Exact));
+    QCOMPARE(compare.largestGapPx(), 0.0);
+    doc.advance(20);
+    QCOMPARE(compare.world()->marbleCount(), doc.world().marbleCount());
+
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().frame, std::int64_t(60));
+    QVERIFY(sameDynamics(doc.world(), ours[60]));
+    QVERIFY(compare.isTracking());
+    QCOMPARE(compare.startFrame(), std::int64_t(0));
+    QVERIFY(sameDynamics(*compare.world(), theirs[60]));
+    QVERIFY(compare.largestGapPx() == largest60);
+    QCOMPARE(compare.largestGapMarble(), largestMarble);
+    QCOMPARE(compare.largestGapFrame(), largestFrame);
+    QVERIFY(compare.currentGapPx() == gapBetween(ours[60], theirs[60]).px);
+    for (int f = 59; f >= 30; --f) {
+        QVERIFY2(doc.stepBack(), qPrintable(QStringLiteral("frame %1").arg(f)));
+        QVERIFY2(sameDynamics(*compare.world(), theirs[static_cast<std::size_t>(f)]), qPrintable(QStringLiteral("frame %1").arg(f)));
+        QVERIFY(compare.currentGapPx() == gapBetween(ours[static_cast<std::size_t>(f)], theirs[static_cast<std::size_t>(f)]).px);
+    }
+    QCOMPARE(compare.startFrame(), std::int64_t(0));
+    // And on from there, the same run as before the add.
+    doc.advance(30);
+    QVERIFY(sameDynamics(doc.world(), ours[60]));
+    QVERIFY(sameDynamics(*compare.world(), theirs[60]));
+    QVERIFY(compare.largestGapPx() == largest60);
+    doc.advance(1);
+    World next = theirs[60];
+    QVERIFY(next.step().finite);
+    QVERIFY(sameDynamics(*compare.world(), next));
+
+    // Added at once and undone at once: as it was.
+    doc.undoStack()->redo(); // added again at frame 60: back there first
+    QCOMPARE(doc.world().frame, std::int64_t(60));
+    QCOMPARE(compare.startFrame(), std::int64_t(60));
+    doc.undoStack()->undo();
+    QCOMPARE(compare.startFrame(), std::int64_t(0));
+    QVERIFY(sameDynamics(*compare.world(), theirs[60]));
+    QVERIFY(compare.largestGapPx() == largest60);
 }
 
 void TestCompareRun::deleteRedoneAfterStepBackKeepsItsFrame()

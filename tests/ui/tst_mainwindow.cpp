@@ -145,6 +145,7 @@ private Q_SLOTS:
     void comparisonStartsWithItsTotals();
     void compareSteppedBackPastAnEditMeetsAtTheRestart();
     void deleteMidRunKeepsTheRunBeforeIt();
+    void addUndoneKeepsTheRunBeforeIt();
     void coloursFollowTheMarbles();
     void homeAfterALongRunPlotsFrameZero();
     void newOpensAnEmptyScene();
@@ -1403,6 +1404,45 @@ void TestMainWindow::deleteMidRunKeepsTheRunBeforeIt()
     QTRY_COMPARE(energy->text(), QStringLiteral("KE %1 (book), %2 (exact)")
                                      .arg(readableNumber(ours[40].kineticEnergy(), 5), readableNumber(theirs[40].kineticEnergy(), 5)));
     QVERIFY(std::abs(ours[40].kineticEnergy() - theirs[40].kineticEnergy()) > 100.0);
+}
+
+void TestMainWindow::addUndoneKeepsTheRunBeforeIt()
+{
+    // Comparing, a marble added at frame 60, run on to 80, the add undone: back at frame 60 the
+    // plot's lines run from frame 0 again, the comparison's with them (they had started again at
+    // the add, and stayed so after the undo: one dot), and Step Back goes on to frame 40.
+    QVERIFY(m_window->openPreset(QStringLiteral("masses")));
+    SceneDocument *doc = m_window->document();
+    PlotDock *plot = m_window->plotDock();
+    compareExact()->trigger();
+    const CompareRun *compare = m_window->compareRun();
+    std::vector<World> ours{doc->world()};
+    std::vector<World> theirs{*compare->world()};
+    for (int f = 1; f <= 60; ++f) {
+        doc->advance(1);
+        ours.push_back(doc->world());
+        theirs.push_back(*compare->world());
+    }
+    QVERIFY(doc->addMarble({60.0, 60.0}, 12.0).isEmpty());
+    QCOMPARE(plot->sampleCount(), 1);
+    doc->advance(20);
+    doc->undoStack()->undo();
+    QCOMPARE(doc->world().frame, 60);
+    QCOMPARE(doc->world().marbleCount(), 5);
+    QCOMPARE(plot->sampleCount(), 61);
+    QCOMPARE(plot->sampleFrame(20), std::int64_t(20));
+    QCOMPARE_LE(std::abs(plot->sampleKineticEnergy(20) - ours[20].kineticEnergy()), 1e-9 * ours[20].kineticEnergy());
+    QCOMPARE_LE(std::abs(plot->sampleCompareKineticEnergy(20) - theirs[20].kineticEnergy()),
+                1e-9 * theirs[20].kineticEnergy());
+    QVERIFY(plot->compareRestarts().empty());
+    QCOMPARE(compare->startFrame(), std::int64_t(0));
+
+    for (int k = 0; k < 20; ++k)
+        QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+    QCOMPARE(doc->world().frame, 40);
+    QCOMPARE(doc->world().velocity, ours[40].velocity);
+    QCOMPARE(compare->world()->velocity, theirs[40].velocity);
+    QCOMPARE(plot->sampleCount(), 41);
 }
 
 void TestMainWindow::coloursFollowTheMarbles()
