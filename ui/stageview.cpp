@@ -81,11 +81,16 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
     // at the frame it returns to: the pushes still to come are found again.
     connect(m_document, &SceneDocument::sceneChanged, this, &StageView::findPendingPushes);
     connect(m_document, &SceneDocument::timelineRewound, this, &StageView::findPendingPushes);
-    connect(m_document, &SceneDocument::timelineRewound, this, [this](std::int64_t frame) { m_trail->cutAfter(frame); });
+    connect(m_document, &SceneDocument::timelineRewound, this, [this](std::int64_t frame) {
+        m_trail->cutAfter(frame);
+        m_trailsSince = std::min(m_trailsSince, frame);
+    });
     connect(m_document, &SceneDocument::sceneChanged, this, [this](SceneDocument::Change change) {
         // A new scene is shown whole, whatever the zoom was on the last one.
-        if (change == SceneDocument::Change::Scene)
+        if (change == SceneDocument::Change::Scene) {
             m_autoFit = true;
+            m_trailsSince = m_document->world().frame;
+        }
         // A marble moved or changed by hand may have jumped: the trails start over. A parameter
         // changed mid-run (friction, gravity) keeps them, so that the paths bend from there.
         if (change == SceneDocument::Change::Marbles)
@@ -426,21 +431,22 @@ void StageView::resetTrail()
     // Started from where the marbles are: sampled only after each frame, a trail began a frame
     // late, without its first segment.
     m_trail->clear();
+    m_trailsSince = m_document->world().frame;
     sampleTrail();
 }
 
 void StageView::replayTrail()
 {
-    const std::optional<std::int64_t> trailsFrom = m_trail->firstFrame();
     m_trail->clear();
-    if (m_trailsVisible && trailsFrom) {
-        // The trails run on through the frames they held that Step Back can still go to: after a
-        // marble left mid-run or came back, the kept frames followed it (the trails had started
-        // again there); a new timeline keeps none. (Not further back than they went: a trail
-        // starts again where a marble was moved by hand.)
+    if (m_trailsVisible) {
+        // The trails run on through the frames Step Back can still go to: after a marble left
+        // mid-run or came back, the kept frames followed it (the trails had started again
+        // there), and an add undone gives back the frames before it; a new timeline keeps none.
+        // (Not further back than they went: a trail starts again where a marble was moved by
+        // hand.)
         const World &world = m_document->world();
         const FrameHistory &history = m_document->history();
-        const std::int64_t first = std::max(history.firstUnbrokenFrame(world.frame), *trailsFrom);
+        const std::int64_t first = std::max(history.firstUnbrokenFrame(world.frame), m_trailsSince);
         std::optional<World> at; // the marbles of now at each kept frame (copied only if there is one)
         for (std::int64_t f = first; f < world.frame; ++f) {
             const std::vector<Vec2> *positions = history.positionsAt(f);

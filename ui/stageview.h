@@ -196,6 +196,9 @@ private:
     std::vector<VectorItem *> m_vectors;
     std::vector<PinItem *> m_pins;
     TrailItem *m_trail = nullptr;
+    /// The frame the trails were last started over at (shown, or a marble moved by hand), or
+    /// stepped back to before it: a new timeline replays them no further back.
+    std::int64_t m_trailsSince = 0;
     MarbleFieldItem *m_field = nullptr;
     QList<QPair<int, QColor>> m_tints; // setMarbleTints()
 

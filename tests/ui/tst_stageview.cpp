@@ -826,6 +826,18 @@ void TestStageView::stepBackCutsTrails()
     QCOMPARE(m_document->world().marbleCount(), marbles);
     for (int i = 0; i < marbles; ++i)
         QVERIFY2(followsRun(i, i, 6), qPrintable(QString::number(i)));
+
+    // A marble added mid-run: the trails start again there (the frames before have no place
+    // for it); the add undone, they run through the frames before it again (they stayed started
+    // at the add: the frames Step Back went to, without their trails).
+    QVERIFY(m_document->addMarble({60.0, 60.0}, 8.0).isEmpty());
+    QCOMPARE(static_cast<int>(trail->points(0).size()), 1);
+    m_document->advance(3);
+    m_document->undoStack()->undo();
+    QCOMPARE(m_document->world().marbleCount(), marbles);
+    QCOMPARE(m_document->world().frame, std::int64_t(10));
+    for (int i = 0; i < marbles; ++i)
+        QVERIFY2(followsRun(i, i, 6), qPrintable(QString::number(i)));
 }
 
 void TestStageView::selectedMarbleKeepsLongTrail()
