@@ -11,6 +11,7 @@
 #include "ui/prompts.h"
 #include "ui/scenedocument.h"
 #include "ui/stageview.h"
+#include "tests/ui/bothruns.h"
 
 #include <QAction>
 #include <QComboBox>
@@ -371,13 +372,9 @@ void TestCompareRun::stepsBackPastADeletedMarble()
     doc.resetScene(presetWorld("masses", ModelKind::Book));
     CompareRun compare(&doc);
     compare.setModel(ModelKind::Exact);
-    std::vector<World> ours{doc.world()};
-    std::vector<World> theirs{*compare.world()};
-    for (int f = 1; f <= 60; ++f) {
-        doc.advance(1);
-        ours.push_back(doc.world());
-        theirs.push_back(*compare.world());
-    }
+    test::BothRuns run = test::runBoth(doc, compare, 60);
+    std::vector<World> &ours = run.ours;
+    std::vector<World> &theirs = run.theirs;
     const int gone = 0; // the marble with the largest gap (the book's light marble 0)
     QCOMPARE(compare.largestGapMarble(), gone);
     const auto without = [gone](World w) {
@@ -465,13 +462,9 @@ void TestCompareRun::addUndoneGivesBackTheComparison()
     doc.resetScene(presetWorld("masses", ModelKind::Book));
     CompareRun compare(&doc);
     compare.setModel(ModelKind::Exact);
-    std::vector<World> ours{doc.world()};
-    std::vector<World> theirs{*compare.world()};
-    for (int f = 1; f <= 60; ++f) {
-        doc.advance(1);
-        ours.push_back(doc.world());
-        theirs.push_back(*compare.world());
-    }
+    test::BothRuns run = test::runBoth(doc, compare, 60);
+    std::vector<World> &ours = run.ours;
+    std::vector<World> &theirs = run.theirs;
     const double largest60 = compare.largestGapPx();
     const int largestMarble = compare.largestGapMarble();
     const std::int64_t largestFrame = compare.largestGapFrame();

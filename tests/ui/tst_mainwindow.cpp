@@ -18,6 +18,7 @@
 #include "ui/runcontroller.h"
 #include "ui/scenedocument.h"
 #include "ui/stageview.h"
+#include "tests/ui/bothruns.h"
 #include "ui/trailitem.h"
 #include "tests/ui/filesizelimit.h"
 
@@ -1371,13 +1372,9 @@ void TestMainWindow::deleteMidRunKeepsTheRunBeforeIt()
     PlotDock *plot = m_window->plotDock();
     compareExact()->trigger();
     const CompareRun *compare = m_window->compareRun();
-    std::vector<World> ours{doc->world()};
-    std::vector<World> theirs{*compare->world()};
-    for (int f = 1; f <= 60; ++f) {
-        doc->advance(1);
-        ours.push_back(doc->world());
-        theirs.push_back(*compare->world());
-    }
+    test::BothRuns run = test::runBoth(*doc, *compare, 60);
+    std::vector<World> &ours = run.ours;
+    std::vector<World> &theirs = run.theirs;
     for (World *w : {&ours[40], &theirs[40], &ours[20], &theirs[20]})
         w->removeMarble(1);
     doc->removeMarble(1);
@@ -1416,13 +1413,9 @@ void TestMainWindow::addUndoneKeepsTheRunBeforeIt()
     PlotDock *plot = m_window->plotDock();
     compareExact()->trigger();
     const CompareRun *compare = m_window->compareRun();
-    std::vector<World> ours{doc->world()};
-    std::vector<World> theirs{*compare->world()};
-    for (int f = 1; f <= 60; ++f) {
-        doc->advance(1);
-        ours.push_back(doc->world());
-        theirs.push_back(*compare->world());
-    }
+    test::BothRuns run = test::runBoth(*doc, *compare, 60);
+    std::vector<World> &ours = run.ours;
+    std::vector<World> &theirs = run.theirs;
     QVERIFY(doc->addMarble({60.0, 60.0}, 12.0).isEmpty());
     QCOMPARE(plot->sampleCount(), 1);
     doc->advance(20);

@@ -864,6 +864,24 @@ void TestSceneDocument::undoLaterInTheRunGoesBackToTheEdit()
     QVERIFY(sameDynamicState(added.world(), beforeAdd));
 }
 
+namespace {
+
+/// The four marbles' run through frames 0 to frames - 1 of `doc`, stepped one at a time (the
+/// world before each step); it ends at frame `frames`. There are collisions to walk back through.
+std::vector<World> statesOfFrames(SceneDocument &doc, int frames)
+{
+    std::vector<World> states;
+    for (int f = 0; f < frames; ++f) {
+        states.push_back(doc.world());
+        doc.step();
+    }
+    if (!std::any_of(states.back().lastHit.begin(), states.back().lastHit.end(), [](const HitRecord &h) { return h.frame > 0; }))
+        qFatal("no collision in the first %d frames", frames);
+    return states;
+}
+
+} // namespace
+
 void TestSceneDocument::stepBackGoesPastADeletedMarble()
 {
     // A marble deleted mid-run leaves the frames kept for Step Back, which stay (they were all
@@ -871,13 +889,7 @@ void TestSceneDocument::stepBackGoesPastADeletedMarble()
     // and Step Back goes to frame 0 through the frames as they were, bit for bit.
     SceneDocument doc;
     doc.resetScene(preset("four-marbles"));
-    std::vector<World> states;
-    for (int f = 0; f < 30; ++f) {
-        states.push_back(doc.world());
-        doc.step();
-    }
-    QVERIFY(std::any_of(states.back().lastHit.begin(), states.back().lastHit.end(),
-                        [](const HitRecord &h) { return h.frame > 0; })); // collisions to walk back through
+    std::vector<World> states = statesOfFrames(doc, 30);
     doc.removeMarble(1);
     QVERIFY(doc.canStepBack());
     for (int f = 29; f >= 20; --f) {
@@ -920,13 +932,7 @@ void TestSceneDocument::stepBackGoesPastAnAddUndone()
     // forgotten at the add, which they have no place for: Step Back stopped at its frame).
     SceneDocument doc;
     doc.resetScene(preset("four-marbles"));
-    std::vector<World> states;
-    for (int f = 0; f < 30; ++f) {
-        states.push_back(doc.world());
-        doc.step();
-    }
-    QVERIFY(std::any_of(states.back().lastHit.begin(), states.back().lastHit.end(),
-                        [](const HitRecord &h) { return h.frame > 0; })); // collisions to walk back through
+    std::vector<World> states = statesOfFrames(doc, 30);
     states.push_back(doc.world());
     QVERIFY(doc.addMarble({700.0, 80.0}, 10.0).isEmpty());
     QVERIFY(!doc.canStepBack()); // the frames before have no place for it
