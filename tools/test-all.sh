@@ -72,14 +72,16 @@ if [ "$fuzz_seconds" != "0" ]; then
         rm -rf "$corpus"
         if [ "$status" != "0" ]; then
             # The cause comes first in a failure's report (the target's own message, a sanitizer's,
-            # or libFuzzer's), its stack after: the report from its first line, and the input.
+            # or libFuzzer's), its stack after: the report from its first line, its summary, and
+            # the input, last (CI shows the end of the log), compressed so that it is whole.
             first=$(grep -n -m1 -E '^(fuzz_[a-z]+:|==[0-9]+==|[^ ].*runtime error:|ALARM|ERROR: libFuzzer)' "$log" | cut -d: -f1)
-            sed -n "${first:-1},\$p" "$log" | head -n 80 || true
+            sed -n "${first:-1},\$p" "$log" | head -n 40 || true
+            grep -m1 '^SUMMARY' "$log" || true
             for input in build-fuzz/artifacts/*; do
                 [ -f "$input" ] || continue
-                printf '\n-- %s (%s bytes), its first 2000 as text:\n' "$input" "$(stat -c %s "$input")"
-                { head -c 2000 "$input" | tr -c '[:print:]\n' '?'; } || true
-                echo
+                printf '\n-- %s (%s bytes): replay with base64 -d | gunzip > input && ./build-fuzz/fuzz/fuzz_%s input\n' \
+                    "$input" "$(stat -c %s "$input")" "$name"
+                gzip -9c "$input" | base64 -w 120
             done
             exit "$status"
         fi
