@@ -317,7 +317,11 @@ void CompareRun::remeasureKeptGaps()
         const std::int64_t at = m_firstGapFrame + static_cast<std::int64_t>(k);
         const std::vector<Vec2> *ours = document.positionsAt(at);
         const std::vector<Vec2> *theirs = m_history.positionsAt(at);
-        m_gaps[k] = ours && theirs && ours->size() == theirs->size() ? largestGap(*ours, *theirs) : Gap{};
+        // A frame set aside at a marble added (or forgotten by one history) keeps its gap: it
+        // comes back with the marbles it was measured with, once the add is undone (its gap had
+        // become 0, and so had the largest gap before the add).
+        if (ours && theirs && ours->size() == theirs->size())
+            m_gaps[k] = largestGap(*ours, *theirs);
     }
 }
 

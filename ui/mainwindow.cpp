@@ -151,6 +151,11 @@ MainWindow::MainWindow(QWidget *parent)
     connect(m_view, &StageView::message, this, &MainWindow::showStatus);
     connect(m_view, &StageView::frameMessage, this, &MainWindow::showFrameStatus);
     connect(m_document, &SceneDocument::stepped, this, &MainWindow::expireFrameStatus);
+    // A new timeline (a marble added or removed, its undo) changes what the message said of the
+    // frame, which stays the same ("Frame 59 is not kept" stayed after the undo of an add gave
+    // frame 59 back): the stepped() that follows takes it away.
+    connect(m_document, &SceneDocument::timelineReset, this,
+            [this] { m_frameStatusAt = std::numeric_limits<std::int64_t>::min(); });
     connect(m_compare, &CompareRun::modelChanged, this, &MainWindow::updateCompareControls);
     connect(m_compare, &CompareRun::restarted, this, &MainWindow::updateCompareReadout);
     // Its dashed lines jump to the scene's values there: marked, not to be read as a collision.

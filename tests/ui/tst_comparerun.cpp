@@ -511,6 +511,29 @@ void TestCompareRun::addUndoneGivesBackTheComparison()
     QCOMPARE(compare.startFrame(), std::int64_t(0));
     QVERIFY(sameDynamics(*compare.world(), theirs[60]));
     QVERIFY(compare.largestGapPx() == largest60);
+
+    // Another marble deleted after the add, both undone: the gaps of the frames before the add,
+    // set aside while the delete measured the kept frames' gaps again, are as they were (they
+    // had become 0: "largest gap 0 px" at frame 55; a regression tester's finding).
+    doc.undoStack()->redo();
+    doc.advance(10);
+    doc.removeMarble(1);
+    doc.advance(5);
+    doc.undoStack()->undo();
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().frame, std::int64_t(60));
+    QCOMPARE(compare.startFrame(), std::int64_t(0));
+    QVERIFY(compare.largestGapPx() == largest60);
+    QCOMPARE(compare.largestGapMarble(), largestMarble);
+    QCOMPARE(compare.largestGapFrame(), largestFrame);
+    for (int f = 59; f >= 55; --f)
+        QVERIFY(doc.stepBack());
+    double largest55 = 0.0;
+    for (std::size_t f = 1; f <= 55; ++f)
+        largest55 = std::max(largest55, gapBetween(ours[f], theirs[f]).px);
+    QCOMPARE_GT(largest55, 1.0);
+    QVERIFY(compare.largestGapPx() == largest55);
+    QVERIFY(compare.currentGapPx() == gapBetween(ours[55], theirs[55]).px);
 }
 
 void TestCompareRun::deleteRedoneAfterStepBackKeepsItsFrame()

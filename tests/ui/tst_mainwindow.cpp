@@ -1405,7 +1405,7 @@ void TestMainWindow::deleteMidRunKeepsTheRunBeforeIt()
 
 void TestMainWindow::addUndoneKeepsTheRunBeforeIt()
 {
-    // Comparing, a marble added at frame 60, run on to 80, the add undone: back at frame 60 the
+    // Comparing, a marble added at frame 60, run on to 80 and back, the add undone: at frame 60 the
     // plot's lines run from frame 0 again, the comparison's with them (they had started again at
     // the add, and stayed so after the undo: one dot), and Step Back goes on to frame 40.
     QVERIFY(m_window->openPreset(QStringLiteral("masses")));
@@ -1419,7 +1419,15 @@ void TestMainWindow::addUndoneKeepsTheRunBeforeIt()
     QVERIFY(doc->addMarble({60.0, 60.0}, 12.0).isEmpty());
     QCOMPARE(plot->sampleCount(), 1);
     doc->advance(20);
+    // Step Back stops at the add, and says so; the undo there gives the frames back, and takes
+    // the message away (it stayed: "Frame 59 is not kept").
+    for (int k = 0; k < 21; ++k)
+        QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+    QCOMPARE(doc->world().frame, 60);
+    QVERIFY2(m_window->statusBar()->currentMessage().startsWith(QStringLiteral("Frame 59 is not kept")),
+             qPrintable(m_window->statusBar()->currentMessage()));
     doc->undoStack()->undo();
+    QCOMPARE(m_window->statusBar()->currentMessage(), QString());
     QCOMPARE(doc->world().frame, 60);
     QCOMPARE(doc->world().marbleCount(), 5);
     QCOMPARE(plot->sampleCount(), 61);
