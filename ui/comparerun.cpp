@@ -145,7 +145,7 @@ void CompareRun::onMarbleRemoved(int i)
     const World &source = m_document->world();
     if (!isTracking() || m_world->frame != source.frame || m_history.startSize() != source.marbleCount() + 1)
         return;
-    m_removed.push_back({i, source.frame, m_history.removeMarble(i), *m_world, m_startFrame, m_earlierStarts.size()});
+    m_removed.push_back({beforeEdit(i), m_history.removeMarble(i)});
     // The largest gap of the frames forgotten is renumbered, or goes with its marble.
     if (m_earlierLargest.marble == i)
         m_earlierLargest = {};
@@ -194,12 +194,10 @@ bool CompareRun::restoreOwnState(int i, const Removed &removed)
             own.lastHit[to] = from.lastHit[at];
         }
     };
-    if (frame == removed.frame && m_startFrame == frame && m_earlierStarts.size() > removed.earlierStarts
-        && removed.before.marbleCount() == own.marbleCount()) {
+    if (frame == removed.frame && startedAgainAt(removed) && removed.before.marbleCount() == own.marbleCount()) {
         // Where it was removed, the comparison started again there: back to its state and start then.
         copyFrom(removed.before, true);
-        m_startFrame = removed.startFrame;
-        m_earlierStarts.resize(removed.earlierStarts);
+        takeBackStart(removed);
     } else if (frame < removed.frame && m_world->frame == frame && m_world->marbleCount() + 1 == own.marbleCount()) {
         // Stepped back past the removal: its state here, and the marble's from its kept frames.
         const std::optional<FrameHistory::MarbleStart> state = removed.track.stateAt(frame, m_history.startFrame());
@@ -213,16 +211,38 @@ bool CompareRun::restoreOwnState(int i, const Removed &removed)
     } else {
         return false;
     }
+    takeOwnState(std::move(own));
+    return true;
+}
+
+CompareRun::BeforeEdit CompareRun::beforeEdit(int i) const
+{
+    return {i, m_world->frame, *m_world, m_startFrame, m_earlierStarts.size()};
+}
+
+bool CompareRun::startedAgainAt(const BeforeEdit &edit) const
+{
+    return m_startFrame == edit.frame && m_earlierStarts.size() > edit.earlierStarts;
+}
+
+void CompareRun::takeBackStart(const BeforeEdit &edit)
+{
+    m_startFrame = edit.startFrame;
+    m_earlierStarts.resize(edit.earlierStarts);
+}
+
+void CompareRun::takeOwnState(World own)
+{
+    const World &source = m_document->world();
     // The pushes still to act are the document's (a click gives both the same).
     own.acceleration = source.acceleration;
     *m_world = std::move(own);
-    const std::int64_t kept = frame - m_firstGapFrame + 1;
+    const std::int64_t kept = source.frame - m_firstGapFrame + 1;
     if (kept >= 1 && kept <= static_cast<std::int64_t>(m_gaps.size())) {
         m_gaps.resize(static_cast<std::size_t>(kept));
         m_gaps.back() = largestGap(source.position, m_world->position);
     }
     retakeGaps();
-    return true;
 }
 
 void CompareRun::onMarbleAdded(int i)
@@ -231,7 +251,7 @@ void CompareRun::onMarbleAdded(int i)
     if (!isTracking() || m_world->frame != source.frame || m_world->marbleCount() + 1 != source.marbleCount()
         || m_history.startSize() + 1 != source.marbleCount())
         return; // the timelineReset() that follows restarts it
-    Added added{i, source.frame, 0, *m_world, m_startFrame, m_earlierStarts.size()};
+    Added added{beforeEdit(i)};
     // In its first frame as the document's: where it was added (Home replays the scene with it).
     const auto k = static_cast<std::size_t>(i);
     FrameHistory::MarbleTrack track;
@@ -254,24 +274,14 @@ void CompareRun::onAddUndone(int i)
         || m_history.startSize() != source.marbleCount() + 1 || added.before.marbleCount() != source.marbleCount())
         return;
     m_history.removeMarble(i);
-    World own = std::move(added.before);
-    if (!m_history.takeBackSetAside(added.setAside, own))
+    if (!m_history.takeBackSetAside(added.setAside, added.before))
         return; // it restarts
     // Its state and start before the add: the add had started it again at this frame.
-    own.acceleration = source.acceleration; // the clicks' pushes still to act are the document's
-    *m_world = std::move(own);
-    if (m_startFrame == added.frame && m_earlierStarts.size() > added.earlierStarts) {
-        m_startFrame = added.startFrame;
-        m_earlierStarts.resize(added.earlierStarts);
-    }
+    if (startedAgainAt(added))
+        takeBackStart(added);
     if (m_earlierLargest.marble == i)
         m_earlierLargest = {};
-    const std::int64_t kept = source.frame - m_firstGapFrame + 1;
-    if (kept >= 1 && kept <= static_cast<std::int64_t>(m_gaps.size())) {
-        m_gaps.resize(static_cast<std::size_t>(kept));
-        m_gaps.back() = largestGap(source.position, m_world->position);
-    }
-    retakeGaps();
+    takeOwnState(std::move(added.before));
     m_followedStructure = true;
     m_restoredOwnState = true;
 }

@@ -139,7 +139,8 @@ private:
         int marble = -1;
     };
 
-    struct Removed; // below
+    struct BeforeEdit; // below
+    struct Removed;
 
     /// The largest distance between the marbles of the same index in `a` and `b`.
     static Gap largestGap(const std::vector<Vec2> &a, const std::vector<Vec2> &b);
@@ -172,6 +173,15 @@ private:
     /// Marble i put back at the current frame: the comparison takes the state it had (at the
     /// removal's frame, or at an earlier one its kept frames hold); false when it has none.
     bool restoreOwnState(int i, const Removed &removed);
+    /// The comparison as it is now, where marble i is about to be removed or added.
+    BeforeEdit beforeEdit(int i) const;
+    /// True when the comparison started again at `edit`'s frame since (the edit's own restart).
+    bool startedAgainAt(const BeforeEdit &edit) const;
+    /// Its start and earlier starts back to what they were before `edit`.
+    void takeBackStart(const BeforeEdit &edit);
+    /// The comparison's own state `own` at the current frame, where an edit is undone (with the
+    /// document's clicks still to act): the gap of this frame measured again, the gaps retaken.
+    void takeOwnState(World own);
     void rewindTo(std::int64_t frame);
     void onFrameAdvanced();
     void onStepped();
@@ -196,26 +206,24 @@ private:
     Gap m_earlierLargest;
     std::int64_t m_earlierLargestFrame = 0;
     QString m_problem;
+    /// The comparison where a marble was removed or added mid-run, for the edit's undo.
+    struct BeforeEdit {
+        int marble = -1;
+        std::int64_t frame = 0;        ///< the frame of the edit
+        World before;                  ///< the comparison at that frame, before the edit
+        std::int64_t startFrame = 0;   ///< its start then
+        std::size_t earlierStarts = 0; ///< and how many earlier starts it had
+    };
     /// The comparison's part of the kept frames of each marble they lost, newest last, for an undo
     /// that puts the marble back (onMarbleRemoved(), onMarbleInserted()).
-    struct Removed {
-        int marble = -1;
-        std::int64_t frame = 0;          ///< the frame it was removed at
+    struct Removed : BeforeEdit {
         FrameHistory::MarbleTrack track; ///< its part of the comparison's kept frames
-        World before;                    ///< the comparison at that frame, before the removal
-        std::int64_t startFrame = 0;     ///< its start then
-        std::size_t earlierStarts = 0;   ///< and how many earlier starts it had
     };
     std::vector<Removed> m_removed;
     /// For each marble added mid-run, newest last, what its undo gives back (onMarbleAdded(),
     /// onAddUndone()).
-    struct Added {
-        int marble = -1;
-        std::int64_t frame = 0;      ///< the frame it was added at
-        std::uint64_t setAside = 0;  ///< the comparison's frames set aside there
-        World before;                ///< the comparison at that frame, before the add
-        std::int64_t startFrame = 0; ///< its start then
-        std::size_t earlierStarts = 0;
+    struct Added : BeforeEdit {
+        std::uint64_t setAside = 0; ///< the comparison's frames set aside there
     };
     std::vector<Added> m_added;
     /// The kept frames followed a marble removed or put back: the edit's sceneChanged() keeps them,

@@ -248,7 +248,7 @@ void AddMarbleCommand::undo()
     if (m_index < 0 || m_index >= world.marbleCount())
         return;
     world.removeMarble(m_index);
-    m_document->addUndone(m_index, std::exchange(m_setAside, 0));
+    m_document->marbleRemoved(m_index, std::exchange(m_setAside, 0));
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 

@@ -510,26 +510,16 @@ std::uint64_t SceneDocument::marbleInserted(int i, const FrameHistory::MarbleTra
     return setAside;
 }
 
-void SceneDocument::addUndone(int i, std::uint64_t setAside)
-{
-    Q_EMIT marbleRemovedAt(i);
-    if (m_history.startSize() == m_world.marbleCount() + 1) {
-        m_history.removeMarble(i);
-        if (m_history.takeBackSetAside(setAside, m_world))
-            Q_EMIT timelineAddUndone(i);
-        else
-            Q_EMIT timelineMarbleRemoved(i);
-    }
-    m_marblesRenumbered = true;
-}
-
-FrameHistory::MarbleTrack SceneDocument::marbleRemoved(int i)
+FrameHistory::MarbleTrack SceneDocument::marbleRemoved(int i, std::uint64_t setAside)
 {
     Q_EMIT marbleRemovedAt(i);
     FrameHistory::MarbleTrack track;
     if (m_history.startSize() == m_world.marbleCount() + 1) {
         track = m_history.removeMarble(i);
-        Q_EMIT timelineMarbleRemoved(i);
+        if (setAside != 0 && m_history.takeBackSetAside(setAside, m_world))
+            Q_EMIT timelineAddUndone(i);
+        else
+            Q_EMIT timelineMarbleRemoved(i);
     }
     m_marblesRenumbered = true;
     return track;

@@ -78,12 +78,10 @@ public:
     /// returned, for an undo to give back), so that rewind() still reaches frame 0 with the scene
     /// as edited. Step Back's kept frames lose a marble removed, and take it back with its track
     /// when it is put back where it was; a marble added sets them aside (the number returned,
-    /// 0 when none were), and its undo, addUndone(), takes them back. Plots start over.
+    /// 0 when none were), and its undo takes them back: marbleRemoved() given that number, where
+    /// the add was made, so that Step Back goes on past it. Plots start over.
     std::uint64_t marbleInserted(int i, const FrameHistory::MarbleTrack &track);
-    FrameHistory::MarbleTrack marbleRemoved(int i);
-    /// Marble i, added where the frames numbered `setAside` were set aside, left the scene again
-    /// (marbleRemoved()): where the add was made, Step Back goes on past it through them.
-    void addUndone(int i, std::uint64_t setAside);
+    FrameHistory::MarbleTrack marbleRemoved(int i, std::uint64_t setAside = 0);
     /// A copy of the world as rewind() would make it: the scene with every edit, at the start of
     /// its timeline (its scripted pushes all to come), what an autosave keeps.
     World worldAtStart() const

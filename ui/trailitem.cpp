@@ -75,16 +75,6 @@ void TrailItem::setArea(const QRectF &area)
     m_area = area;
 }
 
-std::optional<std::int64_t> TrailItem::firstFrame() const
-{
-    std::optional<std::int64_t> first;
-    if (!m_frames.empty())
-        first = m_frames.front();
-    if (!m_longFrames.empty() && (!first || m_longFrames.front() < *first))
-        first = m_longFrames.front();
-    return first;
-}
-
 void TrailItem::sample(const World &world)
 {
     // Every trail holds the positions of the same frames, m_frames (none but the followed one's

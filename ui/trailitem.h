@@ -7,7 +7,6 @@
 
 #include <cstdint>
 #include <deque>
-#include <optional>
 #include <vector>
 
 namespace marbles {
@@ -46,9 +45,6 @@ public:
     void cutAfter(std::int64_t frame);
     /// Forgets every trail.
     void clear();
-    /// The oldest frame a trail holds a position of (the followed marble's long trail included),
-    /// or none while every trail is empty.
-    std::optional<std::int64_t> firstFrame() const;
     /// The trail of marble i, oldest position first (empty when it has none).
     std::vector<QPointF> points(int i) const;
     /// Follows marble i (-1: none) from now on: its long trail starts from its trail so far.
