@@ -29,6 +29,38 @@ bool sameDynamicState(const World &a, const World &b)
         && a.acceleration == b.acceleration && a.lastHit == b.lastHit;
 }
 
+/// The run of `doc` through `frames` frames, stepped one at a time: the world before each step
+/// (index = frames stepped before it).
+std::vector<World> statesOfFrames(SceneDocument &doc, int frames)
+{
+    std::vector<World> states;
+    for (int f = 0; f < frames; ++f) {
+        states.push_back(doc.world());
+        doc.step();
+    }
+    return states;
+}
+
+/// True when some marble of `w` has a collision to walk back through.
+bool anyHit(const World &w)
+{
+    return std::any_of(w.lastHit.begin(), w.lastHit.end(), [](const HitRecord &h) { return h.frame > 0; });
+}
+
+/// Steps `doc` back to frame `to` one frame at a time, each frame bit for bit `states`' of that
+/// number (index = frame); "" when every one is, else the first that is not, or not kept.
+QString stepBackThrough(SceneDocument &doc, const std::vector<World> &states, std::int64_t to)
+{
+    while (doc.world().frame > to) {
+        const std::int64_t f = doc.world().frame - 1;
+        if (!doc.stepBack())
+            return QStringLiteral("frame %1 is not kept").arg(f);
+        if (!sameDynamicState(doc.world(), states[static_cast<std::size_t>(f)]))
+            return QStringLiteral("frame %1 differs").arg(f);
+    }
+    return {};
+}
+
 /// Exact equality of everything a scene file holds, plus the derived masses.
 bool sameScene(const World &a, const World &b)
 {
@@ -97,19 +129,12 @@ void TestSceneDocument::stepBackIsBitIdentical()
     QFETCH(int, frames);
     SceneDocument doc;
     doc.resetScene(preset(presetId.toUtf8().constData()));
-    std::vector<World> states;
-    for (int f = 0; f < frames; ++f) {
-        states.push_back(doc.world());
-        doc.step();
-    }
+    const std::vector<World> states = statesOfFrames(doc, frames);
     // Walk all the way back: every frame restores exactly, then stepping forward again
     // reproduces the same frames bit for bit (determinism).
     const World last = doc.world();
-    for (int f = frames - 1; f >= 0; --f) {
-        QVERIFY(doc.stepBack());
-        QVERIFY2(sameDynamicState(doc.world(), states[static_cast<std::size_t>(f)]),
-                 qPrintable(QStringLiteral("frame %1").arg(f)));
-    }
+    const QString walk = stepBackThrough(doc, states, 0);
+    QVERIFY2(walk.isEmpty(), qPrintable(walk));
     QVERIFY(!doc.stepBack());
     QCOMPARE(doc.advance(frames), frames);
     QVERIFY(sameDynamicState(doc.world(), last));
@@ -864,24 +889,6 @@ void TestSceneDocument::undoLaterInTheRunGoesBackToTheEdit()
     QVERIFY(sameDynamicState(added.world(), beforeAdd));
 }
 
-namespace {
-
-/// The four marbles' run through frames 0 to frames - 1 of `doc`, stepped one at a time (the
-/// world before each step); it ends at frame `frames`. There are collisions to walk back through.
-std::vector<World> statesOfFrames(SceneDocument &doc, int frames)
-{
-    std::vector<World> states;
-    for (int f = 0; f < frames; ++f) {
-        states.push_back(doc.world());
-        doc.step();
-    }
-    if (!std::any_of(states.back().lastHit.begin(), states.back().lastHit.end(), [](const HitRecord &h) { return h.frame > 0; }))
-        qFatal("no collision in the first %d frames", frames);
-    return states;
-}
-
-} // namespace
-
 void TestSceneDocument::stepBackGoesPastADeletedMarble()
 {
     // A marble deleted mid-run leaves the frames kept for Step Back, which stay (they were all
@@ -889,7 +896,8 @@ void TestSceneDocument::stepBackGoesPastADeletedMarble()
     // and Step Back goes to frame 0 through the frames as they were, bit for bit.
     SceneDocument doc;
     doc.resetScene(preset("four-marbles"));
-    std::vector<World> states = statesOfFrames(doc, 30);
+    const std::vector<World> states = statesOfFrames(doc, 30);
+    QVERIFY(anyHit(states.back()));
     doc.removeMarble(1);
     QVERIFY(doc.canStepBack());
     for (int f = 29; f >= 20; --f) {
@@ -916,10 +924,8 @@ void TestSceneDocument::stepBackGoesPastADeletedMarble()
     QCOMPARE(undone.advance(20), 20);
     undone.undoStack()->undo();
     QVERIFY(sameDynamicState(undone.world(), atDelete));
-    for (int f = 29; f >= 0; --f) {
-        QVERIFY2(undone.stepBack(), qPrintable(QStringLiteral("frame %1").arg(f)));
-        QVERIFY2(sameDynamicState(undone.world(), states[static_cast<std::size_t>(f)]), qPrintable(QStringLiteral("frame %1").arg(f)));
-    }
+    const QString back = stepBackThrough(undone, states, 0);
+    QVERIFY2(back.isEmpty(), qPrintable(back));
     // And forward again, the same run.
     QCOMPARE(undone.advance(30), 30);
     QVERIFY(sameDynamicState(undone.world(), atDelete));
@@ -933,16 +939,15 @@ void TestSceneDocument::stepBackGoesPastAnAddUndone()
     SceneDocument doc;
     doc.resetScene(preset("four-marbles"));
     std::vector<World> states = statesOfFrames(doc, 30);
+    QVERIFY(anyHit(states.back()));
     states.push_back(doc.world());
     QVERIFY(doc.addMarble({700.0, 80.0}, 10.0).isEmpty());
     QVERIFY(!doc.canStepBack()); // the frames before have no place for it
     QCOMPARE(doc.advance(20), 20);
     doc.undoStack()->undo();
     QVERIFY(sameDynamicState(doc.world(), states[30]));
-    for (int f = 29; f >= 0; --f) {
-        QVERIFY2(doc.stepBack(), qPrintable(QStringLiteral("frame %1").arg(f)));
-        QVERIFY2(sameDynamicState(doc.world(), states[static_cast<std::size_t>(f)]), qPrintable(QStringLiteral("frame %1").arg(f)));
-    }
+    const QString back = stepBackThrough(doc, states, 0);
+    QVERIFY2(back.isEmpty(), qPrintable(back));
     // And forward again, the same run.
     QCOMPARE(doc.advance(30), 30);
     QVERIFY(sameDynamicState(doc.world(), states[30]));
@@ -953,10 +958,8 @@ void TestSceneDocument::stepBackGoesPastAnAddUndone()
     QCOMPARE(doc.world().frame, std::int64_t(30));
     QCOMPARE(doc.world().marbleCount(), states[30].marbleCount() + 1);
     doc.undoStack()->undo();
-    for (int f = 29; f >= 0; --f) {
-        QVERIFY2(doc.stepBack(), qPrintable(QStringLiteral("frame %1 after the redo").arg(f)));
-        QVERIFY2(sameDynamicState(doc.world(), states[static_cast<std::size_t>(f)]), qPrintable(QStringLiteral("frame %1 after the redo").arg(f)));
-    }
+    const QString afterRedo = stepBackThrough(doc, states, 0);
+    QVERIFY2(afterRedo.isEmpty(), qPrintable(afterRedo + QStringLiteral(" after the redo")));
 
     // Two adds, at frames 10 and 20, undone in turn: each goes back through its own frames.
     SceneDocument two;
@@ -974,10 +977,8 @@ void TestSceneDocument::stepBackGoesPastAnAddUndone()
     QVERIFY(!two.canStepBack()); // the first marble added: none before it has a place for it
     two.undoStack()->undo();
     QVERIFY(sameDynamicState(two.world(), states[10]));
-    for (int f = 9; f >= 0; --f) {
-        QVERIFY2(two.stepBack(), qPrintable(QStringLiteral("frame %1").arg(f)));
-        QVERIFY2(sameDynamicState(two.world(), states[static_cast<std::size_t>(f)]), qPrintable(QStringLiteral("frame %1").arg(f)));
-    }
+    const QString first = stepBackThrough(two, states, 0);
+    QVERIFY2(first.isEmpty(), qPrintable(first));
 
     // Undone elsewhere than at its frame (Home first: the frames before it are gone), nothing
     // comes back; nor after a delete made and undone in between that could not keep them.
