@@ -507,10 +507,9 @@ void MovingGrid::build(const GridGeometry &geometry, const Vec2 *points, int cou
     Bucket empty;
     std::fill(std::begin(empty.items), std::end(empty.items), count);
     m_buckets.assign(buckets, empty);
-    if (m_overflow.size() != buckets)
-        m_overflow.resize(buckets);
-    for (std::vector<int> &spill : m_overflow)
-        spill.clear();
+    m_overflowHead.assign(buckets, -1);
+    m_overflow.clear();
+    m_freeNode = -1;
     m_bucketOf.resize(static_cast<std::size_t>(count));
     for (int i = 0; i < count; ++i) {
         const int b = bucketOf(points[i]);
@@ -527,10 +526,14 @@ int MovingGrid::bucketOf(Vec2 p) const
 void MovingGrid::insert(int i, int b)
 {
     Bucket &bucket = m_buckets[static_cast<std::size_t>(b)];
-    if (bucket.count < inlineCapacity)
+    if (bucket.count < inlineCapacity) {
         bucket.items[bucket.count] = i;
-    else
-        m_overflow[static_cast<std::size_t>(b)].push_back(i);
+    } else {
+        const int node = takeNode();
+        std::int32_t &head = m_overflowHead[static_cast<std::size_t>(b)];
+        m_overflow[static_cast<std::size_t>(node)] = {i, head};
+        head = node;
+    }
     ++bucket.count;
 }
 
@@ -548,26 +551,46 @@ void MovingGrid::remove(int i, int b)
             }
         }
     } else {
-        std::vector<int> &spill = m_overflow[static_cast<std::size_t>(b)];
-        const int last = spill.back();
+        // The first body of the overflow list (the cheapest to take off it) fills the hole.
+        std::int32_t &head = m_overflowHead[static_cast<std::size_t>(b)];
+        const int first = head;
+        const int filler = m_overflow[static_cast<std::size_t>(first)].body;
         bool found = false;
         for (int k = 0; k < inlineCount && !found; ++k) {
             if (bucket.items[k] == i) {
-                bucket.items[k] = last;
+                bucket.items[k] = filler;
                 found = true;
             }
         }
-        for (std::size_t k = 0; k < spill.size() && !found; ++k) {
-            if (spill[k] == i) {
-                spill[k] = last;
+        for (int node = first; node >= 0 && !found; node = m_overflow[static_cast<std::size_t>(node)].next) {
+            if (m_overflow[static_cast<std::size_t>(node)].body == i) {
+                m_overflow[static_cast<std::size_t>(node)].body = filler;
                 found = true;
             }
         }
-        spill.pop_back();
+        head = m_overflow[static_cast<std::size_t>(first)].next;
+        freeNode(first);
     }
     --bucket.count;
     if (bucket.count < inlineCapacity)
         bucket.items[bucket.count] = size(); // the slot is empty again
+}
+
+int MovingGrid::takeNode()
+{
+    if (m_freeNode < 0) {
+        m_overflow.push_back({});
+        return static_cast<int>(m_overflow.size()) - 1;
+    }
+    const int node = m_freeNode;
+    m_freeNode = m_overflow[static_cast<std::size_t>(node)].next;
+    return node;
+}
+
+void MovingGrid::freeNode(int node)
+{
+    m_overflow[static_cast<std::size_t>(node)].next = m_freeNode;
+    m_freeNode = node;
 }
 
 void MovingGrid::leaveOut(int i)

@@ -147,6 +147,17 @@ namespace {
 
 constexpr double infinity = std::numeric_limits<double>::infinity();
 
+// v.assign(count, value), with the capacity grown by doubling, as push_back grows it: a size that
+// creeps up from frame to frame (the calendar's slots follow the events found) then reallocates a
+// few times in all, not in every frame that finds one event more.
+template<typename Vector>
+void assignGrowingByDoubling(Vector &v, std::size_t count, typename Vector::value_type value)
+{
+    if (v.capacity() < count)
+        v.reserve(2 * count);
+    v.assign(count, value);
+}
+
 // Two marbles closer than this relative gap are "in contact" for the conservative advancement.
 constexpr double contactGapTolerance = 1e-10;
 // Conservative-advancement steps per prediction before handing back a "re-check later" event.
@@ -1812,13 +1823,11 @@ void ExactModel::predictAll()
         m_firstKeys.push_back(keyOf(j));
     // The calendar: about one slot per event found so far.
     const auto slots = std::max<std::size_t>(16, m_firstKeys.size());
-    m_slotHead.assign(slots, -1);
+    assignGrowingByDoubling(m_slotHead, slots, -1);
     m_firstSlot = 0;
     // The later slots' entries go into m_nodes in slot order (a counting sort; the same lists
     // as inserting them one by one, which would scatter each slot's nodes over the array).
-    if (m_slotCount.capacity() < slots + 1)
-        m_slotCount.reserve(2 * (slots + 1)); // grown by doubling, as push_back would: few allocations
-    m_slotCount.assign(slots + 1, 0);
+    assignGrowingByDoubling(m_slotCount, slots + 1, 0);
     for (const Key &key : m_firstKeys) {
         const int slot = slotOf(key.time);
         if (slot != m_firstSlot)
