@@ -1,6 +1,7 @@
 #pragma once
 
 #include "core/broadphase.h"
+#include "core/largebuffer.h"
 #include "core/world.h"
 
 #include <cstdint>
@@ -72,11 +73,11 @@ private:
     void freeNode(int node);
 
     GridGeometry m_geometry;
-    std::vector<Bucket> m_buckets;
-    std::vector<std::int32_t> m_overflowHead; // per bucket: first node, or -1
-    std::vector<OverflowNode> m_overflow;
+    LargeVector<Bucket> m_buckets;
+    LargeVector<std::int32_t> m_overflowHead; // per bucket: first node, or -1
+    LargeVector<OverflowNode> m_overflow;
     int m_freeNode = -1;                      // first node of the free list, or -1
-    std::vector<int> m_bucketOf;              // bucket of each body
+    LargeVector<int> m_bucketOf;              // bucket of each body
 };
 
 template<typename Visit>
@@ -166,7 +167,7 @@ private:
         double r;
         double m;
     };
-    std::vector<Body> m_bodies;
+    LargeVector<Body> m_bodies;
     RadiusSplit m_split;     // the radii when the marble grid was built
     std::vector<int> m_oversize; // the marbles left out of the marble grid, ascending
     std::vector<int> m_allPins; // 0..pins-1

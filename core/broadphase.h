@@ -1,5 +1,6 @@
 #pragma once
 
+#include "core/largebuffer.h"
 #include "core/vec2.h"
 
 #include <algorithm>
@@ -156,18 +157,18 @@ public:
     int begin(int b) const { return m_start[b]; }
     int end(int b) const { return m_start[b + 1]; }
     /// The sorted body indices.
-    const std::vector<int> &items() const { return m_items; }
+    const LargeVector<int> &items() const { return m_items; }
     /// Cell coordinates of body i at the last build.
     std::int64_t cellX(int i) const { return m_cellX[i]; }
     std::int64_t cellY(int i) const { return m_cellY[i]; }
 
 private:
     GridGeometry m_geometry;
-    std::vector<int> m_start;
-    std::vector<int> m_items;
-    std::vector<int> m_bucketOf;
-    std::vector<std::int64_t> m_cellX;
-    std::vector<std::int64_t> m_cellY;
+    LargeVector<int> m_start;
+    LargeVector<int> m_items;
+    LargeVector<int> m_bucketOf;
+    LargeVector<std::int64_t> m_cellX;
+    LargeVector<std::int64_t> m_cellY;
 };
 
 } // namespace marbles

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "core/broadphase.h"
+#include "core/largebuffer.h"
 #include "core/world.h"
 
 #include <cstdint>
@@ -318,17 +319,17 @@ private:
     static_assert(sizeof(Record) == 64);
 
     // Marbles, in grid order: internal index i is World marble m_body[i].id.
-    std::vector<Body> m_body;
-    std::vector<Record> m_rec;
+    LargeVector<Body> m_body;
+    LargeVector<Record> m_rec;
 
     // Grid: bucket b's marbles at the start of the frame are the internal indices
     // m_start[b] .. m_start[b + 1] (those still anchored there have Body::moved == 0); marbles
     // re-anchored into another bucket join that bucket's overflow list.
-    std::vector<int> m_start;
-    std::vector<int> m_cursor;
-    std::vector<int> m_sortBucket;
-    std::vector<int> m_spacingCount; // localSpacing()'s squares
-    std::vector<int> m_overflowHead;
+    LargeVector<int> m_start;
+    LargeVector<int> m_cursor;
+    LargeVector<int> m_sortBucket;
+    LargeVector<int> m_spacingCount; // localSpacing()'s squares
+    LargeVector<int> m_overflowHead;
     int m_overflowCount = 0;
     UniformGrid m_pinGrid;
 
@@ -343,13 +344,13 @@ private:
     // turn reads on from the last one's instead of jumping to a marble's record. A frame's
     // calendar thus holds the first look's entries and at most two more per event (32 bytes
     // each; the collapse guards bound the events), all dropped when the frame ends.
-    std::vector<std::uint32_t> m_ticket; // per marble: the ticket of its entry, 0: none
+    LargeVector<std::uint32_t> m_ticket; // per marble: the ticket of its entry, 0: none
     std::uint32_t m_lastTicket = 0;
-    std::vector<Key> m_heap;          // the current slot's entries (some stale)
-    std::vector<Key> m_nodes;         // the later slots' entries (some stale)
-    std::vector<std::int32_t> m_slotHead; // per later slot: first node of its list, or -1
-    std::vector<Key> m_firstKeys;     // the first look's events, before the slots are sized
-    std::vector<std::int32_t> m_slotCount; // the first look's entries per slot (then where each goes)
+    LargeVector<Key> m_heap;          // the current slot's entries (some stale)
+    LargeVector<Key> m_nodes;         // the later slots' entries (some stale)
+    LargeVector<std::int32_t> m_slotHead; // per later slot: first node of its list, or -1
+    LargeVector<Key> m_firstKeys;     // the first look's events, before the slots are sized
+    LargeVector<std::int32_t> m_slotCount; // the first look's entries per slot (then where each goes)
     int m_firstSlot = 0;              // the current slot (no entry lies in an earlier one)
     int m_scheduled = 0;              // live entries in the calendar
     std::vector<int> m_restingHit; // marbles at rest that got a contact in the first look
@@ -368,11 +369,11 @@ private:
     Sleeping m_sleepingUse = Sleeping::Auto;
     bool m_splitRadii = true;
     bool m_layer = false;              // this frame keeps the sleepers in the layer
-    std::vector<Sleeper> m_sleepers;
-    std::vector<double> m_sleeperMass; // per entry
-    std::vector<int> m_sleepStart;     // per bucket: first entry; then the entry count
-    std::vector<int> m_sleepBefore;    // per bucket: live sleepers in the buckets before it
-    std::vector<std::uint8_t> m_inLayer; // per World marble: a live sleeper
+    LargeVector<Sleeper> m_sleepers;
+    LargeVector<double> m_sleeperMass; // per entry
+    LargeVector<int> m_sleepStart;     // per bucket: first entry; then the entry count
+    LargeVector<int> m_sleepBefore;    // per bucket: live sleepers in the buckets before it
+    LargeVector<std::uint8_t> m_inLayer; // per World marble: a live sleeper
     GridGeometry m_layerGeometry;
     int m_layerLive = 0;               // live sleepers at the start of this frame
     int m_layerDead = 0;               // dead entries

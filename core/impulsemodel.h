@@ -1,6 +1,7 @@
 #pragma once
 
 #include "core/broadphase.h"
+#include "core/largebuffer.h"
 #include "core/world.h"
 
 #include <cstdint>
@@ -86,10 +87,10 @@ private:
     GridGeometry m_geometry;
     RadiusSplit m_split;            // this frame's (the lattice is sized for radii up to m_split.cut)
     UniformGrid m_pinGrid;          // rebuilt every frame
-    std::vector<int> m_bucketOf;    // per marble (scene order): its bucket this sub-step
-    std::vector<int> m_start;       // per bucket, and the oversize marbles: first slot; then n
-    std::vector<Body> m_bodies;     // per slot, then padding (see resolvePairs())
-    std::vector<std::uint64_t> m_active; // per bucket, one bit: has pairs that may do something
+    LargeVector<int> m_bucketOf;    // per marble (scene order): its bucket this sub-step
+    LargeVector<int> m_start;       // per bucket, and the oversize marbles: first slot; then n
+    LargeVector<Body> m_bodies;     // per slot, then padding (see resolvePairs())
+    LargeVector<std::uint64_t> m_active; // per bucket, one bit: has pairs that may do something
     bool m_allActive = true;             // every bucket is visited (m_active unused)
 
     // The slot order kept from one sub-step to the next. It is valid (m_sorted) for the lattice
@@ -98,17 +99,17 @@ private:
     // marbles awake, unless the list outgrew the partial sort's limit (n / partialSortShare) and was cut.
     bool m_sorted = false;
     std::int64_t m_partialSorts = 0;
-    std::vector<int> m_slotOf;   // per marble (scene order): its slot, when m_slotsKnown
+    LargeVector<int> m_slotOf;   // per marble (scene order): its slot, when m_slotsKnown
     bool m_slotsKnown = false;   // (the full sort leaves it to the first partial one)
     std::vector<int> m_changed;  // marbles whose slot contents must be read again from the world
     std::vector<int> m_visit;    // after a partial sort: the marbles awake in this sub-step
 
     // Sleeping (see step()): per marble, whether it ended the last sub-step asleep, and the
     // position and radius it was asleep with; plus the pins and stage it was checked against.
-    std::vector<unsigned char> m_sleepy;
+    LargeVector<unsigned char> m_sleepy;
     int m_sleeperCount = 0;
-    std::vector<Vec2> m_sleepPosition;
-    std::vector<double> m_sleepRadius;
+    LargeVector<Vec2> m_sleepPosition;
+    LargeVector<double> m_sleepRadius;
     std::vector<Vec2> m_sleepPins;
     Stage m_sleepStage;
 };

@@ -1,7 +1,9 @@
 // Issue 5: "no allocation per frame". Every model keeps its buffers between frames, so once they
 // have grown to a scene's size, stepping it allocates nothing: this counts the calls of the global
-// operator new (plain and aligned) made while frames are stepped.
+// operator new (plain and aligned) made while frames are stepped, and the large buffers mapped
+// apart from it (core/largebuffer.h).
 
+#include "core/largebuffer.h"
 #include "core/presets.h"
 #include "core/world.h"
 
@@ -78,7 +80,8 @@ void TestAllocations::steadyFramesAllocateNothing_data()
         QTest::addRow("%s, all moving", model) << model << 3000 << 1.0 << 0 << 0.0;
         QTest::addRow("%s, all moving, pins, friction", model) << model << 3000 << 1.0 << 60 << 0.05;
         QTest::addRow("%s, 1%% moving", model) << model << 3000 << 0.01 << 0 << 0.0;
-        // Large enough that the event counts and crowded cells keep changing for a while.
+        // Large enough that the event counts and crowded cells keep changing for a while, and
+        // for buffers of a megabyte and more, which are mapped apart.
         QTest::addRow("%s, 40k, all moving", model) << model << 40000 << 1.0 << 0 << 0.0;
     }
 }
@@ -102,11 +105,12 @@ void TestAllocations::steadyFramesAllocateNothing()
     // say), each time to double its size: a handful of allocations at most, where one per frame
     // would be 40.
     allocations = 0;
+    const std::uint64_t mappedBefore = largeBuffersMapped();
     counting = true;
     for (int f = 0; f < 40; ++f)
         w.step();
     counting = false;
-    QCOMPARE_LE(allocations, 8L);
+    QCOMPARE_LE(allocations + static_cast<long>(largeBuffersMapped() - mappedBefore), 8L);
 }
 
 QTEST_APPLESS_MAIN(TestAllocations)
