@@ -23,14 +23,7 @@ namespace marbles {
 
 namespace {
 
-constexpr std::size_t hugePageBytes = std::size_t(2) << 20;
-
 std::atomic<std::uint64_t> mappings{0};
-
-std::size_t roundUpToHugePages(std::size_t bytes)
-{
-    return (bytes + hugePageBytes - 1) / hugePageBytes * hugePageBytes;
-}
 
 // A small buffer: operator new as std::allocator calls it (the aligned form only for a type
 // aligned beyond what plain new guarantees).
@@ -66,6 +59,17 @@ std::uint64_t largeBuffersMapped()
 }
 
 #if defined(MARBLES_MAP_LARGE_BUFFERS)
+
+namespace {
+
+constexpr std::size_t hugePageBytes = std::size_t(2) << 20;
+
+std::size_t roundUpToHugePages(std::size_t bytes)
+{
+    return (bytes + hugePageBytes - 1) / hugePageBytes * hugePageBytes;
+}
+
+} // namespace
 
 // A mapping of its own, 2 MiB aligned: the kernel can only back a whole, aligned 2 MiB range with
 // a huge page. One page more is mapped than asked for and the unaligned head and tail unmapped
