@@ -34,12 +34,13 @@ void *allocateSmall(std::size_t bytes, std::size_t alignment)
     return ::operator new(bytes);
 }
 
-void freeSmall(void *data, std::size_t bytes, std::size_t alignment) noexcept
+// (Unsized: clang before 16 declares no sized operator delete unless asked.)
+void freeSmall(void *data, std::size_t alignment) noexcept
 {
     if (alignment > __STDCPP_DEFAULT_NEW_ALIGNMENT__)
-        ::operator delete(data, bytes, std::align_val_t(alignment));
+        ::operator delete(data, std::align_val_t(alignment));
     else
-        ::operator delete(data, bytes);
+        ::operator delete(data);
 }
 
 } // namespace
@@ -102,7 +103,7 @@ void freeLargeBuffer(void *data, std::size_t bytes, std::size_t alignment) noexc
     if (!data)
         return;
     if (bytes < largeBufferBytes || alignment > hugePageBytes) {
-        freeSmall(data, bytes, alignment);
+        freeSmall(data, alignment);
         return;
     }
     munmap(data, roundUpToHugePages(bytes));
@@ -115,9 +116,9 @@ void *allocateLargeBuffer(std::size_t bytes, std::size_t alignment)
     return allocateSmall(bytes, alignment);
 }
 
-void freeLargeBuffer(void *data, std::size_t bytes, std::size_t alignment) noexcept
+void freeLargeBuffer(void *data, std::size_t, std::size_t alignment) noexcept
 {
-    freeSmall(data, bytes, alignment);
+    freeSmall(data, alignment);
 }
 
 #endif
