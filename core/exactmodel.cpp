@@ -759,10 +759,11 @@ void ExactModel::beginFrame(World &world)
     m_cursor.assign(m_start.begin(), m_start.end() - 1);
     m_body.resize(n);
     m_rec.resize(n);
+    m_order.resize(n);
     int nextOversize = 0;
     for (int w = nextAwake(0); w < n; w = nextAwake(w + 1)) {
         const int b = m_sortBucket[w];
-        m_body[b < 0 ? nextOversize++ : m_cursor[b]++].id = w;
+        m_order[b < 0 ? nextOversize++ : m_cursor[b]++] = w;
     }
     m_overflowHead.assign(buckets, -1);
     m_overflowCount = 0;
@@ -977,7 +978,7 @@ int ExactModel::promote(int q)
     const int w = s.id;
     int rank = m_start[b] + sleepersBelow(b, w);
     for (int j = m_start[b]; j < m_start[b + 1]; ++j)
-        rank += m_body[j].id < w;
+        rank += m_order[j] < w;
     startRecords(k, s.p, {}, s.radius, m_sleeperMass[q], b, w, rank);
     m_sortBucket[w] = b;
     s.promoted = k;
@@ -1007,14 +1008,14 @@ void ExactModel::makeReady(int end)
     end = std::min(end, n); // (past the awake marbles: sleepers that joined the arrays, ready already)
     for (int i = m_ready; i < end; ++i) {
         if (i + makeReadyAhead < n) {
-            const int ahead = m_body[i + makeReadyAhead].id;
+            const int ahead = m_order[i + makeReadyAhead];
             __builtin_prefetch(&world.position[ahead]);
             __builtin_prefetch(&world.velocity[ahead]);
             __builtin_prefetch(&world.acceleration[ahead]);
             __builtin_prefetch(&world.radius[ahead]);
             __builtin_prefetch(&world.mass[ahead]);
         }
-        const int w = m_body[i].id;
+        const int w = m_order[i];
         // Pushes act at the frame boundary: an instant velocity change. At t = 0, a = p and b = v.
         const Vec2 p = world.position[w];
         const Vec2 b{world.velocity[w].x + world.acceleration[w].x, world.velocity[w].y + world.acceleration[w].y};
@@ -1749,7 +1750,7 @@ void ExactModel::firstLookRun(int i, const FirstLook &look, int firstBucket, int
                 ++q;
                 continue;
             }
-            if (q == qEnd || (j < jEnd && m_body[j].id < m_sleepers[q].id)) {
+            if (q == qEnd || (j < jEnd && m_order[j] < m_sleepers[q].id)) {
                 if (testedFrom(i, j))
                     offerFirstLook(i, j, look, best);
                 ++j;

@@ -321,6 +321,10 @@ private:
     // Marbles, in grid order: internal index i is World marble m_body[i].id.
     LargeVector<Body> m_body;
     LargeVector<Record> m_rec;
+    // The frame's sort, before the records are read (makeReady()): the World index of each awake
+    // marble's place. Scattered in a compact array of its own, which stays in cache, instead of
+    // into the records themselves, each a cache line the first look then touched a second time.
+    LargeVector<int> m_order;
 
     // Grid: bucket b's marbles at the start of the frame are the internal indices
     // m_start[b] .. m_start[b + 1] (those still anchored there have Body::moved == 0); marbles
