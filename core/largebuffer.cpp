@@ -73,7 +73,7 @@ std::size_t roundUpToHugePages(std::size_t bytes)
 } // namespace
 
 // A mapping of its own, 2 MiB aligned: the kernel can only back a whole, aligned 2 MiB range with
-// a huge page. One page more is mapped than asked for and the unaligned head and tail unmapped
+// a huge page. 2 MiB more is mapped than asked for, and the unaligned head and tail unmapped
 // again. The advice comes before the first write, so each first touch can take a huge page at
 // once (khugepaged would only merge small pages long after).
 void *allocateLargeBuffer(std::size_t bytes, std::size_t alignment)
