@@ -63,8 +63,8 @@ private:
     // The bodies past a bucket's inline capacity, as a singly linked list of nodes. A node taken
     // out goes to a free list, so the nodes in use never outnumber the bodies: one vector of
     // them for the whole grid allocates a few times while it grows, where a vector per bucket
-    // allocated each time one more bucket overflowed for the first time (81 times in 40 frames
-    // of a 40k crowd in the book model).
+    // allocated each time one more bucket overflowed for the first time (82 allocations in 40
+    // frames of a 40k crowd in the book model).
     struct OverflowNode {
         std::int32_t body;
         std::int32_t next; // -1: the last

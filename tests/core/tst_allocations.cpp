@@ -9,6 +9,7 @@
 
 #include <QtTest>
 
+#include <algorithm>
 #include <cstdlib>
 #include <new>
 
@@ -34,7 +35,7 @@ void *operator new(std::size_t size, std::align_val_t alignment)
     if (counting)
         ++allocations;
     const auto align = static_cast<std::size_t>(alignment);
-    if (void *p = std::aligned_alloc(align, (size + align - 1) / align * align))
+    if (void *p = std::aligned_alloc(align, (std::max<std::size_t>(size, 1) + align - 1) / align * align))
         return p;
     throw std::bad_alloc();
 }
