@@ -70,6 +70,13 @@ std::size_t roundUpToHugePages(std::size_t bytes)
     return (bytes + hugePageBytes - 1) / hugePageBytes * hugePageBytes;
 }
 
+// Whether a buffer of this size and alignment is mapped apart (else it comes from operator new):
+// what allocating and freeing it must agree on.
+bool isMappedApart(std::size_t bytes, std::size_t alignment)
+{
+    return bytes >= largeBufferBytes && alignment <= hugePageBytes;
+}
+
 } // namespace
 
 // A mapping of its own, 2 MiB aligned: the kernel can only back a whole, aligned 2 MiB range with
@@ -78,7 +85,7 @@ std::size_t roundUpToHugePages(std::size_t bytes)
 // once (khugepaged would only merge small pages long after).
 void *allocateLargeBuffer(std::size_t bytes, std::size_t alignment)
 {
-    if (bytes < largeBufferBytes || alignment > hugePageBytes)
+    if (!isMappedApart(bytes, alignment))
         return allocateSmall(bytes, alignment);
     const std::size_t size = roundUpToHugePages(bytes);
     if (size < bytes || size + hugePageBytes < size)
@@ -102,7 +109,7 @@ void freeLargeBuffer(void *data, std::size_t bytes, std::size_t alignment) noexc
 {
     if (!data)
         return;
-    if (bytes < largeBufferBytes || alignment > hugePageBytes) {
+    if (!isMappedApart(bytes, alignment)) {
         freeSmall(data, alignment);
         return;
     }

@@ -372,9 +372,7 @@ void TestCompareRun::stepsBackPastADeletedMarble()
     doc.resetScene(presetWorld("masses", ModelKind::Book));
     CompareRun compare(&doc);
     compare.setModel(ModelKind::Exact);
-    test::BothRuns run = test::runBoth(doc, compare, 60);
-    std::vector<World> &ours = run.ours;
-    std::vector<World> &theirs = run.theirs;
+    auto [ours, theirs] = test::runBoth(doc, compare, 60);
     const int gone = 0; // the marble with the largest gap (the book's light marble 0)
     QCOMPARE(compare.largestGapMarble(), gone);
     const auto without = [gone](World w) {
@@ -462,9 +460,7 @@ void TestCompareRun::addUndoneGivesBackTheComparison()
     doc.resetScene(presetWorld("masses", ModelKind::Book));
     CompareRun compare(&doc);
     compare.setModel(ModelKind::Exact);
-    test::BothRuns run = test::runBoth(doc, compare, 60);
-    std::vector<World> &ours = run.ours;
-    std::vector<World> &theirs = run.theirs;
+    auto [ours, theirs] = test::runBoth(doc, compare, 60);
     const double largest60 = compare.largestGapPx();
     const int largestMarble = compare.largestGapMarble();
     const std::int64_t largestFrame = compare.largestGapFrame();
@@ -547,11 +543,7 @@ void TestCompareRun::deleteRedoneAfterStepBackKeepsItsFrame()
     doc.resetScene(presetWorld("masses", ModelKind::Book));
     CompareRun compare(&doc);
     compare.setModel(ModelKind::Exact);
-    std::vector<World> theirs{*compare.world()};
-    for (int f = 1; f <= 60; ++f) {
-        doc.advance(1);
-        theirs.push_back(*compare.world());
-    }
+    const std::vector<World> theirs = test::runBoth(doc, compare, 60).theirs;
     const double largest60 = compare.largestGapPx();
     doc.removeMarble(2);
     QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete marble 2 (heavy mover) at frame 60"));

@@ -1372,9 +1372,7 @@ void TestMainWindow::deleteMidRunKeepsTheRunBeforeIt()
     PlotDock *plot = m_window->plotDock();
     compareExact()->trigger();
     const CompareRun *compare = m_window->compareRun();
-    test::BothRuns run = test::runBoth(*doc, *compare, 60);
-    std::vector<World> &ours = run.ours;
-    std::vector<World> &theirs = run.theirs;
+    auto [ours, theirs] = test::runBoth(*doc, *compare, 60);
     for (World *w : {&ours[40], &theirs[40], &ours[20], &theirs[20]})
         w->removeMarble(1);
     doc->removeMarble(1);
@@ -1413,9 +1411,7 @@ void TestMainWindow::addUndoneKeepsTheRunBeforeIt()
     PlotDock *plot = m_window->plotDock();
     compareExact()->trigger();
     const CompareRun *compare = m_window->compareRun();
-    test::BothRuns run = test::runBoth(*doc, *compare, 60);
-    std::vector<World> &ours = run.ours;
-    std::vector<World> &theirs = run.theirs;
+    auto [ours, theirs] = test::runBoth(*doc, *compare, 60);
     QVERIFY(doc->addMarble({60.0, 60.0}, 12.0).isEmpty());
     QCOMPARE(plot->sampleCount(), 1);
     doc->advance(20);
