@@ -1442,6 +1442,24 @@ inline bool ExactModel::pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi
     // layer too, where marbles that join the arrays are numbered out of rank order.)
     const Body &bi = m_body[i];
     const Body &bj = m_body[j];
+    const bool iLow = i < j;
+    const double R = bi.radius + bj.radius;
+    recheck = false;
+    if (m_noGravity) {
+        // No gravity anywhere: the relative path is straight, and j's state now is a + b phi1
+        // and b e^{-lambda t} (the general form below adds gravity terms that are +0 here, which
+        // can only turn a -0 coordinate into +0: no product or test that follows tells them apart).
+        const double pjx = bj.a.x + bj.b.x * m_phi1Now;
+        const double pjy = bj.a.y + bj.b.y * m_phi1Now;
+        const double vjx = bj.b.x * m_decayNow;
+        const double vjy = bj.b.y * m_decayNow;
+        const double s = straightContact(iLow ? pi.x - pjx : pjx - pi.x, iLow ? pi.y - pjy : pjy - pi.y,
+                                         iLow ? vi.x - vjx : vjx - vi.x, iLow ? vi.y - vjy : vjy - vi.y, R, m_sLeft);
+        if (!(s <= m_sLeft))
+            return false;
+        tau = phi1Inverse(m_lambda, s);
+        return tau <= horizon;
+    }
     const double gix = (bi.gravityOff & 1) ? 0.0 : m_gravity.x;
     const double giy = (bi.gravityOff & 2) ? 0.0 : m_gravity.y;
     const double gjx = (bj.gravityOff & 1) ? 0.0 : m_gravity.x;
@@ -1450,15 +1468,12 @@ inline bool ExactModel::pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi
     const double pjy = bj.a.y + bj.b.y * m_phi1Now + gjy * m_phi2Now;
     const double vjx = bj.b.x * m_decayNow + gjx * m_phi1Now;
     const double vjy = bj.b.y * m_decayNow + gjy * m_phi1Now;
-    const bool iLow = i < j;
     const double dx = iLow ? pi.x - pjx : pjx - pi.x;
     const double dy = iLow ? pi.y - pjy : pjy - pi.y;
     const double dvx = iLow ? vi.x - vjx : vjx - vi.x;
     const double dvy = iLow ? vi.y - vjy : vjy - vi.y;
     const double dgx = iLow ? gix - gjx : gjx - gix;
     const double dgy = iLow ? giy - gjy : gjy - giy;
-    const double R = bi.radius + bj.radius;
-    recheck = false;
     if (dgx == 0.0 && dgy == 0.0) {
         const double s = straightContact(dx, dy, dvx, dvy, R, m_sLeft);
         if (!(s <= m_sLeft))
