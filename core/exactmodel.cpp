@@ -1531,14 +1531,58 @@ inline void ExactModel::offerPair(int i, int j, const Vec2 &p, const Vec2 &v, Ev
     }
 }
 
+void ExactModel::offerStraight(int i, int j, double s, Event &best) const
+{
+    // offerPair() after pairContact()'s straight path found contact at s <= phi1(time left).
+    const Body &bj = m_body[j];
+    if (m_body[i].frozen && bj.frozen)
+        return;
+    const double horizon = std::min({best.time, bj.contactTime, 1.0}) - m_now;
+    const double tau = phi1Inverse(m_lambda, s);
+    if (!(tau <= horizon))
+        return;
+    const Event e{m_now + tau, EventKind::Pair, j, m_rec[j].stamp};
+    if (before(i, e, best))
+        best = e;
+}
+
 void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best)
 {
     int ranges[rangeSlots];
     const int rangeCount = neighbourRanges(i, ranges);
-    for (int r = 0; r < rangeCount; ++r) {
-        for (int j = ranges[2 * r]; j < ranges[2 * r + 1]; ++j) {
-            if (j != i && !m_body[j].moved)
-                offerPair(i, j, p, v, best);
+    if (m_noGravity) {
+        // offerPair() for every marble still in its bucket, with pairContact()'s straight path
+        // written into the loop: most candidates fail its first test, and only those that pass
+        // go on to the partner's horizon and the time (the same steps in the same order, so the
+        // same results). Callgrind, 10k crowd: 12.5 candidates a scan, 119 instructions each
+        // through offerPair(), whose register spills the compiler hoisted above the no-gravity test.
+        const double radius = m_body[i].radius;
+        const double phi1 = m_phi1Now;
+        const double decay = m_decayNow;
+        const double sLeft = m_sLeft;
+        for (int r = 0; r < rangeCount; ++r) {
+            for (int j = ranges[2 * r]; j < ranges[2 * r + 1]; ++j) {
+                const Body &bj = m_body[j];
+                if (j == i || bj.moved)
+                    continue;
+                const double pjx = bj.a.x + bj.b.x * phi1;
+                const double pjy = bj.a.y + bj.b.y * phi1;
+                const double vjx = bj.b.x * decay;
+                const double vjy = bj.b.y * decay;
+                const bool iLow = i < j;
+                const double s = straightContact(iLow ? p.x - pjx : pjx - p.x, iLow ? p.y - pjy : pjy - p.y,
+                                                 iLow ? v.x - vjx : vjx - v.x, iLow ? v.y - vjy : vjy - v.y,
+                                                 radius + bj.radius, sLeft);
+                if (s <= sLeft) [[unlikely]]
+                    offerStraight(i, j, s, best);
+            }
+        }
+    } else {
+        for (int r = 0; r < rangeCount; ++r) {
+            for (int j = ranges[2 * r]; j < ranges[2 * r + 1]; ++j) {
+                if (j != i && !m_body[j].moved)
+                    offerPair(i, j, p, v, best);
+            }
         }
     }
     if (m_layer)

@@ -241,6 +241,7 @@ private:
     void scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best);
     bool pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi, double horizon, double &tau, bool &recheck) const;
     void offerPair(int i, int j, const Vec2 &p, const Vec2 &v, Event &best) const;
+    [[gnu::noinline]] void offerStraight(int i, int j, double s, Event &best) const;
     /// Marble i's place among all marbles in bucket order: its index, unless sleepers are kept
     /// out of the arrays (see Body::rank).
     int rankOf(int i) const { return m_layer ? m_body[i].rank : i; }
