@@ -178,12 +178,13 @@ private:
 };
 
 /// The book's reflection off a pin at `pin` for a marble restored to `p` moving with `v`:
-/// returns false (and leaves `v` alone) where the book would divide by zero.
+/// returns false (and leaves `v` alone) where the book would divide by zero. `record`, if given,
+/// gets the reflection's three vectors (not its frame) only when it returns true.
 bool bookReflectOffPin(Vec2 p, Vec2 pin, Vec2 &v, HitRecord *record = nullptr);
 
 /// The book's marble-to-marble response: marble i (restored to `pi`, velocity `vi`, mass `mi`)
 /// hit marble j (at `pj`, velocity `vj`, mass `mj`). Returns false, leaving both velocities
-/// alone, where the book would divide by zero.
+/// alone, where the book would divide by zero. `record` as for bookReflectOffPin().
 bool bookShareCollision(Vec2 pi, Vec2 &vi, double mi, Vec2 pj, Vec2 &vj, double mj,
                         HitRecord *record = nullptr);
 
