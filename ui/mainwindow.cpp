@@ -801,14 +801,15 @@ void MainWindow::createDocks()
     // The lines run on through the frames Step Back can still go to: after a marble left mid-run
     // or came back, the kept frames followed it (they had started again at the edit, and Step
     // Back past it left one dot); a new timeline keeps none, and the lines start where it does.
-    connect(m_document, &SceneDocument::timelineReset, this, [this] {
+    const auto replotKeptFrames = [this] {
         m_plotDock->replayKeptFrames(m_document->world(), m_compare->world(),
                                      m_document->history().firstUnbrokenFrame(m_document->world().frame));
         if (m_compare->isTracking()) {
             for (const std::int64_t frame : m_compare->restartFrames())
                 m_plotDock->markCompareRestart(frame);
         }
-    });
+    };
+    connect(m_document, &SceneDocument::timelineReset, this, replotKeptFrames);
     // Colours follow the marbles through deletes and their undos (a new scene starts them over).
     connect(m_document, &SceneDocument::marbleRemovedAt, this,
             [this](int i) { m_plotDock->marbleRemovedAt(i, m_document->world().marbleCount() + 1); });
@@ -826,10 +827,17 @@ void MainWindow::createDocks()
     // cannot step back there (its kept frames start later, at an edit) starts again from the
     // scene's frame, so that the dashed lines meet the solid ones where the ghosts do (they
     // stayed apart there); and after a run longer than the plot holds, Home found no sample of
-    // frame 0 left, and the plot was empty.
-    connect(m_document, &SceneDocument::timelineRewound, this, [this](std::int64_t frame) {
+    // frame 0 left, and the plot was empty. Back past most of what the plot held (Step Back held
+    // down through a long run, or the undo of an edit made long before), the lines are drawn
+    // again from the kept frames, as far back as the plot holds: the plot was left with the few
+    // samples before the frame, or a single dot.
+    connect(m_document, &SceneDocument::timelineRewound, this, [this, replotKeptFrames](std::int64_t frame) {
         m_plotDock->cutAfter(frame);
-        m_plotDock->resample(m_document->world(), m_compare->world());
+        const std::int64_t kept = frame - m_document->history().firstUnbrokenFrame(frame) + 1;
+        if (m_plotDock->sampleCount() < std::min<std::int64_t>(kept, m_plotDock->capacity()) / 2)
+            replotKeptFrames();
+        else
+            m_plotDock->resample(m_document->world(), m_compare->world());
     });
     // A marble selected after a run is plotted from as far back as Step Back can go.
     m_plotDock->setVelocityLookup(

@@ -149,6 +149,7 @@ private Q_SLOTS:
     void addUndoneKeepsTheRunBeforeIt();
     void coloursFollowTheMarbles();
     void homeAfterALongRunPlotsFrameZero();
+    void stepBackPastThePlotDrawsTheKeptFramesAgain();
     void newOpensAnEmptyScene();
     void longStatusMessageIsElided();
     void statusBarKeepsItsFiguresApart();
@@ -1487,6 +1488,35 @@ void TestMainWindow::homeAfterALongRunPlotsFrameZero()
     QCOMPARE(plot->sampleCount(), 1);
     QCOMPARE(plot->sampleFrame(0), std::int64_t(0));
     QCOMPARE(plot->sampleSpeed(0, 0), 0.0);
+}
+
+void TestMainWindow::stepBackPastThePlotDrawsTheKeptFramesAgain()
+{
+    // A run longer than the plot holds (frames 31 to 80 of 50), then Step Back to frame 40. Once
+    // less than half the plot would be left (at frame 54), it is drawn again from the frames kept
+    // for Step Back, 5 to 54, with the speeds those frames hold; so at frame 40 it shows 5 to 40
+    // (it had kept 31 to 40 alone, and past frame 31 a single dot).
+    PlotDock *plot = m_window->plotDock();
+    plot->setCapacity(50);
+    SceneDocument *doc = m_window->document();
+    doc->advance(80);
+    QCOMPARE(plot->sampleFrame(0), std::int64_t(31));
+    for (int back = 0; back < 40; ++back)
+        QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+    QCOMPARE(doc->world().frame, std::int64_t(40));
+    QCOMPARE(plot->sampleCount(), 36);
+    for (qsizetype i = 0; i < plot->sampleCount(); ++i) {
+        const std::int64_t frame = 5 + i;
+        QCOMPARE(plot->sampleFrame(i), frame);
+        const std::vector<Vec2> *velocities = doc->history().velocitiesAt(frame, doc->world());
+        QVERIFY(velocities);
+        for (const int marble : plot->plottedMarbles())
+            QCOMPARE(plot->sampleSpeed(i, marble), length((*velocities)[static_cast<std::size_t>(marble)]));
+    }
+    // One frame further back keeps the rest.
+    QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+    QCOMPARE(plot->sampleCount(), 35);
+    QCOMPARE(plot->sampleFrame(34), std::int64_t(39));
 }
 
 void TestMainWindow::newOpensAnEmptyScene()
