@@ -827,14 +827,18 @@ void MainWindow::createDocks()
     // cannot step back there (its kept frames start later, at an edit) starts again from the
     // scene's frame, so that the dashed lines meet the solid ones where the ghosts do (they
     // stayed apart there); and after a run longer than the plot holds, Home found no sample of
-    // frame 0 left, and the plot was empty. Back past most of what the plot held (Step Back held
-    // down through a long run, or the undo of an edit made long before), the lines are drawn
-    // again from the kept frames, as far back as the plot holds: the plot was left with the few
-    // samples before the frame, or a single dot.
+    // frame 0 left, and the plot was empty. Back past the plot's oldest samples (Step Back held
+    // down through a run longer than the plot holds, or the undo of an edit made long before),
+    // the lines are drawn again from the kept frames, as far back as the plot holds: the plot was
+    // left with the few samples before the frame, or a single dot. It is drawn again once a
+    // tenth of the plot is missing (holding Step Back down redraws once every tenth of the plot),
+    // and once more when every kept frame fits, so that the lines reach back to where they start.
     connect(m_document, &SceneDocument::timelineRewound, this, [this, replotKeptFrames](std::int64_t frame) {
         m_plotDock->cutAfter(frame);
         const std::int64_t kept = frame - m_document->history().firstUnbrokenFrame(frame) + 1;
-        if (m_plotDock->sampleCount() < std::min<std::int64_t>(kept, m_plotDock->capacity()) / 2)
+        const qsizetype capacity = m_plotDock->capacity();
+        const qsizetype held = m_plotDock->sampleCount();
+        if (held < std::min<std::int64_t>(kept, capacity) && (kept <= capacity || held + capacity / 10 < capacity))
             replotKeptFrames();
         else
             m_plotDock->resample(m_document->world(), m_compare->world());

@@ -1492,21 +1492,27 @@ void TestMainWindow::homeAfterALongRunPlotsFrameZero()
 
 void TestMainWindow::stepBackPastThePlotDrawsTheKeptFramesAgain()
 {
-    // A run longer than the plot holds (frames 31 to 80 of 50), then Step Back to frame 40. Once
-    // less than half the plot would be left (at frame 54), it is drawn again from the frames kept
-    // for Step Back, 5 to 54, with the speeds those frames hold; so at frame 40 it shows 5 to 40
-    // (it had kept 31 to 40 alone, and past frame 31 a single dot).
+    // A run longer than the plot holds (frames 31 to 80 of 50), then Step Back to frame 40. Each
+    // time a tenth of what the plot could show is missing, it is drawn again from the frames kept
+    // for Step Back, with the speeds those frames hold: at frame 74 from frame 25, ..., at frame
+    // 50 from frame 1, and at frame 49, where every kept frame fits, from frame 0. So at frame 40
+    // it shows 0 to 40 (it had kept 31 to 40 alone, and past frame 31 a single dot).
     PlotDock *plot = m_window->plotDock();
     plot->setCapacity(50);
     SceneDocument *doc = m_window->document();
     doc->advance(80);
     QCOMPARE(plot->sampleFrame(0), std::int64_t(31));
-    for (int back = 0; back < 40; ++back)
+    for (int back = 0; back < 6; ++back)
+        QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+    QCOMPARE(doc->world().frame, std::int64_t(74));
+    QCOMPARE(plot->sampleCount(), 50);
+    QCOMPARE(plot->sampleFrame(0), std::int64_t(25));
+    for (int back = 0; back < 34; ++back)
         QTest::keyClick(m_window->stageView(), Qt::Key_Left);
     QCOMPARE(doc->world().frame, std::int64_t(40));
-    QCOMPARE(plot->sampleCount(), 36);
+    QCOMPARE(plot->sampleCount(), 41);
     for (qsizetype i = 0; i < plot->sampleCount(); ++i) {
-        const std::int64_t frame = 5 + i;
+        const std::int64_t frame = i;
         QCOMPARE(plot->sampleFrame(i), frame);
         const std::vector<Vec2> *velocities = doc->history().velocitiesAt(frame, doc->world());
         QVERIFY(velocities);
@@ -1515,8 +1521,8 @@ void TestMainWindow::stepBackPastThePlotDrawsTheKeptFramesAgain()
     }
     // One frame further back keeps the rest.
     QTest::keyClick(m_window->stageView(), Qt::Key_Left);
-    QCOMPARE(plot->sampleCount(), 35);
-    QCOMPARE(plot->sampleFrame(34), std::int64_t(39));
+    QCOMPARE(plot->sampleCount(), 40);
+    QCOMPARE(plot->sampleFrame(39), std::int64_t(39));
 }
 
 void TestMainWindow::newOpensAnEmptyScene()
