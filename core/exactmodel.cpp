@@ -1432,6 +1432,22 @@ void ExactModel::predictOwn(int i, Vec2 p, Vec2 v, Event &best)
     }
 }
 
+[[gnu::always_inline]] inline double ExactModel::straightWithoutGravity(int i, int j, const Vec2 &pi, const Vec2 &vi,
+                                                                      double ri) const
+{
+    // pairContact()'s path where there is no gravity anywhere: straight, with j's state now
+    // a + b phi1 and b e^{-lambda t}. (The general form adds gravity terms that are +0 here, which
+    // can only turn a -0 coordinate into +0: no product or test that follows tells them apart.)
+    const Body &bj = m_body[j];
+    const double pjx = bj.a.x + bj.b.x * m_phi1Now;
+    const double pjy = bj.a.y + bj.b.y * m_phi1Now;
+    const double vjx = bj.b.x * m_decayNow;
+    const double vjy = bj.b.y * m_decayNow;
+    const bool iLow = i < j;
+    return straightContact(iLow ? pi.x - pjx : pjx - pi.x, iLow ? pi.y - pjy : pjy - pi.y, iLow ? vi.x - vjx : vjx - vi.x,
+                           iLow ? vi.y - vjy : vjy - vi.y, ri + bj.radius, m_sLeft);
+}
+
 inline bool ExactModel::pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi, double horizon, double &tau,
                               bool &recheck) const
 {
@@ -1442,24 +1458,16 @@ inline bool ExactModel::pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi
     // layer too, where marbles that join the arrays are numbered out of rank order.)
     const Body &bi = m_body[i];
     const Body &bj = m_body[j];
-    const bool iLow = i < j;
-    const double R = bi.radius + bj.radius;
     recheck = false;
     if (m_noGravity) {
-        // No gravity anywhere: the relative path is straight, and j's state now is a + b phi1
-        // and b e^{-lambda t} (the general form below adds gravity terms that are +0 here, which
-        // can only turn a -0 coordinate into +0: no product or test that follows tells them apart).
-        const double pjx = bj.a.x + bj.b.x * m_phi1Now;
-        const double pjy = bj.a.y + bj.b.y * m_phi1Now;
-        const double vjx = bj.b.x * m_decayNow;
-        const double vjy = bj.b.y * m_decayNow;
-        const double s = straightContact(iLow ? pi.x - pjx : pjx - pi.x, iLow ? pi.y - pjy : pjy - pi.y,
-                                         iLow ? vi.x - vjx : vjx - vi.x, iLow ? vi.y - vjy : vjy - vi.y, R, m_sLeft);
+        const double s = straightWithoutGravity(i, j, pi, vi, bi.radius);
         if (!(s <= m_sLeft))
             return false;
         tau = phi1Inverse(m_lambda, s);
         return tau <= horizon;
     }
+    const bool iLow = i < j;
+    const double R = bi.radius + bj.radius;
     const double gix = (bi.gravityOff & 1) ? 0.0 : m_gravity.x;
     const double giy = (bi.gravityOff & 2) ? 0.0 : m_gravity.y;
     const double gjx = (bj.gravityOff & 1) ? 0.0 : m_gravity.x;
@@ -1557,23 +1565,12 @@ void ExactModel::scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int coun
         // same results). Callgrind, 10k crowd: 12.5 candidates a scan, 119 instructions each
         // through offerPair(), whose register spills the compiler hoisted above the no-gravity test.
         const double radius = m_body[i].radius;
-        const double phi1 = m_phi1Now;
-        const double decay = m_decayNow;
-        const double sLeft = m_sLeft;
         for (int r = 0; r < rangeCount; ++r) {
             for (int j = ranges[2 * r]; j < ranges[2 * r + 1]; ++j) {
-                const Body &bj = m_body[j];
-                if (j == i || bj.moved)
+                if (j == i || m_body[j].moved)
                     continue;
-                const double pjx = bj.a.x + bj.b.x * phi1;
-                const double pjy = bj.a.y + bj.b.y * phi1;
-                const double vjx = bj.b.x * decay;
-                const double vjy = bj.b.y * decay;
-                const bool iLow = i < j;
-                const double s = straightContact(iLow ? p.x - pjx : pjx - p.x, iLow ? p.y - pjy : pjy - p.y,
-                                                 iLow ? v.x - vjx : vjx - v.x, iLow ? v.y - vjy : vjy - v.y,
-                                                 radius + bj.radius, sLeft);
-                if (s <= sLeft) [[unlikely]]
+                const double s = straightWithoutGravity(i, j, p, v, radius);
+                if (s <= m_sLeft) [[unlikely]]
                     offerStraight(i, j, s, best);
             }
         }

@@ -239,6 +239,7 @@ private:
     void prefetchNear(int i) const;
     void scanPins(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best) const;
     void scanMarbles(int i, Vec2 p, Vec2 v, const int *buckets, int count, Event &best);
+    double straightWithoutGravity(int i, int j, const Vec2 &pi, const Vec2 &vi, double ri) const;
     bool pairContact(int i, int j, const Vec2 &pi, const Vec2 &vi, double horizon, double &tau, bool &recheck) const;
     void offerPair(int i, int j, const Vec2 &p, const Vec2 &v, Event &best) const;
     [[gnu::noinline]] void offerStraight(int i, int j, double s, Event &best) const;
