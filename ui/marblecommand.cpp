@@ -1,5 +1,6 @@
 #include "ui/marblecommand.h"
 
+#include "ui/editframe.h"
 #include "ui/scenedocument.h"
 
 #include <QCoreApplication>
@@ -81,7 +82,7 @@ SetMarbleCommand::SetMarbleCommand(SceneDocument *document, int marble, const Ma
 {
     // Mid-run, the frame the edit belongs to (undone later in the run, it takes the scene back
     // there).
-    setText(m_frame > 0 ? QCoreApplication::translate("marbles", "%1 at frame %2").arg(text).arg(m_frame) : text);
+    setText(atFrame(text, m_frame));
 }
 
 void SetMarbleCommand::applyAtItsFrame(std::int64_t frame, const MarbleState &state, const MarbleState &other,
@@ -178,40 +179,6 @@ void RenameMarbleCommand::apply(const std::string &name)
     world.info[static_cast<std::size_t>(m_marble)].name = name;
     m_document->applyChange(SceneDocument::Change::Names);
 }
-
-namespace {
-
-/// Back to `frame`, where a structural edit (a marble added or deleted) was made, when the scene
-/// has run on past it and the frame is kept; otherwise the edit applies where the scene is.
-void backToItsFrame(SceneDocument *document, std::int64_t frame)
-{
-    if (document->world().frame > frame)
-        document->goToFrame(frame);
-}
-
-/// `text`, with the frame a mid-run edit was made at (as SetMarbleCommand names its edits).
-QString atFrame(const QString &text, std::int64_t frame)
-{
-    return frame > 0 ? QCoreApplication::translate("marbles", "%1 at frame %2").arg(text).arg(frame) : text;
-}
-
-/// To `frame`, where a structural edit was made, for its redo: back to it when the scene has run
-/// on past it and the frame is kept, on to it when the scene was stepped back before it (a delete
-/// redone after Step Back applied at the frame stepped back to, its Undo History text still
-/// naming the other: its undo then went to a frame where the kept frames had no place for the
-/// marble, and the plot and the comparison started again there; a regression tester's finding).
-/// Where that frame cannot be reached (no longer kept), the edit belongs to the frame it is made
-/// at: `frame` becomes it, and `command`'s text (`name` at that frame) says so.
-void toItsFrame(SceneDocument *document, std::int64_t &frame, QUndoCommand &command, const QString &name)
-{
-    document->goToFrame(frame);
-    if (document->world().frame != frame) {
-        frame = document->world().frame;
-        command.setText(atFrame(name, frame));
-    }
-}
-
-} // namespace
 
 AddMarbleCommand::AddMarbleCommand(SceneDocument *document, const MarbleRecord &record)
     : m_document(document)

@@ -1,5 +1,6 @@
 #include "ui/pincommand.h"
 
+#include "ui/editframe.h"
 #include "ui/scenedocument.h"
 #include "ui/worldedit.h"
 
@@ -21,21 +22,25 @@ bool validPin(const World &world, int j)
 AddPinCommand::AddPinCommand(SceneDocument *document, Vec2 at)
     : m_document(document)
     , m_at(at)
+    , m_frame(document->world().frame)
 {
-    setText(QCoreApplication::translate("marbles", "Add pin %1 at (%2, %3)")
-                .arg(document->world().pins.size())
-                .arg(at.x, 0, 'f', 0)
-                .arg(at.y, 0, 'f', 0));
+    m_name = QCoreApplication::translate("marbles", "Add pin %1 at (%2, %3)")
+                 .arg(document->world().pins.size())
+                 .arg(at.x, 0, 'f', 0)
+                 .arg(at.y, 0, 'f', 0);
+    setText(atFrame(m_name, m_frame));
 }
 
 void AddPinCommand::redo()
 {
+    toItsFrame(m_document, m_frame, *this, m_name);
     m_index = m_document->editableWorld().addPin(m_at);
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 
 void AddPinCommand::undo()
 {
+    backToItsFrame(m_document, m_frame);
     World &world = m_document->editableWorld();
     assert(validPin(world, m_index));
     if (!validPin(world, m_index))
@@ -47,12 +52,15 @@ void AddPinCommand::undo()
 RemovePinCommand::RemovePinCommand(SceneDocument *document, int pin)
     : m_document(document)
     , m_index(pin)
+    , m_frame(document->world().frame)
 {
-    setText(QCoreApplication::translate("marbles", "Delete pin %1").arg(pin));
+    m_name = QCoreApplication::translate("marbles", "Delete pin %1").arg(pin);
+    setText(atFrame(m_name, m_frame));
 }
 
 void RemovePinCommand::redo()
 {
+    toItsFrame(m_document, m_frame, *this, m_name);
     World &world = m_document->editableWorld();
     assert(validPin(world, m_index));
     if (!validPin(world, m_index))
@@ -65,6 +73,7 @@ void RemovePinCommand::redo()
 
 void RemovePinCommand::undo()
 {
+    backToItsFrame(m_document, m_frame);
     insertPin(m_document->editableWorld(), m_index, m_at, m_extraJson);
     m_document->applyChange(SceneDocument::Change::Structure);
 }
@@ -74,12 +83,15 @@ MovePinCommand::MovePinCommand(SceneDocument *document, int pin, Vec2 from, Vec2
     , m_index(pin)
     , m_from(from)
     , m_to(to)
+    , m_frame(document->world().frame)
 {
-    setText(QCoreApplication::translate("marbles", "Move pin %1 to (%2, %3)").arg(pin).arg(to.x, 0, 'f', 0).arg(to.y, 0, 'f', 0));
+    m_name = QCoreApplication::translate("marbles", "Move pin %1 to (%2, %3)").arg(pin).arg(to.x, 0, 'f', 0).arg(to.y, 0, 'f', 0);
+    setText(atFrame(m_name, m_frame));
 }
 
 void MovePinCommand::redo()
 {
+    toItsFrame(m_document, m_frame, *this, m_name);
     World &world = m_document->editableWorld();
     assert(validPin(world, m_index));
     if (!validPin(world, m_index))
@@ -90,6 +102,7 @@ void MovePinCommand::redo()
 
 void MovePinCommand::undo()
 {
+    backToItsFrame(m_document, m_frame);
     World &world = m_document->editableWorld();
     assert(validPin(world, m_index));
     if (!validPin(world, m_index))

@@ -101,6 +101,7 @@ private Q_SLOTS:
     void radiusGrownIntoAnotherIsRefused();
     void structureEditsAreNamed();
     void undoLaterInTheRunGoesBackToTheEdit();
+    void pinEditUndoneLaterGoesBackToItsFrame();
     void stepBackGoesPastADeletedMarble();
     void stepBackGoesPastAnAddUndone();
     void framesSetAsideCountInTheBudget();
@@ -887,6 +888,63 @@ void TestSceneDocument::undoLaterInTheRunGoesBackToTheEdit()
     QCOMPARE(added.advance(20), 20);
     added.undoStack()->undo();
     QVERIFY(sameDynamicState(added.world(), beforeAdd));
+}
+
+void TestSceneDocument::pinEditUndoneLaterGoesBackToItsFrame()
+{
+    // A pin added at frame 2 in a marble's way and undone at frame 30: the scene goes back to
+    // frame 2 without the pin, and runs on as if it had never been there (the undo took the pin
+    // away at frame 30, leaving the marble on its way back from the bounce off it). Deleting and
+    // moving a pin likewise; redone later, each goes back to its frame too.
+    World lane;
+    lane.params.friction = 0.0;
+    lane.addMarble({100.0, 300.0}, 10.0, {5.0, 0.0});
+    SceneDocument doc;
+    doc.resetScene(lane);
+    QCOMPARE(doc.advance(2), 2);
+    const World beforeAdd = doc.world();
+    QVERIFY(doc.addPin({160.0, 300.0}).isEmpty());
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Add pin 0 at (160, 300) at frame 2"));
+    const World afterAdd = doc.world();
+    QCOMPARE(doc.advance(28), 28);
+    QVERIFY(doc.world().velocity[0].x < 0.0); // it bounced off the pin
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().frame, std::int64_t(2));
+    QVERIFY(doc.world().pins.empty());
+    QVERIFY(sameDynamicState(doc.world(), beforeAdd));
+    QCOMPARE(doc.advance(28), 28);
+    QCOMPARE(doc.world().velocity[0], Vec2(5.0, 0.0)); // never bounced
+    // Redone at frame 30, the add goes back to frame 2 too.
+    doc.undoStack()->redo();
+    QCOMPARE(doc.world().frame, std::int64_t(2));
+    QCOMPARE(doc.world().pins.size(), std::size_t(1));
+    QVERIFY(sameDynamicState(doc.world(), afterAdd));
+
+    // Deleted at frame 5, the delete undone at frame 30: back at frame 5 with the pin.
+    QCOMPARE(doc.advance(3), 3);
+    const World beforeDelete = doc.world();
+    doc.removePin(0);
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete pin 0 at frame 5"));
+    QCOMPARE(doc.advance(25), 25);
+    QCOMPARE(doc.world().velocity[0], Vec2(5.0, 0.0)); // no pin to bounce off
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().frame, std::int64_t(5));
+    QVERIFY(doc.world().pins == beforeDelete.pins);
+    QVERIFY(sameDynamicState(doc.world(), beforeDelete));
+
+    // Moved out of the way at frame 5, the move undone at frame 30: back at frame 5, the pin in
+    // the way again.
+    doc.beginPinDrag(0);
+    doc.movePinDrag({160.0, 500.0});
+    QVERIFY(doc.endPinDrag({160.0, 500.0}).isEmpty());
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Move pin 0 to (160, 500) at frame 5"));
+    QCOMPARE(doc.advance(25), 25);
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().frame, std::int64_t(5));
+    QVERIFY(doc.world().pins == beforeDelete.pins);
+    QVERIFY(sameDynamicState(doc.world(), beforeDelete));
+    QCOMPARE(doc.advance(25), 25);
+    QVERIFY(doc.world().velocity[0].x < 0.0);
 }
 
 void TestSceneDocument::stepBackGoesPastADeletedMarble()
