@@ -3,7 +3,6 @@
 #include "ui/scenedocument.h"
 
 #include <QCoreApplication>
-#include <QUndoCommand>
 
 namespace marbles {
 
@@ -12,23 +11,31 @@ QString atFrame(const QString &text, std::int64_t frame)
     return frame > 0 ? QCoreApplication::translate("marbles", "%1 at frame %2").arg(text).arg(frame) : text;
 }
 
-void backToItsFrame(SceneDocument *document, std::int64_t frame)
+FramedCommand::FramedCommand(SceneDocument *document)
+    : m_document(document)
+    , m_frame(document->world().frame)
 {
-    if (document->world().frame > frame)
-        document->goToFrame(frame);
 }
 
-void toItsFrame(SceneDocument *document, std::int64_t &frame, QUndoCommand &command, const QString &name)
+void FramedCommand::setName(const QString &name)
 {
-    // A delete redone after Step Back went before it applied at the frame stepped back to, its
-    // Undo History text still naming the other: its undo then went to a frame where the kept
-    // frames had no place for the marble, and the plot and the comparison started again there
-    // (a regression tester's finding).
-    document->goToFrame(frame);
-    if (document->world().frame != frame) {
-        frame = document->world().frame;
-        command.setText(atFrame(name, frame));
+    m_name = name;
+    setText(atFrame(m_name, m_frame));
+}
+
+void FramedCommand::toItsFrame()
+{
+    m_document->goToFrame(m_frame);
+    if (m_document->world().frame != m_frame) {
+        m_frame = m_document->world().frame;
+        setText(atFrame(m_name, m_frame));
     }
+}
+
+void FramedCommand::backToItsFrame()
+{
+    if (m_document->world().frame > m_frame)
+        m_document->goToFrame(m_frame);
 }
 
 } // namespace marbles

@@ -181,21 +181,19 @@ void RenameMarbleCommand::apply(const std::string &name)
 }
 
 AddMarbleCommand::AddMarbleCommand(SceneDocument *document, const MarbleRecord &record)
-    : m_document(document)
+    : FramedCommand(document)
     , m_record(record)
-    , m_frame(document->world().frame)
 {
     // Named by the number it will have and where (the Undo History said "Add marble" alone).
-    m_name = QCoreApplication::translate("marbles", "Add marble %1 at (%2, %3)")
-                 .arg(document->world().marbleCount())
-                 .arg(record.position.x, 0, 'f', 0)
-                 .arg(record.position.y, 0, 'f', 0);
-    setText(atFrame(m_name, m_frame));
+    setName(QCoreApplication::translate("marbles", "Add marble %1 at (%2, %3)")
+                .arg(document->world().marbleCount())
+                .arg(record.position.x, 0, 'f', 0)
+                .arg(record.position.y, 0, 'f', 0));
 }
 
 void AddMarbleCommand::redo()
 {
-    toItsFrame(m_document, m_frame, *this, m_name);
+    toItsFrame();
     World &world = m_document->editableWorld();
     m_index = world.marbleCount();
     insertMarble(world, m_index, m_record);
@@ -209,7 +207,7 @@ void AddMarbleCommand::redo()
 
 void AddMarbleCommand::undo()
 {
-    backToItsFrame(m_document, m_frame);
+    backToItsFrame();
     World &world = m_document->editableWorld();
     assert(m_index == world.marbleCount() - 1);
     if (m_index < 0 || m_index >= world.marbleCount())
@@ -220,23 +218,21 @@ void AddMarbleCommand::undo()
 }
 
 RemoveMarbleCommand::RemoveMarbleCommand(SceneDocument *document, int marble)
-    : m_document(document)
+    : FramedCommand(document)
     , m_index(marble)
-    , m_frame(document->world().frame)
 {
     // With its name where it has one: after a delete the later marbles are renumbered, and two
     // deletes in a row could both read "Delete marble 3".
     const std::string &name = document->world().info[static_cast<std::size_t>(marble)].name;
-    m_name = name.empty() ? QCoreApplication::translate("marbles", "Delete marble %1").arg(marble)
-                          : QCoreApplication::translate("marbles", "Delete marble %1 (%2)")
-                                .arg(marble)
-                                .arg(QString::fromStdString(name));
-    setText(atFrame(m_name, m_frame));
+    setName(name.empty() ? QCoreApplication::translate("marbles", "Delete marble %1").arg(marble)
+                         : QCoreApplication::translate("marbles", "Delete marble %1 (%2)")
+                               .arg(marble)
+                               .arg(QString::fromStdString(name)));
 }
 
 void RemoveMarbleCommand::redo()
 {
-    toItsFrame(m_document, m_frame, *this, m_name);
+    toItsFrame();
     World &world = m_document->editableWorld();
     assert(m_index >= 0 && m_index < world.marbleCount());
     if (m_index < 0 || m_index >= world.marbleCount())
@@ -250,7 +246,7 @@ void RemoveMarbleCommand::redo()
 
 void RemoveMarbleCommand::undo()
 {
-    backToItsFrame(m_document, m_frame);
+    backToItsFrame();
     World &world = m_document->editableWorld();
     assert(m_index >= 0 && m_index <= world.marbleCount());
     if (m_index < 0 || m_index > world.marbleCount())

@@ -2,6 +2,7 @@
 
 #include "core/world.h"
 #include "ui/commandids.h"
+#include "ui/editframe.h"
 #include "ui/history.h"
 #include "ui/worldedit.h"
 
@@ -88,19 +89,16 @@ private:
 /// runs the scene on to that frame first (as SetMarbleCommand). The frames kept for Step Back
 /// before the add, which have no place for the marble, are set aside, and its undo there gives
 /// them back.
-class AddMarbleCommand : public QUndoCommand {
+class AddMarbleCommand : public FramedCommand {
 public:
     AddMarbleCommand(SceneDocument *document, const MarbleRecord &record);
     void redo() override;
     void undo() override;
 
 private:
-    SceneDocument *m_document;
     MarbleRecord m_record;
     int m_index = -1;
-    std::int64_t m_frame = 0;     // the frame the marble was added at
     std::uint64_t m_setAside = 0; // the step-back frames set aside there (FrameHistory::insertMarble())
-    QString m_name;               // its text without the frame
 };
 
 /// Removes a marble; undo puts it back at its index, with the scripted pushes that named it.
@@ -108,20 +106,17 @@ private:
 /// where that frame is kept: the marble came back where it had been deleted, frames later, among
 /// marbles that had moved on without it. Redone earlier (after Step Back past it), it runs the
 /// scene on to that frame first.
-class RemoveMarbleCommand : public QUndoCommand {
+class RemoveMarbleCommand : public FramedCommand {
 public:
     RemoveMarbleCommand(SceneDocument *document, int marble);
     void redo() override;
     void undo() override;
 
 private:
-    SceneDocument *m_document;
     int m_index;
     MarbleRecord m_record;
     std::vector<Push> m_pushes;
     FrameHistory::MarbleTrack m_track; // its part of the timeline's first frame and step-back frames
-    std::int64_t m_frame = 0;          // the frame of the delete
-    QString m_name;                    // its text without the frame
 };
 
 } // namespace marbles

@@ -1,6 +1,5 @@
 #include "ui/pincommand.h"
 
-#include "ui/editframe.h"
 #include "ui/scenedocument.h"
 #include "ui/worldedit.h"
 
@@ -20,27 +19,25 @@ bool validPin(const World &world, int j)
 } // namespace
 
 AddPinCommand::AddPinCommand(SceneDocument *document, Vec2 at)
-    : m_document(document)
+    : FramedCommand(document)
     , m_at(at)
-    , m_frame(document->world().frame)
 {
-    m_name = QCoreApplication::translate("marbles", "Add pin %1 at (%2, %3)")
-                 .arg(document->world().pins.size())
-                 .arg(at.x, 0, 'f', 0)
-                 .arg(at.y, 0, 'f', 0);
-    setText(atFrame(m_name, m_frame));
+    setName(QCoreApplication::translate("marbles", "Add pin %1 at (%2, %3)")
+                .arg(document->world().pins.size())
+                .arg(at.x, 0, 'f', 0)
+                .arg(at.y, 0, 'f', 0));
 }
 
 void AddPinCommand::redo()
 {
-    toItsFrame(m_document, m_frame, *this, m_name);
+    toItsFrame();
     m_index = m_document->editableWorld().addPin(m_at);
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 
 void AddPinCommand::undo()
 {
-    backToItsFrame(m_document, m_frame);
+    backToItsFrame();
     World &world = m_document->editableWorld();
     assert(validPin(world, m_index));
     if (!validPin(world, m_index))
@@ -50,17 +47,15 @@ void AddPinCommand::undo()
 }
 
 RemovePinCommand::RemovePinCommand(SceneDocument *document, int pin)
-    : m_document(document)
+    : FramedCommand(document)
     , m_index(pin)
-    , m_frame(document->world().frame)
 {
-    m_name = QCoreApplication::translate("marbles", "Delete pin %1").arg(pin);
-    setText(atFrame(m_name, m_frame));
+    setName(QCoreApplication::translate("marbles", "Delete pin %1").arg(pin));
 }
 
 void RemovePinCommand::redo()
 {
-    toItsFrame(m_document, m_frame, *this, m_name);
+    toItsFrame();
     World &world = m_document->editableWorld();
     assert(validPin(world, m_index));
     if (!validPin(world, m_index))
@@ -73,25 +68,23 @@ void RemovePinCommand::redo()
 
 void RemovePinCommand::undo()
 {
-    backToItsFrame(m_document, m_frame);
+    backToItsFrame();
     insertPin(m_document->editableWorld(), m_index, m_at, m_extraJson);
     m_document->applyChange(SceneDocument::Change::Structure);
 }
 
 MovePinCommand::MovePinCommand(SceneDocument *document, int pin, Vec2 from, Vec2 to)
-    : m_document(document)
+    : FramedCommand(document)
     , m_index(pin)
     , m_from(from)
     , m_to(to)
-    , m_frame(document->world().frame)
 {
-    m_name = QCoreApplication::translate("marbles", "Move pin %1 to (%2, %3)").arg(pin).arg(to.x, 0, 'f', 0).arg(to.y, 0, 'f', 0);
-    setText(atFrame(m_name, m_frame));
+    setName(QCoreApplication::translate("marbles", "Move pin %1 to (%2, %3)").arg(pin).arg(to.x, 0, 'f', 0).arg(to.y, 0, 'f', 0));
 }
 
 void MovePinCommand::redo()
 {
-    toItsFrame(m_document, m_frame, *this, m_name);
+    toItsFrame();
     World &world = m_document->editableWorld();
     assert(validPin(world, m_index));
     if (!validPin(world, m_index))
@@ -102,7 +95,7 @@ void MovePinCommand::redo()
 
 void MovePinCommand::undo()
 {
-    backToItsFrame(m_document, m_frame);
+    backToItsFrame();
     World &world = m_document->editableWorld();
     assert(validPin(world, m_index));
     if (!validPin(world, m_index))
