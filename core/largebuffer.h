@@ -13,9 +13,10 @@ namespace marbles {
 ///
 /// Why: a crowd's broad phase reads its neighbours anywhere in a 100k-marble model's buffers
 /// (tens of MB), and with 4 KiB pages many such reads also miss the processor's cache of page
-/// table entries, which covers a few MB (huge pages made the 100k crowds 5 to 8 % faster). Debian's kernel gives huge pages only where they
-/// are asked for (transparent_hugepage "madvise"); where they are refused or unsupported, the
-/// buffer is simply in small pages, with the same contents. Nothing here changes a result.
+/// table entries, which covers a few MB (huge pages made the 100k crowds 5 to 8 % faster).
+/// Debian's kernel gives huge pages only where they are asked for (transparent_hugepage
+/// "madvise"); where they are refused or unsupported, the buffer is simply in small pages, with
+/// the same contents. Nothing here changes a result.
 /// Smaller buffers come from operator new as usual.
 inline constexpr std::size_t largeBufferBytes = std::size_t(1) << 20;
 void *allocateLargeBuffer(std::size_t bytes, std::size_t alignment);
