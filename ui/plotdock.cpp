@@ -423,10 +423,7 @@ PlotDock::PlotDock(QWidget *parent)
     m_axisMomentum->setTitleBrush(kMomentumColour);
     updateTotalsAxis(); // and the chart's margins
 
-    m_kineticSeries = addTotalSeries(kKineticColour, m_axisTotals);
-    for (int c : {0, 1})
-        m_momentumSeries[c] = addTotalSeries(kMomentumColour, m_axisMomentum);
-    styleSeries();
+    remakeOverlays(); // the totals, hidden until their boxes are ticked
 
     m_chartView = new QChartView(m_chart, page);
     m_chartView->setObjectName(QStringLiteral("plotChartView"));
@@ -717,53 +714,22 @@ void PlotDock::setCompareModel(const QString &model)
         removeCompareTrack(t);
     for (Track &t : m_parked)
         t.compareSpeed.clear();
-    removeCompareTotals();
-    m_compareModel = model;
-    // While comparing, the legend names the two models once, as a solid and a dashed grey line,
-    // instead of listing every marble twice; these two series never hold points.
-    deleteSeries(m_modelKey);
-    deleteSeries(m_compareKey);
-    deleteSeries(m_restartMarks);
+    m_compareKinetic.clear();
+    for (int c : {0, 1})
+        m_compareMomentum[c].clear();
     m_compareRestarts.clear();
+    m_compareModel = model;
     if (!m_compareModel.isEmpty()) {
         for (Track &t : m_tracks)
             addCompareTrack(t);
         for (Track &t : m_parked)
             startFrom(t.compareSpeed, t.marble, m_compareVelocities);
-        auto addKeySeries = [this](bool dashed) {
-            auto *series = new QLineSeries;
-            // Light: the kinetic energy's line beside them is a dark grey.
-            const QColor grey(0x9e, 0x9e, 0x9e);
-            QPen pen = dashed ? comparePen(grey) : QPen(grey, 2.0);
-            pen.setCapStyle(Qt::FlatCap);
-            series->setPen(pen);
-            m_chart->addSeries(series);
-            series->attachAxis(m_axisX);
-            series->attachAxis(m_axisSpeed);
-            return series;
-        };
-        m_modelKey = addKeySeries(false);
-        m_compareKey = addKeySeries(true);
-        m_restartMarks = new QLineSeries;
-        QPen marks(QColor(0x75, 0x75, 0x75), 1.5, Qt::DotLine);
-        marks.setCapStyle(Qt::FlatCap);
-        m_restartMarks->setPen(marks);
-        m_restartMarks->setName(tr("comparison restarted"));
-        m_chart->addSeries(m_restartMarks);
-        m_restartMarks->attachAxis(m_axisX);
-        m_restartMarks->attachAxis(m_axisSpeed);
         // The comparison starts now: no comparison totals for the samples already held.
         startWithGaps(m_compareKinetic);
-        m_compareKineticSeries = addTotalSeries(kKineticColour, m_axisTotals);
-        showTotal(m_compareKineticSeries, m_showKinetic->isChecked());
-        for (int c : {0, 1}) {
+        for (int c : {0, 1})
             startWithGaps(m_compareMomentum[c]);
-            m_compareMomentumSeries[c] = addTotalSeries(kMomentumColour, m_axisMomentum);
-            showTotal(m_compareMomentumSeries[c], m_showMomentum->isChecked());
-        }
     }
-    styleSeries();
-    m_dirty = true;
+    remakeOverlays(); // the comparison's totals, keys and restart marks, or none
 }
 
 double PlotDock::sampleKineticEnergy(qsizetype i) const
@@ -1241,17 +1207,7 @@ void PlotDock::rebuildTracks()
     }
     std::erase_if(m_parked, [this](const Track &t) { return t.marble >= m_marbleCount; });
     m_tracks = std::move(tracks);
-    // The new lines were added after the two models' legend entries: put those back at the end,
-    // so that the legend lists the marbles first, then "book (solid)", "exact (dashed)".
-    for (QLineSeries *key : {m_modelKey, m_compareKey}) {
-        if (!key)
-            continue;
-        m_chart->removeSeries(key);
-        m_chart->addSeries(key);
-        key->attachAxis(m_axisX);
-        key->attachAxis(m_axisSpeed);
-    }
-    styleSeries();
+    remakeOverlays(); // back over the new lines, and after them in the legend
 
     const int plotted = static_cast<int>(m_tracks.size());
     const int candidates = m_selected.isEmpty() ? m_marbleCount : static_cast<int>(m_selected.size());
@@ -1383,14 +1339,74 @@ QLineSeries *PlotDock::addTotalSeries(QColor colour, QValueAxis *axis)
     return series;
 }
 
-void PlotDock::removeCompareTotals()
+QLineSeries *PlotDock::addKeySeries(bool dashed)
 {
-    m_compareKinetic.clear();
+    // While comparing, the legend names the two models once, as a solid and a dashed grey line,
+    // instead of listing every marble twice; these two series never hold points. Light: the
+    // kinetic energy's line beside them is a dark grey.
+    auto *series = new QLineSeries;
+    const QColor grey(0x9e, 0x9e, 0x9e);
+    QPen pen = dashed ? comparePen(grey) : QPen(grey, 2.0);
+    pen.setCapStyle(Qt::FlatCap);
+    series->setPen(pen);
+    m_chart->addSeries(series);
+    series->attachAxis(m_axisX);
+    series->attachAxis(m_axisSpeed);
+    return series;
+}
+
+void PlotDock::remakeOverlays()
+{
+    // Over the marbles' speed lines, and after them in the legend, always in this order: the
+    // scene's totals, the comparison's, the two models' keys, the restart marks. The chart draws
+    // and lists its lines in the order they were added, and a line cannot be moved (taking one
+    // out and adding it again made Qt Charts paint a deleted item: see rebuildTracks()), so
+    // these are made anew after any new speed line; refreshChart() gives them their points.
+    // Without this a selection change while comparing put the comparison's energy and momentum
+    // under the speed lines, which had covered them before, and "comparison restarted" at the
+    // head of the legend.
+    deleteSeries(m_kineticSeries);
     deleteSeries(m_compareKineticSeries);
     for (int c : {0, 1}) {
-        m_compareMomentum[c].clear();
+        deleteSeries(m_momentumSeries[c]);
         deleteSeries(m_compareMomentumSeries[c]);
     }
+    deleteSeries(m_modelKey);
+    deleteSeries(m_compareKey);
+    deleteSeries(m_restartMarks);
+    const bool comparing = !m_compareModel.isEmpty();
+    m_kineticSeries = addTotalSeries(kKineticColour, m_axisTotals);
+    if (comparing)
+        m_compareKineticSeries = addTotalSeries(kKineticColour, m_axisTotals);
+    for (int c : {0, 1}) {
+        m_momentumSeries[c] = addTotalSeries(kMomentumColour, m_axisMomentum);
+        if (comparing)
+            m_compareMomentumSeries[c] = addTotalSeries(kMomentumColour, m_axisMomentum);
+    }
+    // Shown once they are the members showTotal() tells the legend's from.
+    for (QLineSeries *series : {m_kineticSeries, m_compareKineticSeries})
+        showTotal(series, m_showKinetic->isChecked());
+    for (int c : {0, 1}) {
+        showTotal(m_momentumSeries[c], m_showMomentum->isChecked());
+        showTotal(m_compareMomentumSeries[c], m_showMomentum->isChecked());
+    }
+    if (comparing) {
+        m_modelKey = addKeySeries(false);
+        m_compareKey = addKeySeries(true);
+        m_restartMarks = new QLineSeries;
+        QPen marks(QColor(0x75, 0x75, 0x75), 1.5, Qt::DotLine);
+        marks.setCapStyle(Qt::FlatCap);
+        m_restartMarks->setPen(marks);
+        m_restartMarks->setName(tr("comparison restarted"));
+        m_chart->addSeries(m_restartMarks);
+        m_restartMarks->attachAxis(m_axisX);
+        m_restartMarks->attachAxis(m_axisSpeed);
+        // Listed from the first restart on (refreshChart()).
+        for (QLegendMarker *marker : m_chart->legend()->markers(m_restartMarks))
+            marker->setVisible(!m_compareRestarts.empty());
+    }
+    styleSeries();
+    m_dirty = true;
 }
 
 void PlotDock::showTotal(QLineSeries *series, bool shown)

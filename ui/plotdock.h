@@ -279,7 +279,10 @@ private:
     QLineSeries *addTotalSeries(QColor colour, QValueAxis *axis);
     /// Takes `series` off the chart and deletes it (nothing when null); leaves it null.
     void deleteSeries(QLineSeries *&series);
-    void removeCompareTotals();
+    /// A grey legend entry for the scene's model (solid) or the comparison's (dashed).
+    QLineSeries *addKeySeries(bool dashed);
+    /// Makes the lines drawn over the speed lines anew, after them (see the .cpp).
+    void remakeOverlays();
     void showTotal(QLineSeries *series, bool shown);
     void styleSeries();
     void updateLegendLabels();

@@ -66,6 +66,7 @@ private slots:
     void frameAxisTicksAreWholeFrames();
     void legendLabelsFitTheRow();
     void legendListsMarblesInOrder();
+    void totalsStayOverTheSpeedLines();
     void legendNamesEveryModelOfTheLines();
     void totalsOnRequest();
     void hoverShowsExactValues_data();
@@ -1125,6 +1126,116 @@ void TestPlotDock::legendListsMarblesInOrder()
     QTRY_COMPARE(visibleLabels(), inOrder); // new markers show once the legend is laid out
     QCOMPARE(dock.speedSeries(3)->count(), 6);
     QCOMPARE(dock.sampleSpeed(5, 3), std::hypot(0.06, 1.5));
+}
+
+void TestPlotDock::totalsStayOverTheSpeedLines()
+{
+    // Compared with exact, energy and momentum shown, after a restart: the totals are drawn over
+    // the speed lines and listed after them, then the models' keys and the restart mark; and so
+    // they stay when a selection makes new speed lines and when the comparison model changes.
+    // (A selection had put the comparison's totals under the speed lines and "comparison
+    // restarted" first in the legend.)
+    PlotDock dock;
+    World world = worldWith(4);
+    dock.setKineticEnergyShown(true);
+    dock.setMomentumShown(true);
+    dock.reset(world);
+    dock.setCompareModel(QStringLiteral("exact"));
+    for (int f = 1; f <= 6; ++f) {
+        world.frame = f;
+        world.velocity[0] = {0.5 * f, 0.25 * f};
+        dock.appendFrame(world, &world); // the comparison's lines on the scene's
+    }
+    dock.resize(1400, 350);
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    dock.markCompareRestart(3);
+    dock.refreshChart();
+    // What each line is, in the chart's order (the order it draws them in), and the same for
+    // the legend's entries shown.
+    QString model = QStringLiteral("exact");
+    const auto role = [&dock, &model](const QAbstractSeries *series) -> QString {
+        for (int i = 0; i < 4; ++i) {
+            if (series == dock.speedSeries(i))
+                return QStringLiteral("marble %1").arg(i);
+            if (series == dock.compareSeries(i))
+                return QStringLiteral("marble %1, %2").arg(i).arg(model);
+        }
+        if (series == dock.kineticSeries())
+            return QStringLiteral("energy");
+        if (series == dock.compareKineticSeries())
+            return QStringLiteral("energy, %1").arg(model);
+        for (int c : {0, 1}) {
+            if (series == dock.momentumSeries(c))
+                return QStringLiteral("momentum %1").arg(c);
+            if (series == dock.compareMomentumSeries(c))
+                return QStringLiteral("momentum %1, %2").arg(c).arg(model);
+        }
+        return series->name(); // the keys and the restart marks
+    };
+    // The speed lines first, in any order (a comparison started adds its dashed lines after
+    // the solid ones), then the rest in this order.
+    const auto drawn = [&] {
+        QStringList roles;
+        for (const QAbstractSeries *series : dock.chartView()->chart()->series())
+            roles << role(series);
+        QStringList first = roles.mid(0, 8);
+        first.sort();
+        return first + roles.mid(8);
+    };
+    const auto listed = [&] {
+        QStringList roles;
+        for (QLegendMarker *marker : dock.chartView()->chart()->legend()->markers()) {
+            if (marker->isVisible())
+                roles << role(marker->series());
+        }
+        return roles;
+    };
+    QStringList speeds;
+    for (int i = 0; i < 4; ++i)
+        speeds << QStringLiteral("marble %1").arg(i) << QStringLiteral("marble %1, exact").arg(i); // sorted
+    const QStringList overlays{QStringLiteral("energy"),         QStringLiteral("energy, exact"),
+                               QStringLiteral("momentum 0"),     QStringLiteral("momentum 0, exact"),
+                               QStringLiteral("momentum 1"),     QStringLiteral("momentum 1, exact"),
+                               QStringLiteral("book (solid)"),   QStringLiteral("exact (dashed)"),
+                               QStringLiteral("comparison restarted")};
+    const QStringList legend{QStringLiteral("marble 0"),   QStringLiteral("marble 1"),     QStringLiteral("marble 2"),
+                             QStringLiteral("marble 3"),   QStringLiteral("energy"),       QStringLiteral("momentum 0"),
+                             QStringLiteral("momentum 1"), QStringLiteral("book (solid)"), QStringLiteral("exact (dashed)"),
+                             QStringLiteral("comparison restarted")};
+    QCOMPARE(drawn(), speeds + overlays);
+    QTRY_COMPARE(listed(), legend);
+    const QList<QPointF> energy = dock.kineticSeries()->points();
+    const QList<QPointF> momentum = dock.momentumSeries(0)->points();
+    const QList<QPointF> compareEnergy = dock.compareKineticSeries()->points();
+    QCOMPARE(energy.size(), 6);
+    QCOMPARE(compareEnergy.size(), 6);
+
+    dock.setSelectedMarbles({3});
+    dock.setSelectedMarbles({});
+    dock.refreshChart();
+    QCOMPARE(drawn(), speeds + overlays);
+    QTRY_COMPARE(listed(), legend); // new markers show once the legend is laid out
+    // The new lines have the points the old ones had.
+    QCOMPARE(dock.kineticSeries()->points(), energy);
+    QCOMPARE(dock.momentumSeries(0)->points(), momentum);
+    QCOMPARE(dock.compareKineticSeries()->points(), compareEnergy);
+
+    // Another comparison model starts with no restart: no mark in the legend until one.
+    model = QStringLiteral("impulse");
+    dock.setCompareModel(model);
+    dock.refreshChart();
+    for (QString *name : {&speeds[1], &speeds[3], &speeds[5], &speeds[7]})
+        name->replace(QStringLiteral("exact"), QStringLiteral("impulse"));
+    QStringList impulseOverlays = overlays;
+    for (int k : {1, 3, 5})
+        impulseOverlays[k].replace(QStringLiteral("exact"), QStringLiteral("impulse"));
+    impulseOverlays[7] = QStringLiteral("impulse (dashed)");
+    QStringList impulseLegend = legend;
+    impulseLegend[8] = impulseOverlays[7];
+    impulseLegend.removeLast();
+    QCOMPARE(drawn(), speeds + impulseOverlays);
+    QTRY_COMPARE(listed(), impulseLegend);
 }
 
 void TestPlotDock::legendNamesEveryModelOfTheLines()
