@@ -150,18 +150,19 @@ namespace {
 // input) is said as such: it read as an empty text before ("the text is empty").
 std::string readStandardInput()
 {
+    // Up to the loader's size limit: `yes | marbles-cli check -` had read on until memory ran out.
     std::string text;
-    char buffer[1 << 16];
-    for (;;) {
-        const ssize_t n = ::read(STDIN_FILENO, buffer, sizeof buffer);
-        if (n > 0) {
-            text.append(buffer, static_cast<std::size_t>(n));
-        } else if (n == 0) {
-            return text;
-        } else if (errno != EINTR) {
-            throw InvalidInput{"stdin: cannot read: " + std::string(std::strerror(errno))};
-        }
+    int error = 0;
+    switch (readSceneText(STDIN_FILENO, text, error)) {
+    case SceneRead::Whole:
+        break;
+    case SceneRead::TooLarge:
+        throw InvalidInput{"stdin: size: a scene must be at most " + std::to_string(kMaxSceneBytes)
+                           + " bytes (256 MiB), got more than that"};
+    case SceneRead::Failed:
+        throw InvalidInput{"stdin: cannot read: " + std::string(std::strerror(error))};
     }
+    return text;
 }
 
 } // namespace

@@ -992,6 +992,26 @@ SceneLoad parseScene(std::string_view text, std::string_view source)
     return result;
 }
 
+SceneRead readSceneText(int fd, std::string &text, int &error)
+{
+    // In chunks up to one byte past the limit: pipes and devices have no size to check first.
+    char buffer[1 << 16];
+    for (;;) {
+        const ssize_t n = ::read(fd, buffer, sizeof buffer);
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            error = errno;
+            return SceneRead::Failed;
+        }
+        if (n == 0)
+            return SceneRead::Whole;
+        text.append(buffer, static_cast<std::size_t>(n));
+        if (text.size() > kMaxSceneBytes)
+            return SceneRead::TooLarge;
+    }
+}
+
 SceneLoad loadSceneFile(const std::string &path, std::string_view shownAs)
 {
     SceneLoad result;
@@ -1025,24 +1045,18 @@ SceneLoad loadSceneFile(const std::string &path, std::string_view shownAs)
     if (S_ISREG(info.st_mode) && static_cast<std::uint64_t>(info.st_size) > kMaxSceneBytes)
         return tooLarge(std::to_string(info.st_size) + " bytes");
 
-    // Read in chunks up to one byte past the limit: pipes and devices have no size to check first.
     std::string text;
     try {
         if (S_ISREG(info.st_mode))
             text.reserve(static_cast<std::size_t>(info.st_size));
-        char buffer[1 << 16];
-        for (;;) {
-            const ssize_t n = ::read(fd, buffer, sizeof buffer);
-            if (n < 0) {
-                if (errno == EINTR)
-                    continue;
-                return refuse("cannot read the file: " + osError(errno));
-            }
-            if (n == 0)
-                break;
-            text.append(buffer, static_cast<std::size_t>(n));
-            if (text.size() > kMaxSceneBytes)
-                return tooLarge("more than that");
+        int error = 0;
+        switch (readSceneText(fd, text, error)) {
+        case SceneRead::Whole:
+            break;
+        case SceneRead::TooLarge:
+            return tooLarge("more than that");
+        case SceneRead::Failed:
+            return refuse("cannot read the file: " + osError(error));
         }
     } catch (const std::bad_alloc &) {
         return refuse("size: not enough memory to read this file");

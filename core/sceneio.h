@@ -34,6 +34,12 @@ struct SceneLoad {
 
 /// Parses scene JSON text. `source` names it in messages: "<source>: <place>: <rule>".
 SceneLoad parseScene(std::string_view text, std::string_view source);
+/// How readSceneText() ended.
+enum class SceneRead { Whole, TooLarge, Failed };
+/// Appends what `fd` holds, to its end, to `text`; stops once `text` holds more than
+/// kMaxSceneBytes (TooLarge), whatever the input (a pipe or a device has no size to check
+/// first, and may never end). On Failed, `error` is the errno of the failed read.
+SceneRead readSceneText(int fd, std::string &text, int &error);
 /// Reads a file and parses it; the message names the file as `shownAs`, or as given when that is
 /// empty. ("-" is not special here.) A pipe or device is read up to the size limit; a named pipe
 /// nothing writes to reads as empty, rather than waiting for a writer.

@@ -116,6 +116,7 @@ private slots:
     void invalidInputExitsTwo_data();
     void invalidInputExitsTwo();
     void standardInputIsNamedAndItsErrorsSaid();
+    void standardInputStopsAtTheSizeLimit();
     void stoppedRunLeavesNoTemporary();
     void outputThatCannotBeWrittenFails();
     void benchFileThatCannotBeWrittenPrintsNothing();
@@ -431,6 +432,20 @@ void TestCli::invalidInputExitsTwo()
     QVERIFY2(QString::fromUtf8(r.err).contains(expected), r.err.constData());
     if (!args.isEmpty())
         QCOMPARE(r.err.trimmed().count('\n'), 0); // one message, one line (an unknown command printed the usage too)
+}
+
+void TestCli::standardInputStopsAtTheSizeLimit()
+{
+    // Input without end is read up to the loader's limit, then refused, as a file is: `yes |
+    // marbles-cli check -` had read on until memory ran out.
+    QProcess endless;
+    endless.setStandardInputFile(QStringLiteral("/dev/zero"));
+    endless.start(QStringLiteral(MARBLES_CLI_PATH), {"check", "-"});
+    QVERIFY(endless.waitForFinished(120000));
+    QCOMPARE(endless.exitCode(), 2);
+    QVERIFY(endless.readAllStandardOutput().isEmpty());
+    QCOMPARE(endless.readAllStandardError().trimmed(),
+             QByteArray("stdin: size: a scene must be at most 268435456 bytes (256 MiB), got more than that"));
 }
 
 void TestCli::standardInputIsNamedAndItsErrorsSaid()
