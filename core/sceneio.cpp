@@ -856,7 +856,8 @@ std::string parseInto(std::string_view text, World &world)
             const std::string &token = builder.lastToken();
             const std::size_t start = builder.position() >= token.size() ? builder.position() - token.size() : 0;
             const std::string path = builder.failedPath().empty() ? std::string("value") : builder.failedPath();
-            return path + " (" + lineColumn(text, start) + "): must be a finite number, got " + printable(token);
+            // The place first, as in every other message ("FILE: PLACE: RULE", INTERFACES.md).
+            return path + ": must be a finite number, got " + printable(token) + " (" + lineColumn(text, start) + ")";
         }
         const std::size_t offset = builder.position() > 0 ? builder.position() - 1 : 0;
         return lineColumn(text, offset) + ": not valid JSON: " + parserDetail(builder.what());
