@@ -2086,8 +2086,12 @@ void ExactModel::collideWall(World &world, int i, int wall)
         ++m_collisionCount;
     }
     if ((pinched || (gOut > 0.0 && outward >= 0.0 && e * outward <= restSpeed)) && !body.frozen) {
-        if (pinched && v != 0.0)
-            ++m_pinchedCount; // its motion across the stage is taken (held, in lastHeldCount())
+        // Its motion across the stage is taken (held, in lastHeldCount()); a marble wider than
+        // the stage both ways, stopped on both axes, is one marble held (it had counted two).
+        if (pinched && v != 0.0 && !guard.pinched) {
+            guard.pinched = 1;
+            ++m_pinchedCount;
+        }
         v = 0.0;
         body.gravityOff |= static_cast<std::uint8_t>(1u << axis);
         guard.locked |= static_cast<std::uint8_t>(1u << axis);

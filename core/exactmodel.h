@@ -121,8 +121,8 @@ public:
     /// Marbles the guard against endless collision sequences froze in the last frame (0 with e = 1
     /// and no gravity).
     int lastFrozenCount() const { return m_frozenCount; }
-    /// The frozen marbles, and the marbles wider than the stage stopped between its walls (each
-    /// time one of them met a wall moving across it: kinetic energy lost, whatever e).
+    /// The frozen marbles, and the marbles wider than the stage stopped between its walls (one
+    /// that met a wall moving across it: kinetic energy lost, whatever e), each counted once.
     int lastHeldCount() const override { return m_frozenCount + m_pinchedCount; }
 
 private:
@@ -157,6 +157,7 @@ private:
         std::uint16_t recheckHits = 0;
         std::uint8_t restHits = 0;
         std::uint8_t locked = 0; // bit 0: x held against a wall, bit 1: y
+        std::uint8_t pinched = 0; // counted in m_pinchedCount (once a frame, whichever walls)
     };
     static_assert(freezeAfterWallBounces < 0xffffffffu && freezeAfterCollisions < 0xffff
                   && freezeAfterElasticCollisions < 0xffff

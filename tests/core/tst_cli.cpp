@@ -603,6 +603,14 @@ void TestCli::heldMarblesAreSaid()
              w.err.constData());
     QVERIFY(w.err.contains("between two walls where it is wider than the stage"));
     QVERIFY(w.out.endsWith("3,0,403,300,1,0\n"));
+    // Wider than the stage both ways: stopped on both axes, one marble held (it said two).
+    const QByteArray wider = R"({"format":"marbles-scene","version":1,"params":{"model":"exact","friction":0,
+        "zeroThreshold":0},"marbles":[{"x":400,"y":300,"radius":1000,"vx":1,"vy":1}]})";
+    const CliResult both = runCli({"run", "-", "--frames", "3"}, wider);
+    QCOMPARE(both.exitCode, 0);
+    QVERIFY2(both.err.startsWith("stdin: note: from frame 1 on, the exact model held up to 1 marble(s) in "
+                                 "1 frame(s)"),
+             both.err.constData());
     // Marbles that come to rest as they should (gravity, e < 1) are not worth a word.
     for (const QStringList &settings : {QStringList{"--set", "model=exact"},
                                         QStringList{"--set", "model=exact", "--set", "restitution=0.5"}}) {
