@@ -79,6 +79,7 @@ SetMarbleCommand::SetMarbleCommand(SceneDocument *document, int marble, const Ma
     , m_mergeId(mergeId)
     , m_frame(document->world().frame)
     , m_undoFrame(frame.value_or(m_frame))
+    , m_frameMoves(document->frameMoves())
 {
     // Mid-run, the frame the edit belongs to (undone later in the run, it takes the scene back
     // there).
@@ -141,9 +142,10 @@ int SetMarbleCommand::id() const
 
 bool SetMarbleCommand::mergeWith(const QUndoCommand *other)
 {
+    // Not across a run, a step or a Home, which may come back to the same frame (SetParamCommand).
     const auto *next = static_cast<const SetMarbleCommand *>(other);
     if (next->m_marble != m_marble || next->m_mergeId != m_mergeId || next->m_frame != m_frame
-        || next->m_undoFrame != m_undoFrame)
+        || next->m_undoFrame != m_undoFrame || next->m_frameMoves != m_frameMoves)
         return false;
     m_after = next->m_after;
     m_pushesAfter = next->m_pushesAfter;

@@ -79,6 +79,7 @@ SetParamCommand::SetParamCommand(SceneDocument *document, const QString &key, co
     , m_key(key)
     , m_before(before)
     , m_after(after)
+    , m_frameMoves(document->frameMoves())
 {
     setText(describe(key, value));
 }
@@ -102,8 +103,11 @@ int SetParamCommand::id() const
 
 bool SetParamCommand::mergeWith(const QUndoCommand *other)
 {
+    // Not across a run, a step or a Home: friction 0.5 set at frame 0, the run played to frame
+    // 273 and friction 0.3 set there had become one "Set friction to 0.3", undone straight to
+    // the friction before 0.5.
     const auto *next = static_cast<const SetParamCommand *>(other);
-    if (next->m_key != m_key)
+    if (next->m_key != m_key || next->m_frameMoves != m_frameMoves)
         return false;
     m_after = next->m_after;
     setText(next->text()); // the value the edits ended on

@@ -25,7 +25,8 @@ struct ParamState {
     friend bool operator==(const ParamState &, const ParamState &) = default;
 };
 
-/// Sets one parameter (a Parameters dock edit). Consecutive edits of the same key merge.
+/// Sets one parameter (a Parameters dock edit). Consecutive edits of the same key merge (a spin
+/// box scrubbed), unless the frame shown changed between them.
 class SetParamCommand : public QUndoCommand {
 public:
     /// `value` is the new value as typed (for the Undo History's "Set friction to 0.2").
@@ -41,6 +42,7 @@ private:
     QString m_key;
     ParamState m_before;
     ParamState m_after;
+    std::uint64_t m_frameMoves; // the document's frameMoves() when the edit was made
 };
 
 } // namespace marbles

@@ -141,6 +141,7 @@ StepResult SceneDocument::step()
     applyHold();
     // Exponential moving average over about 30 frames: steady enough to read in the status bar.
     m_physicsMsPerFrame = m_physicsMsPerFrame == 0.0 ? ms : m_physicsMsPerFrame + (ms - m_physicsMsPerFrame) / 30.0;
+    ++m_frameMoves;
     Q_EMIT frameAdvanced();
     if (result.heldMarbles > 0 && heldMarblesBreakEnergy(m_world.params)) {
         Q_EMIT marblesHeld(tr("Frame %1: the exact model held %n marble(s) to finish the frame: at rest where a "
@@ -194,6 +195,7 @@ bool SceneDocument::rewind()
 
 void SceneDocument::announceRewound()
 {
+    ++m_frameMoves;
     applyHold();
     Q_EMIT timelineRewound(m_world.frame);
     Q_EMIT stepped();

@@ -95,6 +95,9 @@ public:
     /// Mean time of the model's step per simulated frame over the recent frames (without the
     /// undo history's recording), ms.
     double physicsMsPerFrame() const { return m_physicsMsPerFrame; }
+    /// How often the frame shown has changed (a frame run, Step Back, a rewind, a jump): edits of
+    /// one field merge into one undo step only with no change between them.
+    std::uint64_t frameMoves() const { return m_frameMoves; }
     /// Takes back the clicks' pushes still to act (a click on the wrong marble): they will not
     /// act. Returns how many marbles had one; a click is not an edit, so Ctrl+Z cannot.
     int takeBackPushes();
@@ -230,6 +233,7 @@ private:
     Vec2 m_pinStart;
 
     double m_physicsMsPerFrame = 0.0;
+    std::uint64_t m_frameMoves = 0;
 };
 
 } // namespace marbles

@@ -94,6 +94,7 @@ private Q_SLOTS:
     void randomEditsUndoAndRedoExactly_data();
     void randomEditsUndoAndRedoExactly();
     void paramEditsMergeAndInvalidIsRefused();
+    void editsDoNotMergeAcrossAMoveInTime();
     void heldMarbleStaysStill();
     void dropOntoMarbleFindsFreeSpot();
     void scriptedPushesMoveWithTheirMarble();
@@ -647,6 +648,41 @@ void TestSceneDocument::paramEditsMergeAndInvalidIsRefused()
     doc.undoStack()->undo();
     QCOMPARE(doc.world().params.friction, 0.1);
     QCOMPARE(doc.world().params.pushScale, 10.0);
+}
+
+void TestSceneDocument::editsDoNotMergeAcrossAMoveInTime()
+{
+    // Edits of one field in a row merge (a spin box scrubbed), but not across a run, a step or a
+    // rewind, even one that comes back to the same frame: friction 0.5, a run, friction 0.3 had
+    // been one "Set friction to 0.3", undone straight to 0.1.
+    SceneDocument doc;
+    doc.resetScene(preset("four-marbles"));
+    const Vec2 v0 = doc.world().velocity[0];
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.5")).isEmpty());
+    QCOMPARE(doc.advance(3), 3);
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
+    QCOMPARE(doc.undoStack()->count(), 2);
+    QVERIFY(doc.rewind());
+    QCOMPARE(doc.world().frame, 0);
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.2")).isEmpty());
+    QCOMPARE(doc.undoStack()->count(), 3);
+    QVERIFY(doc.setMarbleVelocity(0, {1.0, 0.0}).isEmpty());
+    QVERIFY(doc.setMarbleVelocity(0, {2.0, 0.0}).isEmpty());
+    QCOMPARE(doc.undoStack()->count(), 4); // merged
+    QCOMPARE(doc.advance(1), 1);
+    QVERIFY(doc.stepBack());
+    QCOMPARE(doc.world().frame, 0);
+    QVERIFY(doc.setMarbleVelocity(0, {3.0, 0.0}).isEmpty());
+    QCOMPARE(doc.undoStack()->count(), 5);
+
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().velocity[0], (Vec2{2.0, 0.0}));
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().velocity[0], v0);
+    for (const double friction : {0.3, 0.5, 0.1}) {
+        doc.undoStack()->undo();
+        QCOMPARE(doc.world().params.friction, friction);
+    }
 }
 
 void TestSceneDocument::heldMarbleStaysStill()
