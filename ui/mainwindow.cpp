@@ -849,8 +849,17 @@ void MainWindow::createDocks()
         [this](std::int64_t frame) { return m_compare->velocitiesAt(frame); });
 
     for (QDockWidget *dock : {static_cast<QDockWidget *>(m_parametersDock), static_cast<QDockWidget *>(m_inspectorDock),
-                              m_historyDock, static_cast<QDockWidget *>(m_plotDock)})
+                              m_historyDock, static_cast<QDockWidget *>(m_plotDock)}) {
         m_viewMenu->addAction(dock->toggleViewAction());
+        // A dock whose tab gives way to another's is not hidden, only moved out of sight, and the
+        // keys stayed in its field: a value typed in the Inspector, then the Undo History's tab
+        // clicked, and Right and Delete worked the unseen field instead of the run and the
+        // selection. They go back to the stage.
+        connect(dock, &QDockWidget::visibilityChanged, this, [this, dock](bool visible) {
+            if (!visible && dock->isAncestorOf(QApplication::focusWidget()))
+                m_view->setFocus(Qt::OtherFocusReason);
+        });
+    }
 }
 
 void MainWindow::createStatusBar()

@@ -134,6 +134,7 @@ private Q_SLOTS:
     void frictionChangedMidRunBendsThePlot();
     void spaceAfterTypingPlaysWithTheNumberTyped();
     void spaceWorksAFocusedButtonOrCheckBox();
+    void keysLeaveADockHiddenBehindItsTab();
     void plotExportsAreInTheFileMenu();
     void massScaleSaysWhenNoMarbleUsesIt();
     void plottedMarblesWearTheirLinesColours();
@@ -808,6 +809,37 @@ void TestMainWindow::spaceAfterTypingPlaysWithTheNumberTyped()
     QVERIFY2(help->text().contains(QStringLiteral("5")), qPrintable(help->text()));
     QTest::keyClick(friction, Qt::Key_Space);
     QVERIFY(!run->isRunning());
+}
+
+void TestMainWindow::keysLeaveADockHiddenBehindItsTab()
+{
+    // A value typed in the Inspector, then the Undo History's tab clicked, which hides the
+    // Inspector: the keys go back to the stage. They had stayed in the hidden field, where Right
+    // and Delete moved its cursor and deleted its text instead of stepping and deleting the marble.
+    SceneDocument *doc = m_window->document();
+    auto *history = m_window->findChild<QDockWidget *>(QStringLiteral("historyDock"));
+    m_window->tabifyDockWidget(m_window->inspectorDock(), history); // as the first layout has them
+    m_window->inspectorDock()->raise();
+    m_window->stageView()->selectMarble(0);
+    QDoubleSpinBox *vx = m_window->inspectorDock()->field(QStringLiteral("vx"));
+    vx->setFocus();
+    QTRY_COMPARE(QApplication::focusWidget(), vx);
+    vx->selectAll();
+    QTest::keyClicks(vx, QStringLiteral("2"));
+    QTest::keyClick(vx, Qt::Key_Return);
+    QCOMPARE(doc->world().velocity[0].x, 2.0);
+    history->raise(); // as a click on its tab does
+    QTRY_COMPARE(QApplication::focusWidget(), m_window->stageView());
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_Right);
+    QCOMPARE(doc->world().frame, 1);
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_Delete);
+    QCOMPARE(doc->world().marbleCount(), 3);
+    // The tab of a dock without the keys changes nothing (the Parameters dock's field keeps them).
+    auto *scale = m_window->findChild<QDoubleSpinBox *>(QStringLiteral("massScaleEdit"));
+    scale->setFocus();
+    m_window->inspectorDock()->raise();
+    QTRY_VERIFY(m_window->inspectorDock()->isVisible());
+    QCOMPARE(QApplication::focusWidget(), scale);
 }
 
 void TestMainWindow::spaceWorksAFocusedButtonOrCheckBox()
