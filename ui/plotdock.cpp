@@ -565,8 +565,17 @@ void PlotDock::resample(const World &world, const World *compare)
 
 void PlotDock::markCompareRestart(std::int64_t frame)
 {
-    if (m_compareModel.isEmpty() || m_frames.isEmpty() || frame <= m_frames.at(0))
-        return; // no dashed line before it to jump from
+    // Only where a dashed line before it jumps: not at the comparison's start, nor where Step
+    // Back went before that start (a mark had appeared there, and not at the start itself).
+    const auto comparedBefore = [this, frame] {
+        for (std::size_t k = m_frames.size(); k-- > 0;) {
+            if (m_frames.at(k) < frame && k < m_compareKinetic.size() && !std::isnan(m_compareKinetic.at(k)))
+                return true;
+        }
+        return false;
+    };
+    if (m_compareModel.isEmpty() || !comparedBefore())
+        return;
     if (!m_compareRestarts.empty() && m_compareRestarts.back() + 1 >= frame)
         m_compareRestarts.back() = frame;
     else

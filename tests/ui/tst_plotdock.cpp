@@ -67,6 +67,7 @@ private slots:
     void legendLabelsFitTheRow();
     void legendListsMarblesInOrder();
     void totalsStayOverTheSpeedLines();
+    void restartMarkedOnlyAfterADashedLine();
     void legendNamesEveryModelOfTheLines();
     void totalsOnRequest();
     void hoverShowsExactValues_data();
@@ -104,13 +105,13 @@ World worldWith(int marbles)
 
 /// Sets every marble's velocity from the frame number (a different, known speed per frame) and
 /// records the frame: frames 1..n.
-void runFrames(PlotDock &dock, World &world, int n)
+void runFrames(PlotDock &dock, World &world, int n, const World *compare = nullptr)
 {
     for (int f = 1; f <= n; ++f) {
         world.frame = f;
         for (int i = 0; i < world.marbleCount(); ++i)
             world.velocity[static_cast<std::size_t>(i)] = {0.01 * f, -0.5 * i};
-        dock.appendFrame(world);
+        dock.appendFrame(world, compare);
     }
 }
 
@@ -1095,7 +1096,7 @@ void TestPlotDock::legendLabelsFitTheRow()
             break;
     }
     QVERIFY(!dock.legendIsCompact());
-    runFrames(dock, world, 2);
+    runFrames(dock, world, 2, &world); // a dashed line to jump from
     dock.markCompareRestart(dock.sampleFrame(dock.sampleCount() - 1));
     QCOMPARE(dock.compareRestarts().size(), std::size_t(1));
     dock.refreshChart();
@@ -1236,6 +1237,34 @@ void TestPlotDock::totalsStayOverTheSpeedLines()
     impulseLegend.removeLast();
     QCOMPARE(drawn(), speeds + impulseOverlays);
     QTRY_COMPARE(listed(), impulseLegend);
+}
+
+void TestPlotDock::restartMarkedOnlyAfterADashedLine()
+{
+    // A comparison that starts at frame 3 is not marked there (no dashed line before it jumps),
+    // nor where Step Back goes before that start and it starts again; it is where it restarts
+    // after frames of its own. (Step Back before the start had marked it.)
+    PlotDock dock;
+    World world = worldWith(2);
+    dock.reset(world);
+    const auto run = [&](int from, int to, bool compared) {
+        for (int f = from; f <= to; ++f) {
+            world.frame = f;
+            world.velocity[0] = {0.5 * f, 0.0};
+            dock.appendFrame(world, compared ? &world : nullptr);
+        }
+    };
+    run(1, 2, false);
+    dock.setCompareModel(QStringLiteral("exact"));
+    run(3, 6, true);
+    dock.markCompareRestart(3);
+    QVERIFY(dock.compareRestarts().empty());
+    dock.cutAfter(2); // Step Back to frame 2
+    dock.markCompareRestart(2);
+    QVERIFY(dock.compareRestarts().empty());
+    run(3, 6, true);
+    dock.markCompareRestart(5);
+    QCOMPARE(dock.compareRestarts(), std::vector<std::int64_t>{5});
 }
 
 void TestPlotDock::legendNamesEveryModelOfTheLines()
