@@ -1,6 +1,7 @@
 #include "ui/plotdock.h"
 
 #include "ui/elidinglabel.h"
+#include "ui/filedialog.h"
 #include "ui/filenames.h"
 #include "ui/numbertext.h"
 #include "ui/quiettext.h"
@@ -12,7 +13,6 @@
 #include <QChartView>
 #include <QCheckBox>
 #include <QDir>
-#include <QFileDialog>
 #include <QFileInfo>
 #include <QFontMetrics>
 #include <QGraphicsLayout>
@@ -1718,8 +1718,8 @@ QString PlotDock::suggestedExportPath(const QString &extension) const
 
 void PlotDock::exportCsvInteractive()
 {
-    const QString path = QFileDialog::getSaveFileName(this, tr("Export Samples"), suggestedExportPath(QStringLiteral("csv")),
-                                                      tr("CSV files (*.csv)"));
+    const QString path = askFileName(this, FileDialogMode::Save, tr("Export Samples"),
+                                     suggestedExportPath(QStringLiteral("csv")), tr("CSV files (*.csv)"), QStringLiteral("csv"));
     if (path.isEmpty())
         return;
     const QString error = exportCsv(path);
@@ -1731,8 +1731,8 @@ void PlotDock::exportCsvInteractive()
 
 void PlotDock::exportPngInteractive()
 {
-    const QString path = QFileDialog::getSaveFileName(this, tr("Export Chart"), suggestedExportPath(QStringLiteral("png")),
-                                                      tr("PNG images (*.png)"));
+    const QString path = askFileName(this, FileDialogMode::Save, tr("Export Chart"),
+                                     suggestedExportPath(QStringLiteral("png")), tr("PNG images (*.png)"), QStringLiteral("png"));
     if (path.isEmpty())
         return;
     const QString error = exportPng(path);

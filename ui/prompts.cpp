@@ -1,7 +1,9 @@
 #include "ui/prompts.h"
 
+#include "ui/filedialog.h"
+
 #include <QCoreApplication>
-#include <QFileDialog>
+#include <QFileInfo>
 #include <QMessageBox>
 
 namespace marbles {
@@ -53,14 +55,23 @@ bool Prompts::askRecover(QWidget *parent, const QString &details)
 
 QString Prompts::askOpenFileName(QWidget *parent, const QString &directory)
 {
-    return QFileDialog::getOpenFileName(parent, tr("Open scene"), directory, sceneFilter());
+    return askFileName(parent, FileDialogMode::Open, tr("Open scene"), directory, sceneFilter());
 }
 
 QString Prompts::askSaveFileName(QWidget *parent, const QString &suggestion)
 {
-    QString path = QFileDialog::getSaveFileName(parent, tr("Save scene"), suggestion, sceneFilter());
-    if (!path.isEmpty() && !path.endsWith(QStringLiteral(".json"), Qt::CaseInsensitive))
-        path += QStringLiteral(".marbles.json");
+    // "lesson" becomes "lesson.marbles.json" in the dialog, which then asks before replacing it.
+    QString path = askFileName(parent, FileDialogMode::Save, tr("Save scene"), suggestion, sceneFilter(),
+                               QStringLiteral("marbles.json"));
+    if (path.isEmpty() || path.endsWith(QStringLiteral(".json"), Qt::CaseInsensitive))
+        return path;
+    // Another extension ("lesson.txt") is kept, and the scene's added after it: asked here.
+    path += QStringLiteral(".marbles.json");
+    if (QFileInfo::exists(path)
+        && QMessageBox::warning(parent, tr("Save scene"), tr("%1 already exists.\nDo you want to replace it?").arg(path),
+                                QMessageBox::Yes | QMessageBox::No, QMessageBox::No)
+               != QMessageBox::Yes)
+        return QString();
     return path;
 }
 
