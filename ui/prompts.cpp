@@ -5,6 +5,7 @@
 #include <QCoreApplication>
 #include <QFileInfo>
 #include <QMessageBox>
+#include <QPushButton>
 
 namespace marbles {
 
@@ -46,11 +47,20 @@ Prompts::SaveChoice Prompts::askSaveChanges(QWidget *parent, const QString &docu
 
 bool Prompts::askRecover(QWidget *parent, const QString &details)
 {
-    return QMessageBox::question(parent, tr("Recover scene"),
-                                 tr("Marbles did not close properly last time.\n%1\n\nRecover the autosaved scene?")
-                                     .arg(details),
-                                 QMessageBox::Yes | QMessageBox::No, QMessageBox::Yes)
-        == QMessageBox::Yes;
+    // Discarding is said to be for good, and takes its own button: Esc (or No) had deleted the
+    // autosave without a word, and the next start offered nothing. Esc now recovers, which
+    // loses nothing (the scene recovered can still be closed without saving).
+    QMessageBox box(QMessageBox::Question, tr("Recover scene"),
+                    tr("Marbles did not close properly last time.\n%1\n\nRecover the autosaved scene? Discard "
+                       "deletes it for good.")
+                        .arg(details),
+                    QMessageBox::NoButton, parent);
+    QPushButton *recover = box.addButton(tr("&Recover"), QMessageBox::AcceptRole);
+    box.addButton(tr("&Discard"), QMessageBox::DestructiveRole);
+    box.setDefaultButton(recover);
+    box.setEscapeButton(recover);
+    box.exec();
+    return box.clickedButton() == recover;
 }
 
 QString Prompts::askOpenFileName(QWidget *parent, const QString &directory)

@@ -1,6 +1,7 @@
-// The application's file dialogs: Qt's own dialog (where the desktop offers none) describes the
-// files it lists by their names alone, and a save adds the scene's or export's extension before
-// it asks whether to replace a file.
+// The application's questions. Its file dialogs: Qt's own dialog (where the desktop offers none)
+// describes the files it lists by their names alone, and a save adds the scene's or export's
+// extension before it asks whether to replace a file. The crash recovery's question: Esc keeps
+// the autosave.
 
 #include "ui/filedialog.h"
 #include "ui/prompts.h"
@@ -9,6 +10,8 @@
 #include <QApplication>
 #include <QFile>
 #include <QFileDialog>
+#include <QMessageBox>
+#include <QPushButton>
 #include <QTemporaryDir>
 #include <QTest>
 #include <QTimer>
@@ -39,15 +42,16 @@ QString lookAtDialog(const std::function<QString()> &ask, const std::function<vo
 
 } // namespace
 
-class TestFileDialog : public QObject {
+class TestPrompts : public QObject {
     Q_OBJECT
 
 private slots:
     void filesAreDescribedByTheirNamesAlone();
     void saveAddsTheExtensionBeforeAskingToReplace();
+    void escapeKeepsTheAutosave();
 };
 
-void TestFileDialog::filesAreDescribedByTheirNamesAlone()
+void TestPrompts::filesAreDescribedByTheirNamesAlone()
 {
     // A file whose bytes are a PNG's and whose name says nothing: Qt's provider read it to call it
     // a "PNG image" (and hung for good on /proc/kmsg, whose read waits for the kernel's log).
@@ -75,7 +79,7 @@ void TestFileDialog::filesAreDescribedByTheirNamesAlone()
     QCOMPARE(folderType, QStringLiteral("Folder"));
 }
 
-void TestFileDialog::saveAddsTheExtensionBeforeAskingToReplace()
+void TestPrompts::saveAddsTheExtensionBeforeAskingToReplace()
 {
     // "victim" typed in the Save dialog is "victim.marbles.json" when the dialog checks whether it
     // exists (the extension added after it had replaced that file without a word).
@@ -97,5 +101,33 @@ void TestFileDialog::saveAddsTheExtensionBeforeAskingToReplace()
     QVERIFY(asksToReplace);
 }
 
-QTEST_MAIN(TestFileDialog)
-#include "tst_filedialog.moc"
+void TestPrompts::escapeKeepsTheAutosave()
+{
+    // Esc on "Recover the autosaved scene?" had answered No, which deletes the autosave for good,
+    // and nothing had said so. Now Esc recovers; deleting takes the Discard button, which says so.
+    Prompts prompts;
+    for (const bool discard : {false, true}) {
+        QString text;
+        QTimer::singleShot(0, [&] {
+            auto *box = qobject_cast<QMessageBox *>(QApplication::activeModalWidget());
+            if (!box)
+                return;
+            text = box->text();
+            if (discard) {
+                for (QAbstractButton *button : box->buttons()) {
+                    if (box->buttonRole(button) == QMessageBox::DestructiveRole)
+                        button->click();
+                }
+            } else {
+                QTest::keyClick(box, Qt::Key_Escape);
+            }
+        });
+        const bool recovered = prompts.askRecover(nullptr, QStringLiteral("An untitled scene had unsaved changes."));
+        QVERIFY2(text.contains(QStringLiteral("An untitled scene had unsaved changes.")), qPrintable(text));
+        QVERIFY2(text.contains(QStringLiteral("Discard deletes it for good")), qPrintable(text));
+        QCOMPARE(recovered, !discard);
+    }
+}
+
+QTEST_MAIN(TestPrompts)
+#include "tst_prompts.moc"
