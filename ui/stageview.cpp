@@ -90,6 +90,7 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
         if (change == SceneDocument::Change::Scene) {
             m_autoFit = true;
             m_trailsSince = m_document->world().frame;
+            noteOutside();
         }
         // A marble moved or changed by hand may have jumped: the trails start over. A parameter
         // changed mid-run (friction, gravity) keeps them, so that the paths bend from there.
@@ -329,7 +330,8 @@ void StageView::rebuild()
         m_pins[j]->setPos(world.pins[j].x, world.pins[j].y);
 
     const QRectF stageRect(0, 0, world.stage.width, world.stage.height);
-    m_scene->setSceneRect(stageRect.adjusted(-kSceneMarginPx, -kSceneMarginPx, kSceneMarginPx, kSceneMarginPx));
+    const QRectF shown = shownArea(world, stageRect);
+    m_scene->setSceneRect(shown.adjusted(-kSceneMarginPx, -kSceneMarginPx, kSceneMarginPx, kSceneMarginPx));
     m_trail->setArea(stageRect);
     updateTrailSuppression();
     if (m_selectionKind == SelectionKind::Marble && m_selectionIndex >= n)
@@ -486,6 +488,51 @@ void StageView::pickAt(Vec2 p)
         selectMarble(marble);
     else
         clearSelection();
+}
+
+QRectF StageView::shownArea(const World &world, const QRectF &stageRect) const
+{
+    // The stage, and what a scene puts beside it (its file may place marbles and pins anywhere),
+    // up to twice the stage's size beyond each edge (the stage stays a fifth of the view at least):
+    // a scene with marbles at x = -500 had shown only the stage, fitted too, and the status bar
+    // counted marbles nobody could see.
+    QRectF shown = stageRect;
+    const double w = 2.0 * stageRect.width();
+    const double h = 2.0 * stageRect.height();
+    const QRectF reach = stageRect.adjusted(-w, -h, w, h);
+    for (int i = 0; i < world.marbleCount(); ++i) {
+        const Vec2 p = world.position[i];
+        const double r = world.radius[i];
+        const QRectF disc(p.x - r, p.y - r, 2.0 * r, 2.0 * r);
+        if (!stageRect.contains(disc) && disc.isValid())
+            shown |= disc & reach;
+    }
+    for (const Vec2 q : world.pins) {
+        if (!stageRect.contains(QPointF(q.x, q.y)) && reach.contains(QPointF(q.x, q.y)))
+            shown |= QRectF(q.x - 1.0, q.y - 1.0, 2.0, 2.0);
+    }
+    return shown;
+}
+
+void StageView::noteOutside()
+{
+    // Said when a scene opens with marbles or pins off the stage (shown beside it: shownArea()).
+    const World &world = m_document->world();
+    const QRectF stageRect(0, 0, world.stage.width, world.stage.height);
+    int marbles = 0;
+    for (int i = 0; i < world.marbleCount(); ++i)
+        marbles += !stageRect.contains(QPointF(world.position[i].x, world.position[i].y));
+    int pins = 0;
+    for (const Vec2 q : world.pins)
+        pins += !stageRect.contains(QPointF(q.x, q.y));
+    if (marbles == 0 && pins == 0)
+        return;
+    const QString what = marbles > 0 && pins > 0 ? tr("%n marble(s)", nullptr, marbles) + tr(" and ") + tr("%n pin(s)", nullptr, pins)
+                         : marbles > 0          ? tr("%n marble(s)", nullptr, marbles)
+                                                : tr("%n pin(s)", nullptr, pins);
+    noteLater(tr("%1 of this scene lie outside the stage, shown beside it as far as twice its size beyond each "
+                 "edge (zoom out for any further away).")
+                  .arg(what));
 }
 
 void StageView::noteLater(const QString &text)

@@ -189,6 +189,10 @@ private:
     void findPendingPushes();
     void report(const QString &text);
     void noteLater(const QString &text);
+    /// The stage, and the marbles and pins beside it up to twice its size beyond each edge.
+    QRectF shownArea(const World &world, const QRectF &stageRect) const;
+    /// Says, on a scene opened, how many marbles and pins lie outside the stage (if any).
+    void noteOutside();
 
     SceneDocument *m_document;
     QGraphicsScene *m_scene;

@@ -49,6 +49,7 @@ private Q_SLOTS:
 
     void itemsMirrorTheWorld();
     void fitShowsTheWholeStage();
+    void fitShowsWhatLiesBesideTheStage();
     void wheelZoomsAboutTheMouse_data();
     void wheelZoomsAboutTheMouse();
     void heldMarbleStaysStillWhileRunning();
@@ -230,6 +231,38 @@ void TestStageView::fitShowsTheWholeStage()
     for (Vec2 corner : {Vec2{0, 0}, Vec2{300, 0}, Vec2{0, 200}, Vec2{300, 200}})
         QVERIFY(inside.contains(m_view->viewportPoint(corner)));
     QCOMPARE_GT(m_view->viewportPoint({300, 0}).x() - m_view->viewportPoint({0, 0}).x(), inside.width() / 2);
+}
+
+void TestStageView::fitShowsWhatLiesBesideTheStage()
+{
+    // A scene may put marbles and pins off its stage: they are shown beside it, and said. (Only the stage was shown, fitted too, while the
+    // status bar counted marbles nobody could see.) As far as twice its size beyond each edge.
+    QSignalSpy messages(m_view.get(), &StageView::message);
+    World w;
+    w.stage = {800, 600, true};
+    w.addMarble({400, 300}, 20);
+    w.addMarble({-500, 300}, 20);
+    w.addMarble({2000, -300}, 20);
+    w.addMarble({1e7, 300}, 20); // too far out: zoom out to find it
+    w.pins.push_back({-100, -100});
+    m_document->resetScene(w);
+    const QRect inside = viewport()->rect();
+    for (Vec2 p : {Vec2{0, 0}, Vec2{800, 600}, Vec2{-520, 300}, Vec2{2020, -320}, Vec2{-100, -100}})
+        QVERIFY2(inside.contains(m_view->viewportPoint(p)), qPrintable(QStringLiteral("(%1, %2)").arg(p.x).arg(p.y)));
+    QVERIFY(!inside.contains(m_view->viewportPoint({1e7, 300})));
+    QTRY_VERIFY(!messages.isEmpty());
+    const QString said = messages.last().at(0).toString();
+    QVERIFY2(said.startsWith(QStringLiteral("3 marble(s) and 1 pin(s) of this scene lie outside the stage")), qPrintable(said));
+
+    // The stage alone: fitted as before, and nothing said.
+    messages.clear();
+    World inner;
+    inner.stage = {800, 600, true};
+    inner.addMarble({400, 300}, 20);
+    m_document->resetScene(inner);
+    QCOMPARE(m_view->scene()->sceneRect(), QRectF(0, 0, 800, 600).adjusted(-16, -16, 16, 16));
+    QTest::qWait(50);
+    QVERIFY(messages.isEmpty());
 }
 
 void TestStageView::wheelZoomsAboutTheMouse_data()
