@@ -64,6 +64,7 @@ bool FrameHistory::overBudget(std::size_t incomingFrames, std::size_t incomingBy
 void FrameHistory::reset(const World &world)
 {
     forgetFrames();
+    m_limit = {};
     m_start.copyFrom(world);
     // A timeline starts without the clicks' pushes still to act (what is pending between frames;
     // a scene's scripted pushes are added as their frame is stepped): a click is not an edit,
@@ -117,17 +118,23 @@ void FrameHistory::record(const World &world)
     // The frames set aside for undoing an add are the first to go.
     while (!m_setAside.empty() && overBudget(1, incoming))
         forgetOldestSetAside();
+    const auto noteLimit = [this] {
+        m_limit = {m_frames.size(), m_frames.size() + m_setAsideFrames < m_maxFrames};
+    };
     if (!m_frames.empty() && overBudget(1, incoming)) {
         Frame recycled = takeOldest();
         recycled.copyFrom(world);
         m_frames.push_back(std::move(recycled));
+        noteLimit();
     } else {
         m_frames.emplace_back();
         m_frames.back().copyFrom(world);
     }
     m_bytes += m_frames.back().byteSize();
-    while (m_frames.size() > m_maxFrames || (m_bytes > m_maxBytes && m_frames.size() > 1))
+    while (m_frames.size() > m_maxFrames || (m_bytes > m_maxBytes && m_frames.size() > 1)) {
         takeOldest();
+        noteLimit();
+    }
 }
 
 const FrameHistory::Frame *FrameHistory::keptFrame(std::int64_t frame) const
@@ -254,7 +261,7 @@ std::uint64_t FrameHistory::insertMarble(int i, const MarbleTrack &track)
         if (track.frames.empty() && !m_frames.empty()) {
             // A marble added: its undo takes them back.
             number = ++m_setAsideCount;
-            m_setAside.push_back({number, std::move(m_frames), m_hits});
+            m_setAside.push_back({number, std::move(m_frames), m_hits, m_limit});
             m_setAsideFrames += m_setAside.back().frames.size();
             m_setAsideBytes += m_bytes;
             m_frames.clear();
@@ -262,6 +269,7 @@ std::uint64_t FrameHistory::insertMarble(int i, const MarbleTrack &track)
         } else if (!m_frames.empty()) {
             forgetFrames(); // a deleted marble whose frames these are not
         }
+        m_limit = {}; // Step Back now ends here, at the marble
         // No frame kept: the records follow the world, which now has the marble.
         if (k <= m_hits.size())
             m_hits.insert(at(m_hits), start.lastHit);
@@ -314,6 +322,7 @@ bool FrameHistory::takeBackSetAside(std::uint64_t setAside, const World &world)
         m_bytes += f.byteSize();
     m_frames = std::move(taken.frames);
     m_hits = std::move(taken.hits);
+    m_limit = taken.limit;
     return true;
 }
 

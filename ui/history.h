@@ -102,6 +102,14 @@ public:
     std::size_t size() const { return m_frames.size(); }
     /// Bytes held by the step-back frames.
     std::size_t byteSize() const { return m_bytes; }
+    /// The last time a budget made this timeline forget its oldest frames: how many frames it
+    /// kept then, and whether the byte budget was the limit (else the frame count). No frames:
+    /// none were forgotten that way (Step Back ends at the start, or before a marble added).
+    struct Limit {
+        std::size_t frames = 0;
+        bool bytes = false;
+    };
+    Limit lastLimit() const { return m_limit; }
     /// The marbles' velocities at `frame` as kept (the start of the timeline or a step-back
     /// frame), or null when that frame is not kept.
     const std::vector<Vec2> *velocitiesAt(std::int64_t frame) const;
@@ -165,10 +173,12 @@ private:
         std::uint64_t number = 0;
         std::deque<Frame> frames;
         std::vector<HitRecord> hits;
+        Limit limit; // the step-back frames' lastLimit() when they were set aside
     };
     std::vector<SetAside> m_setAside;
     std::size_t m_setAsideFrames = 0;
     std::size_t m_setAsideBytes = 0;
+    Limit m_limit;
     std::uint64_t m_setAsideCount = 0; // numbers them
 };
 

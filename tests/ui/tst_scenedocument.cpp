@@ -262,6 +262,7 @@ void TestSceneDocument::historyIsBounded()
     const std::size_t budget = oneFrame * 5 + oneFrame / 2;
     FrameHistory byBytes(FrameHistory::kDefaultMaxFrames, budget);
     byBytes.reset(w);
+    QCOMPARE(byFrames.lastLimit().frames, std::size_t{0}); // nothing forgotten yet
     std::vector<World> states;
     for (int f = 0; f < 40; ++f) {
         states.push_back(w);
@@ -272,6 +273,11 @@ void TestSceneDocument::historyIsBounded()
     QCOMPARE(byFrames.size(), std::size_t{10});
     QVERIFY2(byBytes.size() >= 4 && byBytes.size() <= 5, qPrintable(QStringLiteral("%1 frames, %2 bytes, one %3").arg(byBytes.size()).arg(byBytes.byteSize()).arg(oneFrame)));
     QVERIFY(byBytes.byteSize() <= budget);
+    // Which budget forgot the oldest frames, and how many it kept (what Left says at the end).
+    QCOMPARE(byFrames.lastLimit().frames, std::size_t{10});
+    QVERIFY(!byFrames.lastLimit().bytes);
+    QCOMPARE(byBytes.lastLimit().frames, byBytes.size());
+    QVERIFY(byBytes.lastLimit().bytes);
     // The newest frames are the ones kept, each restored exactly, and the start is never forgotten.
     World back = w;
     const std::size_t kept = byBytes.size();
