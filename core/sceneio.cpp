@@ -751,6 +751,55 @@ private:
     std::string m_duplicateKey;
 };
 
+/// nlohmann's syntax error in words a scene's author (a teacher editing a file by hand) reads:
+/// "syntax error while parsing value - invalid literal; last read: 'th'" said nothing of why.
+/// The common slips (a word or text without double quotes, a comma missing or one too many, the
+/// text cut short) are named as such, with what the parser last read; the rest keep its words,
+/// without the "syntax error while parsing ... - " head.
+std::string plainSyntaxError(const std::string &detail)
+{
+    const std::string head = "syntax error while parsing ";
+    const std::size_t dash = detail.find(" - ");
+    if (detail.rfind(head, 0) != 0 || dash == std::string::npos)
+        return detail;
+    const std::string context = detail.substr(head.size(), dash - head.size()); // "value", "object key", ...
+    const std::string problem = detail.substr(dash + 3);
+    const auto startsWith = [&problem](std::string_view prefix) { return problem.rfind(prefix, 0) == 0; };
+    const std::size_t lastRead = problem.find("last read: ");
+    const std::string read = lastRead == std::string::npos ? std::string() : " (" + problem.substr(lastRead) + ")";
+    // What the parser met, in words: "string literal" is a text in double quotes.
+    const auto met = [&problem] {
+        std::string token = problem.substr(11, problem.find(';') - 11); // after "unexpected "
+        return token == "string literal" ? std::string("a text in double quotes")
+               : token == "number literal" ? std::string("a number")
+                                           : token;
+    };
+    // The parser stops at the first '/' it reads outside a text: a comment's start.
+    const std::size_t closing = lastRead == std::string::npos ? std::string::npos : problem.find('\'', lastRead + 12);
+    if (startsWith("invalid literal") && closing != std::string::npos && closing > lastRead + 12 && problem[closing - 1] == '/')
+        return "a comment: JSON has none ('//' and '/* */' are not allowed)" + read;
+    if (startsWith("invalid literal"))
+        return "a word JSON does not know: a text goes in double quotes (\"like this\"), and the only words "
+               "without them are true, false and null" + read;
+    if (startsWith("unexpected end of input"))
+        return "the text ends too soon (a '}' or ']' missing?)";
+    if (startsWith("invalid string: missing closing quote"))
+        return "a text without its closing double quote" + read;
+    if (context == "object" && startsWith("unexpected ") && problem.find("; expected '}'") != std::string::npos)
+        return met() + " where a ',' or the '}' should come (a comma missing?)";
+    if (context == "array" && startsWith("unexpected ") && problem.find("; expected ']'") != std::string::npos)
+        return met() + " where a ',' or the ']' should come (a comma missing?)";
+    if (context == "object key" && startsWith("unexpected '}'"))
+        return "a '}' right after a ',' (a comma too many?)";
+    if (context == "object key" && startsWith("unexpected "))
+        return met() + " where a key in double quotes should come";
+    if (context == "value" && startsWith("unexpected ']'"))
+        return "a ']' right after a ',' (a comma too many?)";
+    if (context == "object separator" && problem.find("expected ':'") != std::string::npos)
+        return "a key without its ':' and value";
+    return problem;
+}
+
 /// nlohmann's message without its "[json.exception...] parse error at line L, column C: " head.
 std::string parserDetail(const std::string &what)
 {
@@ -758,10 +807,10 @@ std::string parserDetail(const std::string &what)
     if (column != std::string::npos) {
         const std::size_t colon = what.find(": ", column);
         if (colon != std::string::npos)
-            return printable(what.substr(colon + 2), 160);
+            return printable(plainSyntaxError(what.substr(colon + 2)), 200);
     }
     const std::size_t bracket = what.find("] ");
-    return printable(bracket == std::string::npos ? what : what.substr(bracket + 2), 160);
+    return printable(plainSyntaxError(bracket == std::string::npos ? what : what.substr(bracket + 2)), 200);
 }
 
 /// True for the bytes that may stand outside strings in JSON: whitespace, structure, numbers

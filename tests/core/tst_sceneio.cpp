@@ -473,16 +473,33 @@ void TestSceneIo::placeOfSyntaxError_data()
 
     QTest::addRow("bad literal on line 3")
         << QByteArray("{\n  \"format\": \"marbles-scene\",\n  \"version\": x\n}")
-        << R"(demo.marbles.json: line 3, column 14: not valid JSON: syntax error while parsing value - invalid literal; last read: '"version": x')";
+        << R"(demo.marbles.json: line 3, column 14: not valid JSON: a word JSON does not know: a text goes in double quotes ("like this"), and the only words without them are true, false and null (last read: '"version": x'))";
     QTest::addRow("missing comma on line 2")
         << QByteArray("{\"format\": \"marbles-scene\"\n \"version\": 1}")
-        << R"(demo.marbles.json: line 2, column 10: not valid JSON: syntax error while parsing object - unexpected string literal; expected '}')";
+        << R"(demo.marbles.json: line 2, column 10: not valid JSON: a text in double quotes where a ',' or the '}' should come (a comma missing?))";
     QTest::addRow("unterminated string")
         << QByteArray("{\"format\": \"marbles-scene")
-        << R"(demo.marbles.json: line 1, column 26: not valid JSON: syntax error while parsing value - invalid string: missing closing quote; last read: '"marbles-scene')";
+        << R"(demo.marbles.json: line 1, column 26: not valid JSON: a text without its closing double quote (last read: '"marbles-scene'))";
     QTest::addRow("after a byte order mark")
         << QByteArray("\xEF\xBB\xBF{]")
-        << R"(demo.marbles.json: line 1, column 5: not valid JSON: syntax error while parsing object key - unexpected ']'; expected string literal)";
+        << R"(demo.marbles.json: line 1, column 5: not valid JSON: ']' where a key in double quotes should come)";
+    // A teacher's slips by hand, in words (nlohmann's "syntax error while parsing object key -
+    // unexpected '}'; expected string literal" said nothing of a comma).
+    QTest::addRow("comma too many")
+        << QByteArray("{\"format\": \"marbles-scene\", \"version\": 1,}")
+        << R"(demo.marbles.json: line 1, column 42: not valid JSON: a '}' right after a ',' (a comma too many?))";
+    QTest::addRow("comma too many in a list")
+        << QByteArray("{\"format\": \"marbles-scene\", \"version\": 1, \"pins\": [{\"x\": 1},]}")
+        << R"(demo.marbles.json: line 1, column 61: not valid JSON: a ']' right after a ',' (a comma too many?))";
+    QTest::addRow("comma missing in a list")
+        << QByteArray("[1 2]") << R"(demo.marbles.json: line 1, column 4: not valid JSON: a number where a ',' or the ']' should come (a comma missing?))";
+    QTest::addRow("a comment")
+        << QByteArray("// lesson 3\n{}")
+        << R"(demo.marbles.json: line 1, column 1: not valid JSON: a comment: JSON has none ('//' and '/* */' are not allowed) (last read: '/'))";
+    QTest::addRow("no colon") << QByteArray("{\"format\" \"marbles-scene\"}")
+                              << R"(demo.marbles.json: line 1, column 25: not valid JSON: a key without its ':' and value)";
+    QTest::addRow("cut short") << QByteArray("{\"format\": \"marbles-scene\", \"version\": 1")
+                               << R"(demo.marbles.json: line 1, column 41: not valid JSON: the text ends too soon (a '}' or ']' missing?))";
 }
 
 void TestSceneIo::placeOfSyntaxError()
