@@ -266,10 +266,12 @@ std::uint64_t FrameHistory::insertMarble(int i, const MarbleTrack &track)
             m_setAsideBytes += m_bytes;
             m_frames.clear();
             m_bytes = 0;
+            m_limit = {}; // Step Back now ends here, at the marble
         } else if (!m_frames.empty()) {
             forgetFrames(); // a deleted marble whose frames these are not
+            m_limit = {};
         }
-        m_limit = {}; // Step Back now ends here, at the marble
+        // With no frame kept (Step Back at its limit), the limit that held still does.
         // No frame kept: the records follow the world, which now has the marble.
         if (k <= m_hits.size())
             m_hits.insert(at(m_hits), start.lastHit);

@@ -286,8 +286,21 @@ void TestSceneDocument::historyIsBounded()
         QVERIFY(sameDynamicState(back, states[states.size() - k]));
     }
     QVERIFY(!byBytes.stepBack(back));
+    // A marble added there, at the limit, sets no frame aside: the limit that held still does
+    // (Left after the add's undo had blamed the marble).
+    FrameHistory::MarbleTrack added;
+    added.start.position = {50, 50};
+    QCOMPARE(byBytes.insertMarble(back.marbleCount(), added), std::uint64_t{0});
+    QVERIFY(byBytes.lastLimit().bytes);
     QVERIFY(byFrames.stepBack(w));
     QCOMPARE(w.frame, 39);
+    // One added where frames are kept ends Step Back there; its undo gives the limit back.
+    const std::uint64_t setAside = byFrames.insertMarble(w.marbleCount(), added);
+    QVERIFY(setAside != 0);
+    QCOMPARE(byFrames.lastLimit().frames, std::size_t{0});
+    byFrames.removeMarble(w.marbleCount());
+    QVERIFY(byFrames.takeBackSetAside(setAside, w));
+    QCOMPARE(byFrames.lastLimit().frames, std::size_t{10});
     QVERIFY(byFrames.rewind(w));
     QCOMPARE(w.frame, 0);
     QVERIFY(sameDynamicState(w, states.front()));
