@@ -8,6 +8,7 @@
 #include "ui/wholefile.h"
 #include "ui/worldedit.h"
 
+#include <QDir>
 #include <QFile>
 #include <QFileInfo>
 
@@ -78,7 +79,9 @@ bool SceneDocument::openFile(const QString &path, QString *error)
 bool SceneDocument::saveFile(const QString &path, QString *error)
 {
     const std::string json = sceneToJson(m_world);
-    const QString name = QFileInfo(path).fileName();
+    // The whole path, as the plot's exports give it: "lesson.marbles.json: cannot write: No such
+    // file or directory" had not said it was /proc that took no file.
+    const QString name = QDir::toNativeSeparators(QFileInfo(path).absoluteFilePath());
     if (const QString failure = writeWholeFile(path, QByteArray::fromStdString(json)); !failure.isEmpty()) {
         if (error)
             *error = tr("%1: %2").arg(name, failure);
