@@ -157,8 +157,7 @@ std::string readStandardInput()
     case SceneRead::Whole:
         break;
     case SceneRead::TooLarge:
-        throw InvalidInput{"stdin: size: a scene must be at most " + std::to_string(kMaxSceneBytes)
-                           + " bytes (256 MiB), got more than that"};
+        throw InvalidInput{"stdin: " + sceneTooLarge("a scene", "more than that")};
     case SceneRead::Failed:
         throw InvalidInput{"stdin: cannot read: " + std::string(std::strerror(error))};
     }

@@ -866,8 +866,7 @@ std::string checkNesting(std::string_view text)
 std::string parseInto(std::string_view text, World &world)
 {
     if (text.size() > kMaxSceneBytes)
-        return "size: a scene must be at most " + std::to_string(kMaxSceneBytes) + " bytes (256 MiB), got "
-            + std::to_string(text.size()) + " bytes";
+        return sceneTooLarge("a scene", std::to_string(text.size()) + " bytes");
     if (text.size() >= 2
         && ((text[0] == '\xFF' && text[1] == '\xFE') || (text[0] == '\xFE' && text[1] == '\xFF')))
         return "line 1, column 1: the text is UTF-16 (it starts with a UTF-16 byte order mark); "
@@ -1042,6 +1041,12 @@ SceneLoad parseScene(std::string_view text, std::string_view source)
     return result;
 }
 
+std::string sceneTooLarge(std::string_view what, std::string_view got)
+{
+    return "size: " + std::string(what) + " must be at most " + std::to_string(kMaxSceneBytes) + " bytes ("
+        + std::to_string(kMaxSceneBytes >> 20) + " MiB), got " + std::string(got);
+}
+
 SceneRead readSceneText(int fd, std::string &text, int &error)
 {
     // In chunks up to one byte past the limit: pipes and devices have no size to check first.
@@ -1089,8 +1094,7 @@ SceneLoad loadSceneFile(const std::string &path, std::string_view shownAs)
     if (S_ISDIR(info.st_mode))
         return refuse("cannot read the file: it is a folder, not a scene file");
     const auto tooLarge = [&](const std::string &size) {
-        return refuse("size: a scene file must be at most " + std::to_string(kMaxSceneBytes)
-                      + " bytes (256 MiB), got " + size);
+        return refuse(sceneTooLarge("a scene file", size));
     };
     if (S_ISREG(info.st_mode) && static_cast<std::uint64_t>(info.st_size) > kMaxSceneBytes)
         return tooLarge(std::to_string(info.st_size) + " bytes");

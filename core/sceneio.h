@@ -34,6 +34,9 @@ struct SceneLoad {
 
 /// Parses scene JSON text. `source` names it in messages: "<source>: <place>: <rule>".
 SceneLoad parseScene(std::string_view text, std::string_view source);
+/// The size rule a text too large broke: "size: <what> must be at most 268435456 bytes (256 MiB),
+/// got <got>" (what: "a scene" or "a scene file"; got: its size, or "more than that").
+std::string sceneTooLarge(std::string_view what, std::string_view got);
 /// How readSceneText() ended.
 enum class SceneRead { Whole, TooLarge, Failed };
 /// Appends what `fd` holds, to its end, to `text`; stops once `text` holds more than

@@ -271,8 +271,8 @@ std::uint64_t FrameHistory::insertMarble(int i, const MarbleTrack &track)
             forgetFrames(); // a deleted marble whose frames these are not
             m_limit = {};
         }
-        // With no frame kept (Step Back at its limit), the limit that held still does.
-        // No frame kept: the records follow the world, which now has the marble.
+        // No frame kept now: the records follow the world, which has the marble. (With none kept
+        // before either, Step Back at its limit, the limit that held still does.)
         if (k <= m_hits.size())
             m_hits.insert(at(m_hits), start.lastHit);
         return number;

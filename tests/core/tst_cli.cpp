@@ -595,7 +595,7 @@ void TestCli::heldMarblesAreSaid()
     // A marble wider than the stage is stopped between the two walls it touches: its motion
     // across the stage was lost without a word. Wider both ways, stopped on both axes, it is
     // still one marble held (it had said two).
-    for (const QByteArray radius : {QByteArray("350"), QByteArray("1000")}) {
+    for (const QByteArray &radius : {QByteArray("350"), QByteArray("1000")}) {
         const QByteArray wide = R"({"format":"marbles-scene","version":1,"params":{"model":"exact","friction":0,
             "zeroThreshold":0},"marbles":[{"x":400,"y":300,"radius":)"
             + radius + R"(,"vx":1,"vy":1}]})";
