@@ -6,11 +6,13 @@
 namespace marbles {
 
 /// A file name's stem made from a scene's name, as the save and export dialogs offer it:
-/// "Pachinko board (preset)" gives "pachinko-board", "collision.marbles.json" "collision"; ""
+/// "Preset: Pachinko board" gives "pachinko-board", "collision.marbles.json" "collision"; ""
 /// where nothing is left. Nothing a file system might refuse ("Four marbles (Figure 11.8)").
 inline QString sceneFileStem(QString name)
 {
-    for (const QString &end : {QStringLiteral(".marbles.json"), QStringLiteral(".json"), QStringLiteral(" (preset)")}) {
+    if (name.startsWith(QStringLiteral("Preset: ")))
+        name.remove(0, 8);
+    for (const QString &end : {QStringLiteral(".marbles.json"), QStringLiteral(".json")}) {
         if (name.endsWith(end, Qt::CaseInsensitive))
             name.chop(end.size());
     }

@@ -1697,7 +1697,7 @@ void MainWindow::expireFrameStatus()
 
 QString MainWindow::sceneName() const
 {
-    return m_document->fileName().isEmpty() && !m_presetTitle.isEmpty() ? tr("%1 (preset)").arg(m_presetTitle)
+    return m_document->fileName().isEmpty() && !m_presetTitle.isEmpty() ? tr("Preset: %1").arg(m_presetTitle)
                                                                          : m_document->displayName();
 }
 

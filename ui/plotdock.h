@@ -222,7 +222,7 @@ public:
     /// "-plot" ("pachinko-plot.csv"), beside the scene's file when it has one.
     QString suggestedExportPath(const QString &extension) const;
     /// The line written above the chart in a PNG: the scene, the models and the frames shown
-    /// ("Pachinko board (preset) — model: book (solid), exact (dashed) — frames 0 to 137, 0.00
+    /// ("Preset: Pachinko board — model: book (solid), exact (dashed) — frames 0 to 137, 0.00
     /// to 2.74 s"), so that a picture in a worksheet says what it is.
     QString exportCaption() const;
     /// Asks where, then exportCsv() or exportPng() there (a warning says why not, where not);

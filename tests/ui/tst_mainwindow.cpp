@@ -654,7 +654,7 @@ void TestMainWindow::unsavedChangesAreAskedAbout()
     QCOMPARE(m_window->openFile(other), opened);
     QCOMPARE(m_prompts->saveQuestions, 1);
     // The question names the scene as the title bar did: the preset the window opened on.
-    QCOMPARE(m_prompts->savedSceneName, QStringLiteral("Four marbles (Figure 11.8) (preset)"));
+    QCOMPARE(m_prompts->savedSceneName, QStringLiteral("Preset: Four marbles (Figure 11.8)"));
     QCOMPARE(m_prompts->savedAtFrame, std::int64_t(0)); // and the frame it would be saved at
     QCOMPARE(sceneToJson(doc->world()), sceneToJson(opened ? pins : edited));
     if (static_cast<Prompts::SaveChoice>(choice) == Prompts::SaveChoice::Save) {
@@ -674,7 +674,7 @@ void TestMainWindow::unsavedChangesAreAskedAbout()
         m_prompts->saveChoice = Prompts::SaveChoice::Discard;
         QVERIFY(m_window->openPreset(QStringLiteral("pins")));
         QCOMPARE(m_window->statusBar()->currentMessage(), QStringLiteral("Preset \"Marbles among pins (Example 2)\"."));
-        QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Marbles among pins (Example 2) (preset)")));
+        QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Preset: Marbles among pins (Example 2)")));
     }
 }
 
@@ -1847,7 +1847,7 @@ void TestMainWindow::autosaveIsRecoveredAfterCrash()
     QVERIFY(m_prompts->recoverDetails.startsWith(
         QStringLiteral("The scene made from the preset \"Pachinko board\" had unsaved changes.")));
     QCOMPARE(m_window->document()->world().params.friction, 0.05);
-    QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Pachinko board (preset)[*]")));
+    QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Preset: Pachinko board[*]")));
 
     // Changes discarded for another scene leave nothing to recover, at once: a crash before the
     // next tick brought them back as unsaved changes.
@@ -1858,7 +1858,7 @@ void TestMainWindow::autosaveIsRecoveredAfterCrash()
     QVERIFY(!QFile::exists(m_window->autoSaver()->scenePath()));
     // and the status bar names the preset (it said 'Preset "".' after a Discard).
     QCOMPARE(m_window->statusBar()->currentMessage(), QStringLiteral("Preset \"Marbles among pins (Example 2)\"."));
-    QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Marbles among pins (Example 2) (preset)")));
+    QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Preset: Marbles among pins (Example 2)")));
     QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
 
     // A clean exit leaves nothing to recover.

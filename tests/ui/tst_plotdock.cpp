@@ -1678,8 +1678,8 @@ void TestPlotDock::exportPng()
     }
     QCOMPARE_GT(linePixels, 50);
     // A caption above the chart says what it shows, for a worksheet: dark text in the top strip.
-    dock.setSceneName(QStringLiteral("Pachinko board (preset)"));
-    QCOMPARE(dock.exportCaption(), QStringLiteral("Pachinko board (preset) \u2014 model: book \u2014 frames 1 to 100, 0.02 to 2.00 s"));
+    dock.setSceneName(QStringLiteral("Preset: Pachinko board"));
+    QCOMPARE(dock.exportCaption(), QStringLiteral("Preset: Pachinko board \u2014 model: book \u2014 frames 1 to 100, 0.02 to 2.00 s"));
     QCOMPARE(dock.exportPng(path), QString());
     image.load(path);
     int ink = 0;
@@ -1693,20 +1693,20 @@ void TestPlotDock::exportPng()
     dock.reset(crowd);
     runFrames(dock, crowd, 2);
     QCOMPARE(dock.exportCaption(),
-             QStringLiteral("Pachinko board (preset) \u2014 model: book \u2014 %1 of 20 marbles plotted \u2014 frames 1 to 2, "
+             QStringLiteral("Preset: Pachinko board \u2014 model: book \u2014 %1 of 20 marbles plotted \u2014 frames 1 to 2, "
                             "0.02 to 0.04 s")
                  .arg(PlotDock::kMaxPlottedMarbles));
     // A scene with edits not saved says so: a preset's picture, a pin added and friction
     // raised, read as the preset's (a teacher's finding).
     dock.setSceneEdited(true);
-    QVERIFY(dock.exportCaption().startsWith(QStringLiteral("Pachinko board (preset) \u2014 edited \u2014 model: book")));
+    QVERIFY(dock.exportCaption().startsWith(QStringLiteral("Preset: Pachinko board \u2014 edited \u2014 model: book")));
 }
 
 void TestPlotDock::exportsAreOfferedByTheScenesName()
 {
     // Every export was offered as "marbles-plot.csv" in the working folder, whatever the scene.
     PlotDock dock;
-    dock.setSceneName(QStringLiteral("Four marbles (Figure 11.8) (preset)"));
+    dock.setSceneName(QStringLiteral("Preset: Four marbles (Figure 11.8)"));
     QCOMPARE(dock.suggestedExportPath(QStringLiteral("csv")), QStringLiteral("four-marbles-figure-11.8-plot.csv"));
     dock.setSceneName(QStringLiteral("Untitled"));
     QCOMPARE(dock.suggestedExportPath(QStringLiteral("png")), QStringLiteral("untitled-plot.png"));
