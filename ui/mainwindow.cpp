@@ -1761,11 +1761,17 @@ void MainWindow::updateStatistics()
         const Vec2 p = shownMomentum(w);
         return QStringLiteral("(%1, %2)").arg(readableNumber(p.x * f, 4), readableNumber(p.y * f, 4));
     };
+    // With their units, which change with the plot's (the numbers jumped 2,500 times with nothing
+    // in the bar to say why); while comparing, only in the tooltip (see below).
     const bool seconds = f != 1.0;
-    m_energyLabel->setProperty("what", seconds ? tr("Total kinetic energy, sum of m v² / 2, v in px/s (as the plot)")
-                                               : tr("Total kinetic energy, sum of m v² / 2, v in px/frame"));
-    m_momentumLabel->setProperty("what", seconds ? tr("Total momentum, sum of m v, v in px/s (as the plot)")
-                                                 : tr("Total momentum, sum of m v, v in px/frame"));
+    const QString energyUnit = m_plotDock->energyUnit();
+    const QString momentumUnit = m_plotDock->momentumUnit();
+    m_energyLabel->setProperty("what", (seconds ? tr("Total kinetic energy, sum of m v² / 2, v in px/s (as the plot)")
+                                                : tr("Total kinetic energy, sum of m v² / 2, v in px/frame"))
+                                           + QStringLiteral(", ") + energyUnit);
+    m_momentumLabel->setProperty("what", (seconds ? tr("Total momentum, sum of m v, v in px/s (as the plot)")
+                                                  : tr("Total momentum, sum of m v, v in px/frame"))
+                                             + QStringLiteral(", ") + momentumUnit);
     // While a comparison runs, both models' totals, each named: the scene's alone did not say
     // whose they were, and the comparison's (momentum kept where the book's is not) could only
     // be read off the plot.
@@ -1776,14 +1782,16 @@ void MainWindow::updateStatistics()
     m_physicsLabel->setVisible(!compared);
     m_fpsLabel->setVisible(!compared);
     if (compared && compared->frame == world.frame) {
+        // Two models' numbers and the comparison's gap fill a 1400-px bar: the units, which cut
+        // the gap's summary short there, stay in the tooltip.
         const QString ours = QString::fromLatin1(modelName(world.params.model));
         const QString theirs = QString::fromLatin1(modelName(m_compare->model()));
         setTotal(m_energyLabel, tr("KE %1 (%2), %3 (%4)").arg(energy(world), ours, energy(*compared), theirs));
         setTotal(m_momentumLabel, tr("p = %1 %2, %3 %4").arg(momentum(world), ours, momentum(*compared), theirs));
         return;
     }
-    setTotal(m_energyLabel, tr("KE %1").arg(energy(world)));
-    setTotal(m_momentumLabel, tr("p = %1").arg(momentum(world)));
+    setTotal(m_energyLabel, tr("KE %1 %2").arg(energy(world), energyUnit));
+    setTotal(m_momentumLabel, tr("p = %1 %2").arg(momentum(world), momentumUnit));
 }
 
 Vec2 MainWindow::shownMomentum(const World &world)

@@ -938,9 +938,9 @@ std::optional<PlotDock::PlottedValue> PlotDock::plottedValue(const QLineSeries *
     // In the units drawn (refreshChart()).
     const double perS = perSecond();
     // The totals with their units (switched to seconds, the energy went from 1500 to 4e+06 with
-    // nothing to say why; the axis titles have no room for them). Mass is the scene's own unit.
-    const QString energyUnit = m_timeInSeconds ? tr("mass·px²/s²") : tr("mass·px²/frame²");
-    const QString momentumUnit = m_timeInSeconds ? tr("mass·px/s") : tr("mass·px/frame");
+    // nothing to say why; the axis titles have no room for them).
+    const QString energyUnit = this->energyUnit();
+    const QString momentumUnit = this->momentumUnit();
     // Named in full (the legend may give them short names).
     const QString compared = QStringLiteral(", ") + m_compareModel;
     const struct {
@@ -1706,6 +1706,17 @@ void PlotDock::updateAxisTitles()
 double PlotDock::perSecond() const
 {
     return m_timeInSeconds && m_frameMs > 0.0 ? 1000.0 / m_frameMs : 1.0;
+}
+
+QString PlotDock::energyUnit() const
+{
+    // Mass is the scene's own unit.
+    return m_timeInSeconds ? tr("mass·px²/s²") : tr("mass·px²/frame²");
+}
+
+QString PlotDock::momentumUnit() const
+{
+    return m_timeInSeconds ? tr("mass·px/s") : tr("mass·px/frame");
 }
 
 QString PlotDock::suggestedExportPath(const QString &extension) const

@@ -174,6 +174,9 @@ public:
     /// Frames per second while the time axis is in seconds (speeds are drawn in px/s, the
     /// energy per second squared, the momentum per second), else 1.
     double perSecond() const;
+    /// The units of the totals as drawn: "mass·px²/frame²" and "mass·px/frame", or per s.
+    QString energyUnit() const;
+    QString momentumUnit() const;
 
     /// Hands the buffered samples to the chart now (the timer does this ~5 times a second).
     void refreshChart();

@@ -929,19 +929,19 @@ void TestMainWindow::massScaleSaysWhenNoMarbleUsesIt()
     auto *energy = m_window->findChild<QLabel *>(QStringLiteral("energyLabel"));
     auto *momentum = m_window->findChild<QLabel *>(QStringLiteral("momentumLabel"));
     // (Shown whole once the bar is laid out for the new text.)
-    QTRY_COMPARE(energy->text(), QStringLiteral("KE %1").arg(std::round(w.kineticEnergy()), 0, 'f', 0));
-    QTRY_COMPARE(momentum->text(), QStringLiteral("p = (18000, 0)")); // four digits gave 1.8e+04
-    QVERIFY(energy->toolTip().startsWith(QStringLiteral("Total kinetic energy, sum of m v² / 2, v in px/frame\n")));
+    QTRY_COMPARE(energy->text(), QStringLiteral("KE %1 mass\u00b7px\u00b2/frame\u00b2").arg(std::round(w.kineticEnergy()), 0, 'f', 0));
+    QTRY_COMPARE(momentum->text(), QStringLiteral("p = (18000, 0) mass\u00b7px/frame")); // four digits gave 1.8e+04
+    QVERIFY(energy->toolTip().startsWith(QStringLiteral("Total kinetic energy, sum of m v² / 2, v in px/frame, mass\u00b7px\u00b2/frame\u00b2\n")));
     // With the plot in seconds, in its unit as its lines are (they stayed per frame, 2,500 times
     // below the plot's energy at 20 ms a frame): 50 frames a second.
     QCOMPARE(w.params.frameMs, 20.0);
     m_window->plotDock()->setTimeInSeconds(true);
-    QTRY_COMPARE(energy->text(), QStringLiteral("KE %1").arg(readableNumber(w.kineticEnergy() * 2500.0, 5)));
-    QTRY_COMPARE(momentum->text(), QStringLiteral("p = (900000, 0)"));
-    QVERIFY(energy->toolTip().startsWith(QStringLiteral("Total kinetic energy, sum of m v² / 2, v in px/s (as the plot)\n")));
-    QVERIFY(momentum->toolTip().startsWith(QStringLiteral("Total momentum, sum of m v, v in px/s (as the plot)\n")));
+    QTRY_COMPARE(energy->text(), QStringLiteral("KE %1 mass\u00b7px\u00b2/s\u00b2").arg(readableNumber(w.kineticEnergy() * 2500.0, 5)));
+    QTRY_COMPARE(momentum->text(), QStringLiteral("p = (900000, 0) mass\u00b7px/s"));
+    QVERIFY(energy->toolTip().startsWith(QStringLiteral("Total kinetic energy, sum of m v² / 2, v in px/s (as the plot), mass\u00b7px\u00b2/s\u00b2\n")));
+    QVERIFY(momentum->toolTip().startsWith(QStringLiteral("Total momentum, sum of m v, v in px/s (as the plot), mass\u00b7px/s\n")));
     m_window->plotDock()->setTimeInSeconds(false);
-    QTRY_COMPARE(momentum->text(), QStringLiteral("p = (18000, 0)"));
+    QTRY_COMPARE(momentum->text(), QStringLiteral("p = (18000, 0) mass\u00b7px/frame"));
 
     // While a comparison runs, both models' totals, each named (the scene's alone did not say
     // whose they were).
