@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <utility>
 
 namespace marbles {
@@ -65,6 +66,7 @@ void CompareRun::stop()
 
 void CompareRun::restart()
 {
+    m_editRestarts.clear();
     if (!m_model)
         return;
     const World &source = m_document->world();
@@ -97,6 +99,13 @@ void CompareRun::onSceneChanged(SceneDocument::Change change)
         return;
     }
     const bool keepsMarbles = change == SceneDocument::Change::Params || change == SceneDocument::Change::Marbles;
+    // An edit undone where it was made: the comparison as it was before it. It had started again
+    // from the scene at the edit, and the undo started it once more: the exact model's ghosts then
+    // carried the book's energy (Example 3 at frame 37, a velocity set and undone: "KE 1110.3
+    // (book), 1110.3 (exact)", where it had read 388.51 for exact).
+    const SceneDocument::EditCause cause = m_document->currentEdit();
+    if (keepsMarbles && cause.undoing && takeBackEditRestart(cause.serial))
+        return;
     // A marble removed or put back, which the kept frames followed: they now have the marbles the
     // scene has (the world still has its old ones).
     const bool followed = change == SceneDocument::Change::Structure && m_followedStructure;
@@ -118,6 +127,8 @@ void CompareRun::onSceneChanged(SceneDocument::Change change)
     // The comparison starts again from the scene as edited (the gap is 0 at this frame), and
     // keeps the frames it ran before: stepping back past the edit shows them as they were (a
     // tester's ghosts sat on the marbles at a frame where the models had been 241 px apart).
+    if (keepsMarbles && !cause.undoing)
+        rememberEditRestart(cause.serial);
     m_earlierStarts.push_back(m_startFrame);
     *m_world = std::move(next);
     m_startFrame = source.frame;
@@ -126,6 +137,72 @@ void CompareRun::onSceneChanged(SceneDocument::Change change)
     resetGaps(source.frame);
     updateGhost();
     Q_EMIT restarted();
+}
+
+bool CompareRun::keepsStartOf(const EditRestart &edit) const
+{
+    // Its start pushed the one before it at index edit.earlierStarts (rewindTo() takes it away).
+    return m_earlierStarts.size() > edit.earlierStarts && m_earlierStarts[edit.earlierStarts] == edit.startFrame;
+}
+
+void CompareRun::rememberEditRestart(std::uint64_t serial)
+{
+    // Edits whose start was stepped back past are gone for good.
+    std::erase_if(m_editRestarts, [this](const EditRestart &edit) { return !keepsStartOf(edit); });
+    if (serial == 0)
+        return;
+    EditRestart edit{{-1, m_world->frame, World(), m_startFrame, m_earlierStarts.size()}, serial};
+    // A spin box scrubbed is one edit per value: after the first, the comparison is the scene
+    // itself at this frame, and the undo of a later one gives it from the scene.
+    edit.copyOfScene = m_startFrame == m_world->frame && !m_editRestarts.empty()
+        && m_editRestarts.back().frame == m_world->frame && m_editRestarts.back().earlierStarts + 1 == m_earlierStarts.size();
+    if (!edit.copyOfScene) {
+        edit.before = *m_world;
+        // The worlds kept stay within 64 MiB (a 20,000-marble crowd's is about 5 MB, one of
+        // the book's figures a few kB): the oldest edits' undos start the comparison again instead.
+        constexpr std::size_t budget = std::size_t{64} << 20;
+        const auto bytes = [](const World &w) {
+            return sizeof(World) + w.position.size() * (3 * sizeof(Vec2) + 2 * sizeof(double) + sizeof(MarbleInfo) + sizeof(HitRecord))
+                + w.pins.size() * sizeof(Vec2);
+        };
+        std::size_t kept = bytes(edit.before);
+        for (auto k = m_editRestarts.size(); k-- > 0;) {
+            kept += m_editRestarts[k].copyOfScene ? 0 : bytes(m_editRestarts[k].before);
+            if (kept > budget) {
+                m_editRestarts.erase(m_editRestarts.begin(), m_editRestarts.begin() + static_cast<std::ptrdiff_t>(k) + 1);
+                break;
+            }
+        }
+    }
+    m_editRestarts.push_back(std::move(edit));
+}
+
+bool CompareRun::takeBackEditRestart(std::uint64_t serial)
+{
+    const World &source = m_document->world();
+    auto found = std::find_if(m_editRestarts.rbegin(), m_editRestarts.rend(),
+                              [serial](const EditRestart &edit) { return edit.serial == serial; });
+    if (found == m_editRestarts.rend())
+        return false;
+    const auto at = std::prev(found.base());
+    EditRestart edit = std::move(*at);
+    m_editRestarts.erase(at, m_editRestarts.end());
+    // Still at the edit's frame, on its start or on later ones made there (the comparison's own
+    // frames since were stepped back through, or none were run).
+    const auto frame = edit.frame;
+    if (!isTracking() || m_world->frame != frame || source.frame != frame || !keepsStartOf(edit) || m_startFrame != frame
+        || !std::all_of(m_earlierStarts.begin() + static_cast<std::ptrdiff_t>(edit.earlierStarts) + 1,
+                        m_earlierStarts.end(), [frame](std::int64_t start) { return start == frame; })
+        || (!edit.copyOfScene && edit.before.marbleCount() != source.marbleCount()))
+        return false;
+    World own = edit.copyOfScene ? source : std::move(edit.before);
+    own.params = source.params; // the undo gave the scene back its own
+    own.params.model = *m_model;
+    takeBackStart(edit);
+    takeOwnState(std::move(own));
+    updateGhost();
+    Q_EMIT restartTakenBack(frame);
+    return true;
 }
 
 std::vector<std::int64_t> CompareRun::restartFrames() const

@@ -131,6 +131,9 @@ Q_SIGNALS:
     void restarted();
     /// The comparison simulated one frame beside the document's (emitted once per frame).
     void advanced();
+    /// The undo of an edit at `frame` gave the comparison back its own state there: it no
+    /// longer starts again at that frame (startFrame() and restartFrames() are as before the edit).
+    void restartTakenBack(std::int64_t frame);
 
 private:
     /// The largest position gap at one frame, and the marble that had it (-1: none).
@@ -226,6 +229,24 @@ private:
         std::uint64_t setAside = 0; ///< the comparison's frames set aside there
     };
     std::vector<Added> m_added;
+    /// For each edit of the marbles or parameters that started the comparison again where it was
+    /// (onSceneChanged()), newest last, what its undo there gives back (the oldest forgotten past
+    /// 64 MiB of worlds). An edit that follows
+    /// another at the same frame, with the comparison still on the first one's start, keeps no
+    /// world: the comparison before it was the scene itself.
+    struct EditRestart : BeforeEdit {
+        std::uint64_t serial = 0; ///< the edit's (SceneDocument::EditCause)
+        bool copyOfScene = false; ///< `before` is left empty: the scene's own state, in the model
+    };
+    std::vector<EditRestart> m_editRestarts;
+    /// Notes, before the comparison starts again from the scene at this frame, what `serial`'s
+    /// undo gives back.
+    void rememberEditRestart(std::uint64_t serial);
+    /// True when `edit`'s start is still among the comparison's starts.
+    bool keepsStartOf(const EditRestart &edit) const;
+    /// The undo of edit `serial` at the frame it was made, the comparison still on the start it
+    /// made: the comparison as it was before it. False (nothing changed) otherwise.
+    bool takeBackEditRestart(std::uint64_t serial);
     /// The kept frames followed a marble removed or put back: the edit's sceneChanged() keeps them,
     /// and its timelineReset() does not restart.
     bool m_followedStructure = false;

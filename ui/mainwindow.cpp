@@ -164,6 +164,16 @@ MainWindow::MainWindow(QWidget *parent)
             m_plotDock->markCompareRestart(m_compare->startFrame());
     });
     connect(m_document, &SceneDocument::stepped, this, &MainWindow::updateCompareReadout);
+    // An edit undone where it was made, the comparison back as it was: no restart there, but any
+    // made before it (restart marks a frame apart are drawn as one, at the later).
+    connect(m_compare, &CompareRun::restartTakenBack, this, [this](std::int64_t frame) {
+        m_plotDock->unmarkCompareRestart(frame);
+        for (const std::int64_t start : m_compare->restartFrames()) {
+            if (start + 1 >= frame)
+                m_plotDock->markCompareRestart(start);
+        }
+        updateCompareReadout();
+    });
 
     m_autoSaver = new AutoSaver(m_document, QString(), this);
     m_autoSaver->start();

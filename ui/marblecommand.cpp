@@ -80,6 +80,7 @@ SetMarbleCommand::SetMarbleCommand(SceneDocument *document, int marble, const Ma
     , m_frame(document->world().frame)
     , m_undoFrame(frame.value_or(m_frame))
     , m_frameMoves(document->frameMoves())
+    , m_serial(document->newEditSerial())
 {
     // Mid-run, the frame the edit belongs to (undone later in the run, it takes the scene back
     // there).
@@ -120,7 +121,7 @@ void SetMarbleCommand::redo()
     } else {
         world.pushes = m_pushesAfter;
     }
-    m_document->applyChange(SceneDocument::Change::Marbles);
+    m_document->applyChange(SceneDocument::Change::Marbles, {m_serial, false});
 }
 
 void SetMarbleCommand::undo()
@@ -132,7 +133,7 @@ void SetMarbleCommand::undo()
     applyAtItsFrame(m_undoFrame, m_before, m_after, false);
     if (m_pushesKept)
         world.pushes = m_pushesBefore;
-    m_document->applyChange(SceneDocument::Change::Marbles);
+    m_document->applyChange(SceneDocument::Change::Marbles, {m_serial, true});
 }
 
 int SetMarbleCommand::id() const

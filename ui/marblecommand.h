@@ -58,6 +58,7 @@ private:
     std::int64_t m_frame = 0;     // the frame the edit was made at (redo's)
     std::int64_t m_undoFrame = 0; // the frame `m_before` is the state at (undo's)
     std::uint64_t m_frameMoves = 0; // the document's frameMoves() when the edit was made
+    std::uint64_t m_serial; // the document's newEditSerial() for it (CompareRun keeps what its undo gives back)
     /// Writes `state` (whose counterpart is `other`) at the edit's frame, running the scene on to
     /// it when `mayRunOn`; see the .cpp.
     void applyAtItsFrame(std::int64_t frame, const MarbleState &state, const MarbleState &other, bool mayRunOn);

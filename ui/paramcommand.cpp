@@ -80,6 +80,7 @@ SetParamCommand::SetParamCommand(SceneDocument *document, const QString &key, co
     , m_before(before)
     , m_after(after)
     , m_frameMoves(document->frameMoves())
+    , m_serial(document->newEditSerial())
 {
     setText(describe(key, value));
 }
@@ -87,13 +88,13 @@ SetParamCommand::SetParamCommand(SceneDocument *document, const QString &key, co
 void SetParamCommand::redo()
 {
     m_after.applyTo(m_document->editableWorld());
-    m_document->applyChange(SceneDocument::Change::Params);
+    m_document->applyChange(SceneDocument::Change::Params, {m_serial, false});
 }
 
 void SetParamCommand::undo()
 {
     m_before.applyTo(m_document->editableWorld());
-    m_document->applyChange(SceneDocument::Change::Params);
+    m_document->applyChange(SceneDocument::Change::Params, {m_serial, true});
 }
 
 int SetParamCommand::id() const

@@ -43,6 +43,7 @@ private:
     ParamState m_before;
     ParamState m_after;
     std::uint64_t m_frameMoves; // the document's frameMoves() when the edit was made
+    std::uint64_t m_serial; // the document's newEditSerial() for it (CompareRun keeps what its undo gives back)
 };
 
 } // namespace marbles

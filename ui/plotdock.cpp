@@ -583,6 +583,12 @@ void PlotDock::markCompareRestart(std::int64_t frame)
     m_dirty = true;
 }
 
+void PlotDock::unmarkCompareRestart(std::int64_t frame)
+{
+    if (std::erase(m_compareRestarts, frame) > 0)
+        m_dirty = true;
+}
+
 void PlotDock::cutAfter(std::int64_t frame)
 {
     std::erase_if(m_compareRestarts, [frame](std::int64_t restart) { return restart > frame; });

@@ -133,6 +133,8 @@ public:
     /// that the jump is not read as a collision. Restarts on consecutive frames (a marble held
     /// while the run goes on) make one mark, at the last of them.
     void markCompareRestart(std::int64_t frame);
+    /// The comparison no longer starts again at `frame` (an edit there undone): its mark goes.
+    void unmarkCompareRestart(std::int64_t frame);
     /// The frames marked so, oldest first.
     const std::vector<std::int64_t> &compareRestarts() const { return m_compareRestarts; }
     /// Name of the comparison model plotted, or "" when none.

@@ -530,6 +530,13 @@ FrameHistory::MarbleTrack SceneDocument::marbleRemoved(int i, std::uint64_t setA
     return track;
 }
 
+void SceneDocument::applyChange(Change change, EditCause cause)
+{
+    const EditCause outer = std::exchange(m_currentEdit, cause);
+    applyChange(change);
+    m_currentEdit = outer;
+}
+
 void SceneDocument::applyChange(Change change)
 {
     if (change == Change::Names) {

@@ -157,6 +157,19 @@ public:
     /// For undo commands: tells the listeners what an edit changed.
     void applyChange(Change change);
 
+    /// Which edit a change comes from, for the listeners that keep something for its undo
+    /// (CompareRun): the edit's serial (0: not told) and whether it is being undone.
+    struct EditCause {
+        std::uint64_t serial = 0;
+        bool undoing = false;
+    };
+    /// A serial for a new edit command (never 0).
+    std::uint64_t newEditSerial() { return ++m_editSerials; }
+    /// applyChange(), its listeners told that it is `cause`'s (currentEdit()).
+    void applyChange(Change change, EditCause cause);
+    /// While an edit's change is told (sceneChanged()), the edit; else {0, false}.
+    EditCause currentEdit() const { return m_currentEdit; }
+
 Q_SIGNALS:
     /// One frame was simulated (emitted once per frame, before stepped()).
     void frameAdvanced();
@@ -234,6 +247,8 @@ private:
 
     double m_physicsMsPerFrame = 0.0;
     std::uint64_t m_frameMoves = 0;
+    std::uint64_t m_editSerials = 0;
+    EditCause m_currentEdit;
 };
 
 } // namespace marbles

@@ -590,8 +590,10 @@ void TestCompareRun::randomSessionFollowsTheRules()
     // with the document's frames, given the same clicks; Step Back returns it to its own state
     // at that frame, or restarts it there from the document's when it started later; an edit
     // or undo starts it again from the document's state at that frame, keeping its earlier
-    // frames, to which Step Back returns past the edit. After every action the comparison must
-    // hold the oracle's bits, and its largest gap must be the largest since its latest start.
+    // frames, to which Step Back returns past the edit, except an undo at the edit's frame with
+    // the comparison still on the start the edit made there (or on later ones made there), which
+    // gives back the comparison before the edit and its starts. After every action the comparison
+    // must hold the oracle's bits, and its largest gap must be the largest since its latest start.
     QFETCH(QString, preset);
     QFETCH(ModelKind, own);
     QFETCH(ModelKind, compared);
@@ -614,13 +616,24 @@ void TestCompareRun::randomSessionFollowsTheRules()
         gapAt.clear();
     };
     restartOracle();
+    // For each edit command (its index in the undo stack), the comparison and its starts before it.
+    struct OracleEdit {
+        int command = 0;
+        std::int64_t frame = 0;
+        World before;
+        std::vector<std::int64_t> startsBefore;
+    };
+    std::vector<OracleEdit> edits;
     int restarts = 0;
     int backs = 0;
-    for (int action = 0; action < 150; ++action) {
+    int takenBack = 0;
+    bool lastWasEdit = false;
+    for (int action = 0; action < 300; ++action) {
         const World &w = doc.world();
         const int marble = rng.below(w.marbleCount());
         QString what;
-        switch (rng.below(8)) {
+        // (Right after an edit, often its undo, where the undo gives the comparison back.)
+        switch (lastWasEdit && rng.below(3) == 0 ? 7 : rng.below(8)) {
         case 0:
         case 1:
         case 2: {
@@ -672,8 +685,10 @@ void TestCompareRun::randomSessionFollowsTheRules()
             break;
         default: {
             QString error;
-            if (doc.undoStack()->canUndo() && rng.below(3) == 0) {
+            const OracleEdit before{0, w.frame, oracle, starts};
+            if (doc.undoStack()->canUndo() && (lastWasEdit || rng.below(3) == 0)) {
                 what = QStringLiteral("undo");
+                const int command = doc.undoStack()->index() - 1;
                 const std::int64_t frameBefore = w.frame;
                 doc.undoStack()->undo();
                 // A marble's edit undone later in the run takes the scene back to its frame first,
@@ -684,6 +699,28 @@ void TestCompareRun::randomSessionFollowsTheRules()
                     oracleAt.erase(oracleAt.upper_bound(w.frame), oracleAt.end());
                     gapAt.erase(gapAt.upper_bound(w.frame), gapAt.end());
                 }
+                const auto found = std::find_if(edits.rbegin(), edits.rend(),
+                                                [command](const OracleEdit &e) { return e.command == command; });
+                if (found != edits.rend()) {
+                    const OracleEdit e = *found;
+                    edits.erase(std::prev(found.base()), edits.end());
+                    const std::size_t n = e.startsBefore.size();
+                    const bool onItsStart = w.frame == e.frame && starts.size() > n && starts[n - 1] == e.startsBefore.back()
+                        && std::all_of(starts.begin() + static_cast<std::ptrdiff_t>(n), starts.end(),
+                                       [&e](std::int64_t start) { return start == e.frame; });
+                    if (onItsStart) {
+                        oracle = e.before;
+                        oracle.params = w.params;
+                        oracle.params.model = compared;
+                        oracle.acceleration = w.acceleration;
+                        oracleAt[oracle.frame] = oracle;
+                        starts = e.startsBefore;
+                        if (oracle.frame > starts.front())
+                            gapAt[oracle.frame] = gapBetween(w, oracle).px;
+                        ++takenBack;
+                        break;
+                    }
+                }
             } else if (rng.below(2) == 0) {
                 what = QStringLiteral("velocity of marble %1").arg(marble);
                 error = doc.setMarbleVelocity(marble, {rng.uniform(-6.0, 6.0), rng.uniform(-6.0, 6.0)});
@@ -692,6 +729,12 @@ void TestCompareRun::randomSessionFollowsTheRules()
                 error = doc.setParam(QStringLiteral("friction"), QString::number(rng.uniform(0.0, 0.2), 'g', 17));
             }
             QVERIFY2(error.isEmpty(), qPrintable(error));
+            // An edit (not one merged into the one before) keeps what its undo gives back.
+            const int command = doc.undoStack()->index() - 1;
+            if (what != QLatin1String("undo") && (edits.empty() || edits.back().command != command)) {
+                edits.push_back(before);
+                edits.back().command = command;
+            }
             // Started again from the document's state at this frame, its earlier frames kept.
             oracle = doc.world();
             oracle.params.model = compared;
@@ -702,6 +745,7 @@ void TestCompareRun::randomSessionFollowsTheRules()
             break;
         }
         }
+        lastWasEdit = what.startsWith(QLatin1String("velocity")) || what == QLatin1String("friction");
         const QString where = QStringLiteral("action %1 (%2), frame %3").arg(action).arg(what).arg(w.frame);
         QVERIFY2(compare.isTracking(), qPrintable(where + QStringLiteral(": ") + compare.problem()));
         QVERIFY2(sameDynamics(*compare.world(), oracle), qPrintable(where));
@@ -717,6 +761,7 @@ void TestCompareRun::randomSessionFollowsTheRules()
     }
     QVERIFY(backs > 20);
     QVERIFY(restarts > 5);
+    QVERIFY(takenBack > 2);
 }
 
 void TestCompareRun::forgottenFramesKeepOnlyTheLargestGap()

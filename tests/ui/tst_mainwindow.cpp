@@ -146,6 +146,8 @@ private Q_SLOTS:
     void compareOffersOnlyModelsThatCanRun();
     void comparisonStartsWithItsTotals();
     void compareSteppedBackPastAnEditMeetsAtTheRestart();
+    void compareEditUndoneWhereItWasMadeIsTakenBack_data();
+    void compareEditUndoneWhereItWasMadeIsTakenBack();
     void deleteMidRunKeepsTheRunBeforeIt();
     void addUndoneKeepsTheRunBeforeIt();
     void coloursFollowTheMarbles();
@@ -1391,6 +1393,94 @@ void TestMainWindow::compareSteppedBackPastAnEditMeetsAtTheRestart()
     QCOMPARE(plot->sampleCompareSpeed(last, 0), speedAt50);
     QVERIFY(plot->sampleCompareSpeed(last, 0) != plot->sampleSpeed(last, 0));
     QVERIFY(plot->compareRestarts().empty()); // stepped back past it
+}
+
+void TestMainWindow::compareEditUndoneWhereItWasMadeIsTakenBack_data()
+{
+    QTest::addColumn<QString>("edit");
+    QTest::newRow("velocity") << QStringLiteral("velocity");
+    QTest::newRow("friction") << QStringLiteral("friction");
+    QTest::newRow("friction scrubbed") << QStringLiteral("scrub");
+    QTest::newRow("velocity, then run on") << QStringLiteral("run on");
+    QTest::newRow("friction and velocity") << QStringLiteral("two");
+}
+
+void TestMainWindow::compareEditUndoneWhereItWasMadeIsTakenBack()
+{
+    // Example 3 compared with exact at frame 37, an edit there and its undo: the comparison is
+    // its own again, as if the edit had never been made (a teacher's finding: it had started
+    // again from the book's state, "KE 1110.3 (book), 1110.3 (exact)" where exact had 388.51),
+    // and it runs on as it would have.
+    QFETCH(QString, edit);
+    QVERIFY(m_window->openPreset(QStringLiteral("masses")));
+    SceneDocument *doc = m_window->document();
+    PlotDock *plot = m_window->plotDock();
+    const CompareRun *compare = m_window->compareRun();
+    compareExact()->trigger();
+    doc->advance(37);
+    const World comparedAt37 = *compare->world();
+    const QString summary = compare->summary();
+    QVERIFY(compare->largestGapPx() > 0.0);
+    World untouched = comparedAt37;
+    for (int f = 0; f < 20; ++f)
+        untouched.step();
+    const Vec2 velocity = doc->world().velocity[0];
+    int undos = 1;
+    if (edit == QLatin1String("velocity") || edit == QLatin1String("run on")) {
+        QVERIFY(doc->setMarbleVelocity(0, {5.0, 0.0}).isEmpty());
+    } else if (edit == QLatin1String("friction")) {
+        QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
+    } else if (edit == QLatin1String("scrub")) { // one undo step
+        for (const char *value : {"0.03", "0.04", "0.05"})
+            QVERIFY(doc->setParam(QStringLiteral("friction"), QString::fromLatin1(value)).isEmpty());
+        QCOMPARE(doc->undoStack()->count(), 1);
+    } else {
+        QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
+        QVERIFY(doc->setMarbleVelocity(0, {5.0, 0.0}).isEmpty());
+        undos = 2;
+    }
+    QCOMPARE(compare->world()->velocity, doc->world().velocity); // started again from the scene
+    QCOMPARE(compare->startFrame(), std::int64_t(37));
+    QCOMPARE(plot->compareRestarts(), std::vector<std::int64_t>{37});
+    if (edit == QLatin1String("run on"))
+        doc->advance(20); // the undo takes the scene back to frame 37 first
+    if (undos == 2) {
+        doc->undoStack()->undo(); // the velocity: the comparison is the scene with friction 0.05
+        QCOMPARE(doc->world().frame, std::int64_t(37));
+        QCOMPARE(compare->world()->velocity, doc->world().velocity);
+        QCOMPARE(compare->world()->params.friction, 0.05);
+        QCOMPARE(compare->startFrame(), std::int64_t(37));
+        QCOMPARE(plot->compareRestarts(), std::vector<std::int64_t>{37});
+    }
+    doc->undoStack()->undo();
+    QCOMPARE(doc->world().frame, std::int64_t(37));
+    QCOMPARE(doc->world().velocity[0], velocity);
+    QVERIFY(compare->isTracking());
+    QCOMPARE(compare->world()->position, comparedAt37.position);
+    QCOMPARE(compare->world()->velocity, comparedAt37.velocity);
+    QCOMPARE(compare->world()->params, comparedAt37.params);
+    QCOMPARE(compare->startFrame(), std::int64_t(0));
+    QVERIFY(compare->restartFrames().empty());
+    QCOMPARE(compare->summary(), summary);
+    QVERIFY(plot->compareRestarts().empty());
+    const qsizetype last = plot->sampleCount() - 1;
+    QCOMPARE(plot->sampleFrame(last), std::int64_t(37));
+    QCOMPARE(plot->sampleCompareKineticEnergy(last), comparedAt37.kineticEnergy());
+    auto *energy = m_window->findChild<QLabel *>(QStringLiteral("energyLabel"));
+    QTRY_COMPARE(energy->text(), QStringLiteral("KE %1 (book), %2 (exact)")
+                                     .arg(readableNumber(doc->world().kineticEnergy(), 5),
+                                          readableNumber(comparedAt37.kineticEnergy(), 5)));
+    // It runs on as if the edit had never been made, to the bit.
+    doc->advance(20);
+    QCOMPARE(compare->world()->position, untouched.position);
+    QCOMPARE(compare->world()->velocity, untouched.velocity);
+    // Redone, it starts again at 37 as the edit did.
+    for (int k = 0; k < 20; ++k)
+        QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+    QCOMPARE(doc->world().frame, std::int64_t(37));
+    doc->undoStack()->redo();
+    QCOMPARE(compare->world()->velocity, doc->world().velocity);
+    QCOMPARE(compare->startFrame(), std::int64_t(37));
 }
 
 void TestMainWindow::deleteMidRunKeepsTheRunBeforeIt()
