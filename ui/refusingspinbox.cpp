@@ -23,6 +23,8 @@ QString refusalMessage(const Refusing &box, double refused, const QLocale &local
     const QString kept = box.shown(box.current());
     if (box.refusal() == Refusing::Refusal::TooSmall)
         return QCoreApplication::translate("marbles", "%1 is closer to 0 than a number can be here: it stays %2.").arg(typed, kept);
+    if (box.refusal() == Refusing::Refusal::Empty)
+        return QCoreApplication::translate("marbles", "The field was left empty: it stays %1.").arg(kept);
     if (box.refusal() == Refusing::Refusal::NotANumber)
         return QCoreApplication::translate("marbles", "%1 is not a number: it stays %2.").arg(typed, kept);
     if (box.refusal() == Refusing::Refusal::NotWhole)

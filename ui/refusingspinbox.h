@@ -35,6 +35,7 @@ public:
         NotWhole,   ///< anything but digits in a whole-number field ("2,5", "1e3" substeps)
         NotANumber, ///< no number at all ("abc", "2x5"): kept as typed, not cut to one
         TooSmall,   ///< a number closer to 0 than a double can be ("1e-400")
+        Empty,      ///< nothing typed: the field emptied and left so
     };
     Refusal refusal() const { return m_refusal; }
     /// Whether the last refusal was of a text the field cannot read as a number as written, rather
@@ -141,8 +142,10 @@ public:
             refuse(Refusal::OutOfRange, value, bare);
         else if (!number && kDecimal && belowDoubles(bare))
             refuse(Refusal::TooSmall, unread, bare);
-        else if (!number && !bare.isEmpty())
-            refuse(Refusal::NotANumber, unread, bare);
+        else if ((!number && !bare.isEmpty()) || (number && std::isnan(value)))
+            refuse(Refusal::NotANumber, unread, bare); // "nan", which QLocale reads, went back without a word
+        else if (bare.isEmpty())
+            refuse(Refusal::Empty, unread, bare); // the number put back, with why
         else if (!kDecimal && number)
             refuse(Refusal::NotWhole, unread, bare); // "1e3": a number, not as digits
     }

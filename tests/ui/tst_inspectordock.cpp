@@ -265,10 +265,20 @@ void TestInspectorDock::fieldsFollowUndoAndReadPowersOfTen()
     typeInto(field, QStringLiteral("1e308"));
     QCOMPARE(m_document->world().radius[1], 15.0);
     QVERIFY2(errorText(*m_dock).startsWith(QStringLiteral("1e+308 is above this field's maximum")), qPrintable(errorText(*m_dock)));
-    // An edit that changes nothing (the field emptied) leaves no earlier refusal on show.
+    // An edit that changes nothing (Enter on the number shown) leaves no earlier refusal on show.
     typeInto(field, QString());
     QCOMPARE(m_document->world().radius[1], 15.0);
     QCOMPARE(errorText(*m_dock), QString());
+    // Emptied, the field gets its number back, and says so (it came back without a word).
+    field->setFocus();
+    field->selectAll();
+    QTest::keyClick(field, Qt::Key_Backspace);
+    QTest::keyClick(field, Qt::Key_Return);
+    QCOMPARE(m_document->world().radius[1], 15.0);
+    QCOMPARE(errorText(*m_dock), QStringLiteral("The field was left empty: it stays 15.00 px."));
+    typeInto(field, QStringLiteral("nan")); // read by QLocale as a number, and put back without a word
+    QCOMPARE(m_document->world().radius[1], 15.0);
+    QCOMPARE(errorText(*m_dock), QStringLiteral("nan is not a number: it stays 15.00 px."));
     // A field being typed in keeps its typing when the scene changes under it.
     field->setFocus();
     field->selectAll();

@@ -73,6 +73,8 @@ void typeInto(QAbstractSpinBox *spin, const QString &text)
     spin->setFocus();
     spin->selectAll();
     QTest::keyClicks(spin, text);
+    if (text.isEmpty())
+        QTest::keyClick(spin, Qt::Key_Backspace); // emptied
     QTest::keyClick(spin, Qt::Key_Return);
 }
 
@@ -591,6 +593,12 @@ void TestParametersDock::unreadableTextIsRefused_data()
     QTest::addRow("massScale 2x5") << false << "book" << "massScaleEdit" << "2x5" << noNumber;
     QTest::addRow("massScale e5") << false << "book" << "massScaleEdit" << "e5" << noNumber;
     QTest::addRow("friction abc") << false << "book" << "frictionEdit" << "abc" << noNumber;
+    // Read by QLocale as a number, and put back without a word.
+    QTest::addRow("friction nan") << false << "book" << "frictionEdit" << "nan" << noNumber;
+    QTest::addRow("massScale NaN") << false << "book" << "massScaleEdit" << "NaN" << noNumber;
+    // Emptied: the number comes back, and the line says why.
+    QTest::addRow("pushScale empty") << false << "book" << "pushScaleEdit" << "" << "was left empty";
+    QTest::addRow("substeps empty") << false << "impulse" << "substepsEdit" << "" << "was left empty";
     // Too small for a double: named as typed (it was cut to "1e-40" while typing).
     QTest::addRow("zeroThreshold 1e-400") << false << "book" << "zeroThresholdEdit" << "1e-400"
                                           << "closer to 0 than a number can be";
