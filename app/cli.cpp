@@ -14,6 +14,7 @@
 #include <cstring>
 #include <exception>
 #include <iostream>
+#include <new>
 #include <optional>
 #include <sstream>
 #include <utility>
@@ -187,6 +188,8 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
         } else {
             load = loadSceneFile(scene);
         }
+        if (!load.ok && load.outOfMemory)
+            throw OutOfMemory{load.error};
         if (!load.ok)
             throw InvalidInput{load.error};
         world = std::move(load.world);
@@ -596,6 +599,12 @@ int main(int argc, char **argv)
         return ExitInvalid;
     } catch (const WriteFailed &e) {
         std::cerr << e.message << '\n';
+        return ExitInternal;
+    } catch (const OutOfMemory &e) {
+        std::cerr << e.message << '\n';
+        return ExitInternal;
+    } catch (const std::bad_alloc &) {
+        std::cerr << "internal error: not enough memory (std::bad_alloc)\n";
         return ExitInternal;
     } catch (const std::exception &e) {
         std::cerr << "internal error: " << e.what() << '\n';

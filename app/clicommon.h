@@ -32,6 +32,11 @@ struct WriteFailed {
     std::string message;
 };
 
+/// Thrown when a scene cannot be read for want of memory (it may be valid: exit 1, not 2).
+struct OutOfMemory {
+    std::string message;
+};
+
 /// Thrown by parseOptions() for --help or -h among a command's options: its usage is printed.
 struct HelpRequested {};
 

@@ -30,6 +30,8 @@ struct SceneLoad {
     bool ok = false;
     World world;
     std::string error;
+    /// The scene could not be read for want of memory (the scene itself may be valid).
+    bool outOfMemory = false;
 };
 
 /// Parses scene JSON text. `source` names it in messages: "<source>: <place>: <rule>".
