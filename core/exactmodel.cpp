@@ -361,9 +361,14 @@ inline double straightContact(double dx, double dy, double dvx, double dvy, doub
 // a mantissa. |D + U sigma| = R 2^-f with s = sigma 2^(f - e).
 double straightContactScaled(double dx, double dy, double dvx, double dvy, double R, double sMax)
 {
+    // Every number finite, or no contact: std::max passes over a NaN after the first argument,
+    // and a NaN y (a marble's place, or a speed, once a world has left finite numbers) came back
+    // here from straightContact() for ever, until the stack ran out (a crash).
+    if (!(std::isfinite(dx) && std::isfinite(dy) && std::isfinite(dvx) && std::isfinite(dvy) && std::isfinite(R)))
+        return infinity;
     const double speed = std::max(std::abs(dvx), std::abs(dvy));
     const double size = std::max({std::abs(dx), std::abs(dy), R});
-    if (!(speed > 0.0) || !std::isfinite(speed) || !std::isfinite(size) || !(size > 0.0))
+    if (!(speed > 0.0) || !(size > 0.0))
         return infinity;
     int e = 0;
     int f = 0;

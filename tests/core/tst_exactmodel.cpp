@@ -1028,6 +1028,11 @@ void TestExactModel::nonFiniteWorldCarriedAlong_data()
     QTest::addRow("crowd (grid), NaN position") << 2000 << "nan position";
     QTest::addRow("crowd (grid), infinite speed") << 2000 << "infinite speed";
     QTest::addRow("crowd (grid), NaN radius") << 2000 << "nan radius";
+    // A NaN y, which std::max passes over, recursed between straightContact() and its scaled form
+    // until the stack ran out.
+    QTest::addRow("few (all pairs), NaN y") << 20 << "nan y";
+    QTest::addRow("crowd (grid), NaN y") << 2000 << "nan y";
+    QTest::addRow("crowd (grid), NaN speed y") << 2000 << "nan speed y";
 }
 
 void TestExactModel::nonFiniteWorldCarriedAlong()
@@ -1041,6 +1046,10 @@ void TestExactModel::nonFiniteWorldCarriedAlong()
     const int broken = marbles / 2;
     if (bad == "nan position")
         w.position[broken].x = std::numeric_limits<double>::quiet_NaN();
+    else if (bad == "nan y")
+        w.position[broken].y = std::numeric_limits<double>::quiet_NaN();
+    else if (bad == "nan speed y")
+        w.velocity[broken].y = std::numeric_limits<double>::quiet_NaN();
     else if (bad == "infinite speed")
         w.velocity[broken].y = std::numeric_limits<double>::infinity();
     else
