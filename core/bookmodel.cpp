@@ -205,14 +205,21 @@ void BookModel::step(World &world)
 
     prepare(world);
 
+    // Whether every number seen is finite. Seen are the places of the marbles skipped (their
+    // velocities are +0), every marble's place and velocity at the end of its turn, and every
+    // velocity a hit changed after it: if all are finite, so is the frame's end (World::step()
+    // skips its own check then).
+    bool finite = true;
     for (int i = 0; i < n; ++i) {
         Vec2 &p = pos[i];
         Vec2 &v = vel[i];
         Vec2 &a = acc[i];
 
         if (!gravity && !reference && isPositiveZero(v.x) && isPositiveZero(v.y) && isPositiveZero(a.x)
-            && isPositiveZero(a.y) && !isNegativeZero(p.x) && !isNegativeZero(p.y))
+            && isPositiveZero(a.y) && !isNegativeZero(p.x) && !isNegativeZero(p.y)) {
+            finite &= finiteBits(p);
             continue;
+        }
 
         const double r = world.radius[i];
 
@@ -308,6 +315,7 @@ void BookModel::step(World &world)
                 HitRecord &record = world.lastHit[i];
                 if (bookShareCollision(p, v, world.mass[i], pj, vel[j], mj, &record))
                     record.frame = producedFrame;
+                finite &= finiteBits(vel[j]);
             };
             if (!m_useMarbleGrid) {
                 for (int j = 0; j < n; ++j) {
@@ -389,6 +397,7 @@ void BookModel::step(World &world)
         // 8. A force acts for one frame only: the acceleration starts again from zero.
         a.x = 0;
         a.y = 0;
+        finite &= finiteBits(p) & finiteBits(v);
 
         // The grid's record of i (at infinity if i looked for marbles in it) follows i. After a
         // hit p is old again, in the bucket i was in (prepare() checked that the records are the
@@ -402,6 +411,7 @@ void BookModel::step(World &world)
             }
         }
     }
+    m_leftAllFinite = finite;
 }
 
 // The broad phase. A hit needs distance < r_i + r_j <= 2 rMax (marbles) or <= r_i <= rMax

@@ -146,6 +146,7 @@ public:
 
     /// Advances one frame. Consumes pending pushes (acceleration) and leaves it zero.
     void step(World &world) override;
+    bool leftAllFinite() const override { return m_leftAllFinite; }
 
     /// Reference mode (true): the plain transcription, all pairs and no skipping of sleeping
     /// marbles or zero terms. For tests and benchmarks; the results are the same bits either way.
@@ -156,6 +157,9 @@ private:
     std::span<const int> pinCandidates(Vec2 oldPosition, Vec2 newPosition);
 
     bool m_forceAllPairs = false;
+    // Every position and velocity finite after the last step: each one the step wrote, and each
+    // marble's it skipped, was seen finite on the way.
+    bool m_leftAllFinite = false;
     bool m_useMarbleGrid = false;
     bool m_usePinGrid = false;
     MovingGrid m_marbleGrid; // every marble but the oversize ones

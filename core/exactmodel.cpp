@@ -1052,6 +1052,8 @@ void ExactModel::endFrame(World &world)
     // the frame inside the walls ends it inside: on the wall it went through, not moving out.
     const bool keepInside = m_walls && !m_noGravity;
     setNow(1.0);
+    // Whether every number written is finite (World::step() skips its own check then).
+    bool finite = true;
     for (int i = 0; i < n; ++i) {
         if (i + makeReadyAhead < n) {
             const int ahead = m_body[i + makeReadyAhead].id;
@@ -1074,7 +1076,9 @@ void ExactModel::endFrame(World &world)
             atRest += (std::bit_cast<std::uint64_t>(v.x) | std::bit_cast<std::uint64_t>(v.y)) == 0;
         world.position[m_body[i].id] = p;
         world.velocity[m_body[i].id] = v;
+        finite &= finiteBits(p) & finiteBits(v);
     }
+    m_leftAllFinite = finite;
     m_endedAtRest = countRest ? atRest + lastSleepingCount() : -1;
     m_endedCount = world.marbleCount();
     m_world = nullptr;
@@ -2119,6 +2123,7 @@ void ExactModel::step(World &world)
     m_collisionCount = 0;
     m_frozenCount = 0;
     m_pinchedCount = 0;
+    m_leftAllFinite = n == 0;
     if (n == 0)
         return;
     beginFrame(world);

@@ -124,6 +124,7 @@ public:
     /// The frozen marbles, and the marbles wider than the stage stopped between its walls (one
     /// that met a wall moving across it: kinetic energy lost, whatever e), each counted once.
     int lastHeldCount() const override { return m_frozenCount + m_pinchedCount; }
+    bool leftAllFinite() const override { return m_leftAllFinite; }
 
 private:
     enum class EventKind : std::uint8_t { Wall, Pin, Pair, Cross, RecheckPin, RecheckPair, None };
@@ -394,6 +395,9 @@ private:
     std::int64_t m_collisionCount = 0;
     int m_frozenCount = 0;
     int m_pinchedCount = 0; // marbles too wide for the stage stopped between its walls this frame
+    // Every marble finite after the last step: those endFrame() wrote, checked on the way, and
+    // the sleepers kept in the layer, finite when they joined it and the same bits since.
+    bool m_leftAllFinite = false;
 };
 
 } // namespace marbles

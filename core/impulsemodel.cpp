@@ -435,6 +435,7 @@ void ImpulseModel::step(World &world)
         rMax = std::max(rMax, world.radius[i]);
         rSum += world.radius[i];
     }
+    m_leftAllFinite = n == 0;
     if (n == 0)
         return;
 
@@ -467,6 +468,8 @@ void ImpulseModel::step(World &world)
     wakeSleepers(world);
 
     const std::size_t changedLimit = static_cast<std::size_t>(n / partialSortShare);
+    // Whether every place and velocity settled is finite (World::step() skips its own check then).
+    bool finite = true;
     for (int s = 0; s < substeps; ++s) {
         // Semi-implicit Euler: the new velocity moves the marble. A sleeper's step would be
         // v = 0 * damping + 0 = +0 and p += 0: nothing, so it is skipped. A marble that starts
@@ -567,6 +570,7 @@ void ImpulseModel::step(World &world)
                     vel.y = 0.0;
             }
             p[b.id] = {b.x, b.y};
+            finite &= finiteBits(Vec2{b.x, b.y}) & finiteBits(vel);
             // Asleep for the next sub-step: at rest all through this one (so the Euler step did
             // not move it) and clear of everything. A zero coordinate could be -0, which the
             // skipped "p += 0" would have turned into +0: such a marble stays awake.
@@ -575,7 +579,8 @@ void ImpulseModel::step(World &world)
             // One that falls asleep has not moved since the sort (it was at rest and clear), so
             // its slot holds what the next sort would put there but for the flag, set here; one
             // that stays awake is listed for the next sort to read again.
-            const bool sleepy = m_sleepy[b.id] == 2 && clear && b.x != 0.0 && b.y != 0.0;
+            // (In finite numbers: a sleeper's place is then known to be finite while it sleeps.)
+            const bool sleepy = m_sleepy[b.id] == 2 && clear && b.x != 0.0 && b.y != 0.0 && finiteBits(Vec2{b.x, b.y});
             m_sleepy[b.id] = sleepy ? 1 : 0;
             if (sleepy) {
                 m_sleepPosition[b.id] = {b.x, b.y};
@@ -622,6 +627,7 @@ void ImpulseModel::step(World &world)
             m_sorted = false;
     }
 
+    m_leftAllFinite = finite;
     if (!(m_sleepStage == stage))
         m_sleepStage = stage;
     if (m_sleepPins != world.pins)

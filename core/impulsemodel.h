@@ -39,6 +39,7 @@ public:
     /// Advances `world` one frame. Consumes pending pushes as an instant velocity change;
     /// leaves acceleration zero; does not touch world.frame.
     void step(World &world) override;
+    bool leftAllFinite() const override { return m_leftAllFinite; }
 
     /// Marbles asleep after the last step (they cost next to nothing in the next one).
     int sleepingCount() const { return m_sleeperCount; }
@@ -108,6 +109,9 @@ private:
     // position and radius it was asleep with; plus the pins and stage it was checked against.
     LargeVector<unsigned char> m_sleepy;
     int m_sleeperCount = 0;
+    // Every position and velocity finite after the last step: each marble's the step settled,
+    // seen on the way, and the sleepers', finite when they fell asleep and the same bits since.
+    bool m_leftAllFinite = false;
     LargeVector<Vec2> m_sleepPosition;
     LargeVector<double> m_sleepRadius;
     std::vector<Vec2> m_sleepPins;

@@ -1,6 +1,8 @@
 #pragma once
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 namespace marbles {
 
@@ -46,6 +48,16 @@ inline Vec2 unitOrZero(Vec2 u)
 inline bool isFinite(Vec2 u)
 {
     return std::isfinite(u.x) && std::isfinite(u.y);
+}
+
+/// isFinite(u) without a branch, from the bits (an exponent of all ones is an infinity or a
+/// NaN): for a model's loops that note on the way whether every number they wrote is finite, one
+/// AND a value, where a branch or a chain of floating-point sums cost a loop over resting
+/// marbles a tenth of its time.
+inline bool finiteBits(Vec2 u)
+{
+    constexpr std::uint64_t exponent = 0x7ff0000000000000;
+    return ((std::bit_cast<std::uint64_t>(u.x) & exponent) != exponent) & ((std::bit_cast<std::uint64_t>(u.y) & exponent) != exponent);
 }
 
 } // namespace marbles

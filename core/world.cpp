@@ -204,7 +204,7 @@ StepResult World::step()
     ++frame;
 
     StepResult result;
-    result.badMarble = firstNonFiniteMarble();
+    result.badMarble = m_stepper->leftAllFinite() ? -1 : firstNonFiniteMarble();
     result.finite = result.badMarble < 0;
     result.heldMarbles = m_stepper->lastHeldCount();
     return result;
