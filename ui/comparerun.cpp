@@ -106,6 +106,11 @@ void CompareRun::onSceneChanged(SceneDocument::Change change)
     const SceneDocument::EditCause cause = m_document->currentEdit();
     if (keepsMarbles && cause.undoing && takeBackEditRestart(cause.serial))
         return;
+    // An edit undone or redone where the run shown never had it (stepped back before its frame,
+    // or past it and on again) leaves the scene as it was: the comparison runs on as it was (it
+    // started again from the scene, its own run before lost).
+    if (keepsMarbles && cause.changedNothing)
+        return;
     // A marble removed or put back, which the kept frames followed: they now have the marbles the
     // scene has (the world still has its old ones).
     const bool followed = change == SceneDocument::Change::Structure && m_followedStructure;

@@ -5,7 +5,9 @@
 
 #include <QCoreApplication>
 
+#include <bit>
 #include <cassert>
+#include <cstdint>
 #include <utility>
 
 namespace marbles {
@@ -53,18 +55,28 @@ namespace {
 // A scripted push is a click at a fixed stage point, and its force grows with the distance from
 // the marble's centre (PHYSICS.md, "Push"). When a teacher moves a marble, its clicks still to
 // come move with it, so the demonstration pushes it as before instead of flinging it from afar.
-void shiftComingPushes(World &world, int marble, Vec2 from, Vec2 to)
+void shiftComingPushes(std::vector<Push> &pushes, int marble, std::int64_t frame, Vec2 from, Vec2 to)
 {
     const double dx = to.x - from.x;
     const double dy = to.y - from.y;
     if (dx == 0.0 && dy == 0.0)
         return;
-    for (Push &push : world.pushes) {
-        if (push.marble == marble && push.frame >= world.frame) {
+    for (Push &push : pushes) {
+        if (push.marble == marble && push.frame >= frame) {
             push.at.x += dx;
             push.at.y += dy;
         }
     }
+}
+
+// The same bits: an edit that sets -0 where +0 was changes a run (the models tell them apart).
+bool sameBits(const MarbleState &a, const MarbleState &b)
+{
+    const auto same = [](double x, double y) { return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y); };
+    return same(a.position.x, b.position.x) && same(a.position.y, b.position.y) && same(a.velocity.x, b.velocity.x)
+        && same(a.velocity.y, b.velocity.y) && same(a.acceleration.x, b.acceleration.x)
+        && same(a.acceleration.y, b.acceleration.y) && same(a.radius, b.radius) && same(a.mass, b.mass)
+        && a.hasMass == b.hasMass;
 }
 
 } // namespace
@@ -87,8 +99,8 @@ SetMarbleCommand::SetMarbleCommand(SceneDocument *document, int marble, const Ma
     setText(atFrame(text, m_frame));
 }
 
-void SetMarbleCommand::applyAtItsFrame(std::int64_t frame, const MarbleState &state, const MarbleState &other,
-                                       bool mayRunOn)
+bool SetMarbleCommand::applyAtItsFrame(std::int64_t frame, const MarbleState &state, const MarbleState &other,
+                                       bool mayRunOn, const std::vector<Push> &pushes)
 {
     // Undone or redone at another frame, the edit's values belong to its own (applied where the
     // marble is now, they moved it back to where it was at the edit and set it going again, and
@@ -100,10 +112,15 @@ void SetMarbleCommand::applyAtItsFrame(std::int64_t frame, const MarbleState &st
     // - where the frame is no longer kept, only what the edit changed is set on the marble as it is.
     World &world = m_document->editableWorld();
     const std::int64_t now = world.frame;
-    if (now == frame || ((now > frame || mayRunOn) && m_document->goToFrame(frame)))
+    const bool there = now == frame || ((now > frame || mayRunOn) && m_document->goToFrame(frame));
+    const MarbleState was = MarbleState::of(world, m_marble);
+    if (there)
         state.applyTo(world, m_marble);
     else
         state.applyChangesTo(world, m_marble, other, now > frame);
+    const bool changed = !sameBits(MarbleState::of(world, m_marble), was) || !(world.pushes == pushes);
+    world.pushes = pushes;
+    return changed;
 }
 
 void SetMarbleCommand::redo()
@@ -112,16 +129,14 @@ void SetMarbleCommand::redo()
     assert(m_marble >= 0 && m_marble < world.marbleCount());
     if (m_marble < 0 || m_marble >= world.marbleCount())
         return;
-    applyAtItsFrame(m_frame, m_after, m_before, true);
     if (!m_pushesKept) {
         m_pushesBefore = world.pushes;
-        shiftComingPushes(world, m_marble, m_before.position, m_after.position);
         m_pushesAfter = world.pushes;
+        shiftComingPushes(m_pushesAfter, m_marble, m_frame, m_before.position, m_after.position);
         m_pushesKept = true;
-    } else {
-        world.pushes = m_pushesAfter;
     }
-    m_document->applyChange(SceneDocument::Change::Marbles, {m_serial, false});
+    const bool changed = applyAtItsFrame(m_frame, m_after, m_before, true, m_pushesAfter);
+    m_document->applyChange(SceneDocument::Change::Marbles, {m_serial, false, !changed});
 }
 
 void SetMarbleCommand::undo()
@@ -130,10 +145,8 @@ void SetMarbleCommand::undo()
     assert(m_marble >= 0 && m_marble < world.marbleCount());
     if (m_marble < 0 || m_marble >= world.marbleCount())
         return;
-    applyAtItsFrame(m_undoFrame, m_before, m_after, false);
-    if (m_pushesKept)
-        world.pushes = m_pushesBefore;
-    m_document->applyChange(SceneDocument::Change::Marbles, {m_serial, true});
+    const bool changed = applyAtItsFrame(m_undoFrame, m_before, m_after, false, m_pushesKept ? m_pushesBefore : world.pushes);
+    m_document->applyChange(SceneDocument::Change::Marbles, {m_serial, true, !changed});
 }
 
 int SetMarbleCommand::id() const

@@ -61,7 +61,9 @@ private:
     std::uint64_t m_serial; // the document's newEditSerial() for it (CompareRun keeps what its undo gives back)
     /// Writes `state` (whose counterpart is `other`) at the edit's frame, running the scene on to
     /// it when `mayRunOn`; see the .cpp.
-    void applyAtItsFrame(std::int64_t frame, const MarbleState &state, const MarbleState &other, bool mayRunOn);
+    /// Returns whether the marble or the pushes changed (after any move to `frame`).
+    bool applyAtItsFrame(std::int64_t frame, const MarbleState &state, const MarbleState &other, bool mayRunOn,
+                         const std::vector<Push> &pushes);
     // The scene's scripted pushes before and after the move (filled on the first redo), so
     // that undo puts the click points back bit for bit.
     bool m_pushesKept = false;

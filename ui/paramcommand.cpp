@@ -87,14 +87,16 @@ SetParamCommand::SetParamCommand(SceneDocument *document, const QString &key, co
 
 void SetParamCommand::redo()
 {
+    const bool changed = !(ParamState::of(m_document->world()) == m_after);
     m_after.applyTo(m_document->editableWorld());
-    m_document->applyChange(SceneDocument::Change::Params, {m_serial, false});
+    m_document->applyChange(SceneDocument::Change::Params, {m_serial, false, !changed});
 }
 
 void SetParamCommand::undo()
 {
+    const bool changed = !(ParamState::of(m_document->world()) == m_before);
     m_before.applyTo(m_document->editableWorld());
-    m_document->applyChange(SceneDocument::Change::Params, {m_serial, true});
+    m_document->applyChange(SceneDocument::Change::Params, {m_serial, true, !changed});
 }
 
 int SetParamCommand::id() const

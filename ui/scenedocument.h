@@ -162,6 +162,9 @@ public:
     struct EditCause {
         std::uint64_t serial = 0;
         bool undoing = false;
+        /// The edit left the scene as it was (undone where the run shown never had it: stepped
+        /// back before its frame, or past it and on again).
+        bool changedNothing = false;
     };
     /// A serial for a new edit command (never 0).
     std::uint64_t newEditSerial() { return ++m_editSerials; }

@@ -592,8 +592,10 @@ void TestCompareRun::randomSessionFollowsTheRules()
     // or undo starts it again from the document's state at that frame, keeping its earlier
     // frames, to which Step Back returns past the edit, except an undo at the edit's frame with
     // the comparison still on the start the edit made there (or on later ones made there), which
-    // gives back the comparison before the edit and its starts. After every action the comparison
-    // must hold the oracle's bits, and its largest gap must be the largest since its latest start.
+    // gives back the comparison before the edit and its starts, and an undo that leaves the scene
+    // as the run shown had it (an edit it never had: stepped back before the edit's frame), which
+    // changes nothing. After every action the comparison must hold the oracle's bits, and its
+    // largest gap must be the largest since its latest start.
     QFETCH(QString, preset);
     QFETCH(ModelKind, own);
     QFETCH(ModelKind, compared);
@@ -624,6 +626,32 @@ void TestCompareRun::randomSessionFollowsTheRules()
         std::vector<std::int64_t> startsBefore;
     };
     std::vector<OracleEdit> edits;
+    // The document at each frame of the run shown, as it was run or edited there.
+    std::map<std::int64_t, World> docAt{{doc.world().frame, doc.world()}};
+    const auto sameScene = [](const World &a, const World &b) {
+        return sameDynamics(a, b) && a.radius == b.radius && a.mass == b.mass && a.params == b.params && a.pushes == b.pushes;
+    };
+    int unchanged = 0;
+    // The document went back to an earlier frame of its run (Step Back, or an undo that goes to
+    // its edit's frame first): the comparison too.
+    const auto backTo = [&] {
+        const World &w = doc.world();
+        docAt.erase(docAt.upper_bound(w.frame), docAt.end());
+        while (starts.size() > 1 && w.frame < starts.back())
+            starts.pop_back();
+        const auto kept = oracleAt.find(w.frame);
+        if (w.frame < starts.front() || (w.frame == starts.front() && starts.size() == 1) || kept == oracleAt.end()) {
+            restartOracle();
+            edits.clear(); // (a restart forgets what the undos of edits would give back)
+        } else {
+            // Its state then, with the parameters of now (Step Back does not undo edits).
+            oracle = kept->second;
+            oracle.params = w.params;
+            oracle.params.model = compared;
+            oracleAt.erase(oracleAt.upper_bound(w.frame), oracleAt.end());
+            gapAt.erase(gapAt.upper_bound(w.frame), gapAt.end());
+        }
+    };
     int restarts = 0;
     int backs = 0;
     int takenBack = 0;
@@ -641,6 +669,7 @@ void TestCompareRun::randomSessionFollowsTheRules()
             what = QStringLiteral("%1 frames").arg(frames);
             for (int f = 0; f < frames; ++f) {
                 doc.step();
+                docAt[w.frame] = w;
                 QVERIFY(oracle.step().finite);
                 oracleAt[oracle.frame] = oracle;
                 gapAt[oracle.frame] = gapBetween(w, oracle).px;
@@ -653,19 +682,7 @@ void TestCompareRun::randomSessionFollowsTheRules()
             what = QStringLiteral("back %1 frames").arg(frames);
             for (int f = 0; f < frames && doc.stepBack(); ++f) {
                 ++backs;
-                while (starts.size() > 1 && w.frame < starts.back())
-                    starts.pop_back();
-                const auto kept = oracleAt.find(w.frame);
-                if (w.frame < starts.front() || (w.frame == starts.front() && starts.size() == 1) || kept == oracleAt.end()) {
-                    restartOracle();
-                } else {
-                    // Its state then, with the parameters of now (Step Back does not undo edits).
-                    oracle = kept->second;
-                    oracle.params = w.params;
-                    oracle.params.model = compared;
-                    oracleAt.erase(oracleAt.upper_bound(w.frame), oracleAt.end());
-                    gapAt.erase(gapAt.upper_bound(w.frame), gapAt.end());
-                }
+                backTo();
             }
             break;
         }
@@ -676,12 +693,16 @@ void TestCompareRun::randomSessionFollowsTheRules()
             doc.pushMarble(marble, {p.x + rng.uniform(-10.0, 10.0), p.y + rng.uniform(-10.0, 10.0)});
             oracle.acceleration = w.acceleration;
             oracleAt[oracle.frame] = oracle;
+            docAt[w.frame] = w;
             break;
         }
         case 6:
             what = QStringLiteral("back to start");
-            if (doc.rewind())
+            if (doc.rewind()) {
                 restartOracle(); // the start is before any frame the comparison ran
+                edits.clear();
+                docAt = {{w.frame, w}};
+            }
             break;
         default: {
             QString error;
@@ -690,15 +711,12 @@ void TestCompareRun::randomSessionFollowsTheRules()
                 what = QStringLiteral("undo");
                 const int command = doc.undoStack()->index() - 1;
                 const std::int64_t frameBefore = w.frame;
+                const World live = w;
                 doc.undoStack()->undo();
                 // A marble's edit undone later in the run takes the scene back to its frame first,
-                // as Step Back would: the comparison's frames after it go too.
-                if (w.frame < frameBefore) {
-                    while (starts.size() > 1 && w.frame < starts.back())
-                        starts.pop_back();
-                    oracleAt.erase(oracleAt.upper_bound(w.frame), oracleAt.end());
-                    gapAt.erase(gapAt.upper_bound(w.frame), gapAt.end());
-                }
+                // as Step Back would, and the comparison with it.
+                if (w.frame < frameBefore)
+                    backTo();
                 const auto found = std::find_if(edits.rbegin(), edits.rend(),
                                                 [command](const OracleEdit &e) { return e.command == command; });
                 if (found != edits.rend()) {
@@ -718,8 +736,18 @@ void TestCompareRun::randomSessionFollowsTheRules()
                         if (oracle.frame > starts.front())
                             gapAt[oracle.frame] = gapBetween(w, oracle).px;
                         ++takenBack;
+                        docAt[w.frame] = w;
                         break;
                     }
+                }
+                // Unchanged: the scene as it was just before the undo applied the edit's values (at
+                // the frame it went back to, with the parameters of now).
+                const auto shown = docAt.find(w.frame);
+                World base = w.frame < frameBefore && shown != docAt.end() ? shown->second : live;
+                base.params = live.params;
+                if (sameScene(base, w)) {
+                    ++unchanged; // the comparison runs on as it was
+                    break;
                 }
             } else if (rng.below(2) == 0) {
                 what = QStringLiteral("velocity of marble %1").arg(marble);
@@ -735,6 +763,7 @@ void TestCompareRun::randomSessionFollowsTheRules()
                 edits.push_back(before);
                 edits.back().command = command;
             }
+            docAt[w.frame] = w;
             // Started again from the document's state at this frame, its earlier frames kept.
             oracle = doc.world();
             oracle.params.model = compared;

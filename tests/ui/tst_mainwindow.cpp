@@ -1403,6 +1403,10 @@ void TestMainWindow::compareEditUndoneWhereItWasMadeIsTakenBack_data()
     QTest::newRow("friction scrubbed") << QStringLiteral("scrub");
     QTest::newRow("velocity, then run on") << QStringLiteral("run on");
     QTest::newRow("friction and velocity") << QStringLiteral("two");
+    // Undone where the run shown never had it, which changes nothing: the comparison runs on as
+    // it was (it started again from the scene there, its own run lost: a helper's finding).
+    QTest::newRow("velocity, stepped back before it") << QStringLiteral("back before");
+    QTest::newRow("velocity, stepped back past it and on") << QStringLiteral("back past");
 }
 
 void TestMainWindow::compareEditUndoneWhereItWasMadeIsTakenBack()
@@ -1417,7 +1421,9 @@ void TestMainWindow::compareEditUndoneWhereItWasMadeIsTakenBack()
     PlotDock *plot = m_window->plotDock();
     const CompareRun *compare = m_window->compareRun();
     compareExact()->trigger();
-    doc->advance(37);
+    doc->advance(34);
+    const World comparedAt34 = *compare->world();
+    doc->advance(3);
     const World comparedAt37 = *compare->world();
     const QString summary = compare->summary();
     QVERIFY(compare->largestGapPx() > 0.0);
@@ -1426,7 +1432,7 @@ void TestMainWindow::compareEditUndoneWhereItWasMadeIsTakenBack()
         untouched.step();
     const Vec2 velocity = doc->world().velocity[0];
     int undos = 1;
-    if (edit == QLatin1String("velocity") || edit == QLatin1String("run on")) {
+    if (edit == QLatin1String("velocity") || edit == QLatin1String("run on") || edit.startsWith(QLatin1String("back"))) {
         QVERIFY(doc->setMarbleVelocity(0, {5.0, 0.0}).isEmpty());
     } else if (edit == QLatin1String("friction")) {
         QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
@@ -1444,6 +1450,31 @@ void TestMainWindow::compareEditUndoneWhereItWasMadeIsTakenBack()
     QCOMPARE(plot->compareRestarts(), std::vector<std::int64_t>{37});
     if (edit == QLatin1String("run on"))
         doc->advance(20); // the undo takes the scene back to frame 37 first
+    if (edit.startsWith(QLatin1String("back"))) {
+        // Left 3 times: frame 34, before the edit; past it and on: frame 42, the run computed
+        // again without the edit (the undo goes back to 37).
+        for (int k = 0; k < 3; ++k)
+            QTest::keyClick(m_window->stageView(), Qt::Key_Left);
+        if (edit == QLatin1String("back past")) {
+            for (int k = 0; k < 8; ++k)
+                QTest::keyClick(m_window->stageView(), Qt::Key_Right);
+            QCOMPARE(doc->world().frame, std::int64_t(42));
+        }
+        QCOMPARE(compare->startFrame(), std::int64_t(0)); // the comparison before the edit
+        QVERIFY(plot->compareRestarts().empty());
+        doc->undoStack()->undo();
+        const World &shown = edit == QLatin1String("back past") ? comparedAt37 : comparedAt34;
+        QCOMPARE(doc->world().frame, shown.frame);
+        QCOMPARE(compare->world()->position, shown.position);
+        QCOMPARE(compare->world()->velocity, shown.velocity);
+        QCOMPARE(compare->startFrame(), std::int64_t(0));
+        QVERIFY(compare->restartFrames().empty());
+        QVERIFY(plot->compareRestarts().empty());
+        doc->advance(static_cast<int>(57 - shown.frame));
+        QCOMPARE(compare->world()->position, untouched.position);
+        QCOMPARE(compare->world()->velocity, untouched.velocity);
+        return;
+    }
     if (undos == 2) {
         doc->undoStack()->undo(); // the velocity: the comparison is the scene with friction 0.05
         QCOMPARE(doc->world().frame, std::int64_t(37));
