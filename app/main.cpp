@@ -22,7 +22,8 @@ int main(int argc, char *argv[])
     parser.addHelpOption();
     parser.addVersionOption();
     parser.addPositionalArgument(QStringLiteral("scene"),
-                                 QCoreApplication::translate("main", "Scene file to open (*.marbles.json)."),
+                                 QCoreApplication::translate("main", "Scene file to open (*.marbles.json), or preset:ID "
+                                                                     "(see marbles-cli preset list)."),
                                  QStringLiteral("[scene]"));
     parser.process(app);
 
@@ -38,6 +39,6 @@ int main(int argc, char *argv[])
     // would have lost: opening the file again would only ask to save them, then drop them.
     const QString recovered = window.offerRecovery();
     if (!files.isEmpty() && (recovered.isEmpty() || QFileInfo(recovered) != QFileInfo(files.front())))
-        window.openFile(files.front());
+        window.openArgument(files.front());
     return QApplication::exec();
 }

@@ -1181,6 +1181,15 @@ bool MainWindow::openPreset(const QString &id)
     return true;
 }
 
+bool MainWindow::openArgument(const QString &argument)
+{
+    // "marbles preset:pachinko" said it could not open the file, where marbles-cli runs it.
+    const QString prefix = QStringLiteral("preset:");
+    if (argument.startsWith(prefix) && !QFileInfo::exists(argument))
+        return openPreset(argument.mid(prefix.size()));
+    return openFile(argument);
+}
+
 void MainWindow::open()
 {
     QString directory;

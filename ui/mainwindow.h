@@ -68,6 +68,9 @@ public:
     /// Opens a scene file: an invalid file shows the loader's message and leaves the scene as it
     /// was; unsaved changes are asked about first. Returns true when the file was opened.
     bool openFile(const QString &path);
+    /// Opens what the command line names: a scene file, or "preset:ID" (as marbles-cli reads it)
+    /// when no file of that name exists. Returns true when it was opened.
+    bool openArgument(const QString &argument);
     /// Saves the scene to `path` atomically; false (with a message) on failure.
     bool saveFile(const QString &path);
     /// Replaces the scene with preset `id` (unsaved changes are asked about first).

@@ -146,6 +146,7 @@ private Q_SLOTS:
     void compareOffersOnlyModelsThatCanRun();
     void comparisonStartsWithItsTotals();
     void compareSteppedBackPastAnEditMeetsAtTheRestart();
+    void commandLineOpensPresets();
     void compareEditUndoneWhereItWasMadeIsTakenBack_data();
     void compareEditUndoneWhereItWasMadeIsTakenBack();
     void deleteMidRunKeepsTheRunBeforeIt();
@@ -1393,6 +1394,21 @@ void TestMainWindow::compareSteppedBackPastAnEditMeetsAtTheRestart()
     QCOMPARE(plot->sampleCompareSpeed(last, 0), speedAt50);
     QVERIFY(plot->sampleCompareSpeed(last, 0) != plot->sampleSpeed(last, 0));
     QVERIFY(plot->compareRestarts().empty()); // stepped back past it
+}
+
+void TestMainWindow::commandLineOpensPresets()
+{
+    // "marbles preset:pachinko" opens the preset, as marbles-cli reads it ("cannot open the
+    // file" before); an unknown one is said, and the scene stays.
+    QVERIFY(m_window->openArgument(QStringLiteral("preset:pins")));
+    QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Preset: Marbles among pins (Example 2)")));
+    QCOMPARE(m_window->document()->world().pins.size(), std::size_t(24));
+    QVERIFY(!m_window->openArgument(QStringLiteral("preset:nope")));
+    QCOMPARE(m_window->statusBar()->currentMessage(), QStringLiteral("No preset named \"nope\"."));
+    QCOMPARE(m_window->document()->world().pins.size(), std::size_t(24));
+    // Anything else is a file.
+    QVERIFY(!m_window->openArgument(QStringLiteral("/nonexistent/preset:pins")));
+    QCOMPARE(m_window->document()->world().pins.size(), std::size_t(24));
 }
 
 void TestMainWindow::compareEditUndoneWhereItWasMadeIsTakenBack_data()
