@@ -21,14 +21,6 @@ bool isNegativeZero(double x)
     return x == 0.0 && std::signbit(x);
 }
 
-// Same bits (so +0 and -0 differ, and a NaN equals itself): the grid's copy of a position is
-// valid only when it is the position.
-bool sameBits(Vec2 a, Vec2 b)
-{
-    return std::bit_cast<std::uint64_t>(a.x) == std::bit_cast<std::uint64_t>(b.x)
-        && std::bit_cast<std::uint64_t>(a.y) == std::bit_cast<std::uint64_t>(b.y);
-}
-
 // True when sqrt(d2) >= reach is certain: d2 > 1.0000001 reach^2 means d > reach (1 + 4e-8),
 // far beyond rounding. Only used while reach^2 is a normal number (no underflow).
 bool isClearMiss(double d2, double reach)

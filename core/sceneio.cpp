@@ -667,12 +667,9 @@ private:
 
     static std::size_t heapString(std::size_t length) { return length > 15 ? length + kHeapBlock : 0; }
 
-    // What the World built from the document takes for each marble, pin and push, on top of the
-    // document, which lives until the World is built: 10 million marbles "{}", a 30 MB file
-    // within the document's budget, took 3.5 GB.
-    static constexpr std::size_t kWorldMarble = 3 * sizeof(Vec2) + 2 * sizeof(double) + sizeof(MarbleInfo) + sizeof(HitRecord);
-    static constexpr std::size_t kWorldPin = sizeof(Vec2) + sizeof(std::string);
-    static constexpr std::size_t kWorldPush = sizeof(Push);
+    // What the World built from the document takes for each marble, pin and push (World::
+    // kMarbleBytes, kPinBytes, kPushBytes) comes on top of the document, which lives until the World
+    // is built: 10 million marbles "{}", a 30 MB file within the document's budget, took 3.5 GB.
 
     /// The World's cost of the object about to begin, when it is an element of the scene's
     /// marbles, pins or pushes.
@@ -681,7 +678,7 @@ private:
         if (m_path.size() != 2 || m_path[0].isArray || !m_path[1].isArray)
             return 0;
         const std::string &list = m_path[0].key;
-        return list == "marbles" ? kWorldMarble : list == "pins" ? kWorldPin : list == "pushes" ? kWorldPush : 0;
+        return list == "marbles" ? World::kMarbleBytes : list == "pins" ? World::kPinBytes : list == "pushes" ? World::kPushBytes : 0;
     }
 
     /// Counts a value about to be added (its place in the parent plus `own` bytes); false once

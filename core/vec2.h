@@ -50,6 +50,18 @@ inline bool isFinite(Vec2 u)
     return std::isfinite(u.x) && std::isfinite(u.y);
 }
 
+/// The same bits: +0 and -0 differ, and a NaN equals itself (a copy that is valid only while it
+/// is the value).
+inline bool sameBits(double a, double b)
+{
+    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+
+inline bool sameBits(Vec2 a, Vec2 b)
+{
+    return sameBits(a.x, b.x) && sameBits(a.y, b.y);
+}
+
 /// isFinite(u) without a branch, from the bits (an exponent of all ones is an infinity or a
 /// NaN): for a model's loops that note on the way whether every number they wrote is finite, one
 /// AND a value, where a branch or a chain of floating-point sums cost a loop over resting

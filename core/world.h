@@ -154,6 +154,17 @@ public:
 
     /// Number of marbles.
     int marbleCount() const { return static_cast<int>(radius.size()); }
+    /// What each marble, pin and scripted push takes in the World's arrays, bytes (text held on
+    /// the heap by strings not counted).
+    static constexpr std::size_t kMarbleBytes =
+        3 * sizeof(Vec2) + 2 * sizeof(double) + sizeof(MarbleInfo) + sizeof(HitRecord);
+    static constexpr std::size_t kPinBytes = sizeof(Vec2) + sizeof(std::string);
+    static constexpr std::size_t kPushBytes = sizeof(Push);
+    /// About what this World takes, bytes, by those costs.
+    std::size_t approximateBytes() const
+    {
+        return sizeof(World) + radius.size() * kMarbleBytes + pins.size() * kPinBytes + pushes.size() * kPushBytes;
+    }
 
     /// Appends a marble; mass = massScale * radius unless `explicitMass` > 0. Returns its index.
     int addMarble(Vec2 p, double r, Vec2 v = {}, double explicitMass = 0.0);

@@ -166,13 +166,9 @@ void CompareRun::rememberEditRestart(std::uint64_t serial)
         // The worlds kept stay within 64 MiB (a 20,000-marble crowd's is about 5 MB, one of
         // the book's figures a few kB): the oldest edits' undos start the comparison again instead.
         constexpr std::size_t budget = std::size_t{64} << 20;
-        const auto bytes = [](const World &w) {
-            return sizeof(World) + w.position.size() * (3 * sizeof(Vec2) + 2 * sizeof(double) + sizeof(MarbleInfo) + sizeof(HitRecord))
-                + w.pins.size() * sizeof(Vec2);
-        };
-        std::size_t kept = bytes(edit.before);
+        std::size_t kept = edit.before.approximateBytes();
         for (auto k = m_editRestarts.size(); k-- > 0;) {
-            kept += m_editRestarts[k].copyOfScene ? 0 : bytes(m_editRestarts[k].before);
+            kept += m_editRestarts[k].copyOfScene ? 0 : m_editRestarts[k].before.approximateBytes();
             if (kept > budget) {
                 m_editRestarts.erase(m_editRestarts.begin(), m_editRestarts.begin() + static_cast<std::ptrdiff_t>(k) + 1);
                 break;

@@ -5,9 +5,7 @@
 
 #include <QCoreApplication>
 
-#include <bit>
 #include <cassert>
-#include <cstdint>
 #include <utility>
 
 namespace marbles {
@@ -70,13 +68,10 @@ void shiftComingPushes(std::vector<Push> &pushes, int marble, std::int64_t frame
 }
 
 // The same bits: an edit that sets -0 where +0 was changes a run (the models tell them apart).
-bool sameBits(const MarbleState &a, const MarbleState &b)
+bool sameState(const MarbleState &a, const MarbleState &b)
 {
-    const auto same = [](double x, double y) { return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y); };
-    return same(a.position.x, b.position.x) && same(a.position.y, b.position.y) && same(a.velocity.x, b.velocity.x)
-        && same(a.velocity.y, b.velocity.y) && same(a.acceleration.x, b.acceleration.x)
-        && same(a.acceleration.y, b.acceleration.y) && same(a.radius, b.radius) && same(a.mass, b.mass)
-        && a.hasMass == b.hasMass;
+    return sameBits(a.position, b.position) && sameBits(a.velocity, b.velocity) && sameBits(a.acceleration, b.acceleration)
+        && sameBits(a.radius, b.radius) && sameBits(a.mass, b.mass) && a.hasMass == b.hasMass;
 }
 
 } // namespace
@@ -118,7 +113,7 @@ bool SetMarbleCommand::applyAtItsFrame(std::int64_t frame, const MarbleState &st
         state.applyTo(world, m_marble);
     else
         state.applyChangesTo(world, m_marble, other, now > frame);
-    const bool changed = !sameBits(MarbleState::of(world, m_marble), was) || !(world.pushes == pushes);
+    const bool changed = !sameState(MarbleState::of(world, m_marble), was) || !(world.pushes == pushes);
     world.pushes = pushes;
     return changed;
 }

@@ -11,7 +11,6 @@
 
 #include <sys/stat.h>
 
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -36,11 +35,6 @@ std::string_view view(const QByteArray &bytes)
 QString q(const std::string &s)
 {
     return QString::fromStdString(s);
-}
-
-bool sameBits(double a, double b)
-{
-    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
 }
 
 /// A valid scene with every section filled: 4 marbles (so marbles[3] exists), 1 pin, 1 push.
