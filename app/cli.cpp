@@ -142,7 +142,17 @@ Options parseOptions(const std::vector<std::string> &args, std::initializer_list
 
 std::string sceneLabel(const std::string &scene)
 {
-    return isStandardStream(scene) ? std::string("stdin") : scene;
+    return isStandardStream(scene) ? std::string("stdin") : oneLine(scene);
+}
+
+std::string oneLine(std::string_view text)
+{
+    std::string line(text);
+    for (char &c : line) {
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F)
+            c = '?';
+    }
+    return line;
 }
 
 namespace {
@@ -595,19 +605,19 @@ int main(int argc, char **argv)
         std::cout << "usage:\n" << usage << notes;
         return written(ExitOk);
     } catch (const InvalidInput &e) {
-        std::cerr << e.message << '\n';
+        std::cerr << oneLine(e.message) << '\n';
         return ExitInvalid;
     } catch (const WriteFailed &e) {
-        std::cerr << e.message << '\n';
+        std::cerr << oneLine(e.message) << '\n';
         return ExitInternal;
     } catch (const OutOfMemory &e) {
-        std::cerr << e.message << '\n';
+        std::cerr << oneLine(e.message) << '\n';
         return ExitInternal;
     } catch (const std::bad_alloc &) {
         std::cerr << "internal error: not enough memory (std::bad_alloc)\n";
         return ExitInternal;
     } catch (const std::exception &e) {
-        std::cerr << "internal error: " << e.what() << '\n';
+        std::cerr << "internal error: " << oneLine(e.what()) << '\n';
         return ExitInternal;
     }
 }

@@ -417,6 +417,12 @@ void TestCli::invalidInputExitsTwo_data()
                                              << "--n: must be <= 1500000";
     QTest::addRow("unknown preset before its --out") << QStringList{"preset", "nosuch", "--out", "/nonexistent/x"}
                                                      << QByteArray() << "unknown preset";
+    // A name with a newline in it is said on one line, the newline as '?' (it split the message).
+    QTest::addRow("scene named across two lines") << QStringList{"check", "/nonexistent/a\nb.json"} << QByteArray()
+                                                  << "/nonexistent/a?b.json: cannot open the file";
+    QTest::addRow("--out named across two lines")
+        << QStringList{"run", "preset:pins", "--frames", "2", "--out", "/nonexistent/x\n/y.csv"} << QByteArray()
+        << "/nonexistent/x?/y.csv: cannot write";
     // Output paths are tried before the work: nothing printed (stress printed its whole table).
     QTest::addRow("stress csv into a missing folder")
         << QStringList{"stress", "--quick", "--only", "sparse gas", "--csv", "/nonexistent/dir/x.csv"} << QByteArray()
@@ -700,6 +706,19 @@ void TestCli::checkPrintsSummary()
     QCOMPARE(r.out.count('\n'), 1);
     QVERIFY2(r.out.contains("2 marbles") && r.out.contains("1 pin") && r.out.contains("model book"),
              r.out.constData());
+
+    // A file whose name holds a newline has its summary on one line all the same.
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("two\nlines.marbles.json"));
+    QFile file(path);
+    QVERIFY(file.open(QIODevice::WriteOnly));
+    file.write(validScene);
+    file.close();
+    const CliResult named = runCli({"check", path});
+    QCOMPARE(named.exitCode, 0);
+    QVERIFY2(named.out.startsWith(dir.filePath(QStringLiteral("two?lines.marbles.json")).toUtf8() + ": ok: "),
+             named.out.constData());
+    QCOMPARE(named.out.count('\n'), 1);
 }
 
 void TestCli::invalidSceneMessageIsTheContractsLine()
