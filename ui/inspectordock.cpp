@@ -42,7 +42,7 @@ void showValue(QDoubleSpinBox *box, double value, bool overTyping)
     if (box->hasFocus() && refusing && refusing->typing() && !overTyping)
         return;
     const QSignalBlocker blocker(box);
-    box->setValue(value);
+    showSceneValue(box, value);
 }
 
 } // namespace

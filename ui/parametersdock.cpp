@@ -361,14 +361,14 @@ void ParametersDock::setParams(const Params &params)
             field->setMinimum(value);
         if (!upperIsRule && value > field->maximum())
             field->setMaximum(value);
-        field->setValue(value);
+        showSceneValue(field, value);
     };
     show(m_massScale, params.massScale, true);
     show(m_friction, params.friction, true, params.model != ModelKind::Book);
     show(m_zeroThreshold, params.zeroThreshold, true);
     show(m_pushScale, params.pushScale, false);
     show(m_frameMs, params.frameMs, true);
-    m_restitution->setValue(params.restitution);
+    showSceneValue(m_restitution, params.restitution);
     show(m_gravityX, params.gravity.x, false);
     show(m_gravityY, params.gravity.y, false);
     show(m_substeps, params.substeps, true);

@@ -351,6 +351,19 @@ protected:
     }
 };
 
+/// Shows `value` in `box` as setValue() does, for a value set from the scene (an undo, a file
+/// opened), and selects the whole number when the box has the focus and its text changed: the
+/// line edit kept the old selection's length, so an undo from "0.5" back to "0.01 px/frame"
+/// selected "0.0" alone, and the 0.2 typed next was taken as 0.21.
+template<typename Box, typename Value>
+void showSceneValue(Box *box, Value value)
+{
+    const QString before = box->text();
+    box->setValue(value);
+    if (box->hasFocus() && box->text() != before)
+        box->selectAll();
+}
+
 /// A decimal spin box with that refusal.
 class RefusingDoubleSpinBox : public RefusingSpinBox<QDoubleSpinBox> {
 public:
