@@ -80,6 +80,9 @@ const QColor kKineticColour(0x33, 0x33, 0x33);
 // and a green for y looked like marble 1's bluish green): x solid, y dotted, each dashed the
 // more for a compared model.
 const QColor kMomentumColour(0x00, 0x00, 0xa0);
+/// The edit marks' grey, the comparison restarts', told apart by its dashes and dots: a colour
+/// of its own would come near a marble's.
+const QColor kEditMarkColour(0x75, 0x75, 0x75);
 
 /// The pen of the momentum's component `c` (0 x, 1 y), the comparison model's when `compared`.
 QPen momentumPen(int c, bool compared)
@@ -491,6 +494,7 @@ void PlotDock::reset(const World &world)
 {
     m_frames.clear();
     m_compareRestarts.clear();
+    m_editMarks.clear();
     forEachValueBuffer([](RingBuffer<double> &values) { values.clear(); });
 
     m_marbleCount = world.marbleCount();
@@ -547,11 +551,26 @@ void PlotDock::replayKeptFrames(const World &world, const World *compare, std::i
 
 void PlotDock::resample(const World &world, const World *compare)
 {
+    std::optional<SceneSample> before;
     if (!m_frames.isEmpty() && m_frames.last() == world.frame) {
+        before = newestSceneSample();
         m_frames.dropNewest(1);
         forEachValueBuffer([](RingBuffer<double> &values) { values.dropNewest(1); });
     }
     appendFrame(world, compare);
+    // Where the scene's lines now jump (from a sample before this one), the edit is marked; an
+    // edit undone there, which gives the frame its values as stepped again, is not.
+    if (before && m_frames.size() > 1) {
+        const SceneSample now = newestSceneSample();
+        const auto mark = std::find_if(m_editMarks.begin(), m_editMarks.end(),
+                                       [&world](const EditMark &m) { return m.frame == world.frame; });
+        if (mark != m_editMarks.end()) {
+            if (now.sameAs(mark->asStepped))
+                m_editMarks.erase(mark);
+        } else if (!now.sameAs(*before)) {
+            m_editMarks.push_back({world.frame, std::move(*before)});
+        }
+    }
     const QString model = modelLabel(world);
     if (model != m_models.last()) {
         // The lines before this frame are still the last model's (none but this frame: no line yet).
@@ -589,9 +608,43 @@ void PlotDock::unmarkCompareRestart(std::int64_t frame)
         m_dirty = true;
 }
 
+std::vector<std::int64_t> PlotDock::editMarks() const
+{
+    std::vector<std::int64_t> frames;
+    for (const EditMark &m : m_editMarks)
+        frames.push_back(m.frame);
+    return frames;
+}
+
+PlotDock::SceneSample PlotDock::newestSceneSample() const
+{
+    SceneSample sample;
+    sample.kinetic = m_kinetic.last();
+    sample.momentum = {m_momentum[0].last(), m_momentum[1].last()};
+    for (const std::vector<Track> *tracks : {&m_tracks, &m_parked}) {
+        for (const Track &t : *tracks)
+            sample.speeds.emplace_back(t.marble, t.speed.last());
+    }
+    return sample;
+}
+
+bool PlotDock::SceneSample::sameAs(const SceneSample &other) const
+{
+    if (!sameBits(kinetic, other.kinetic) || !sameBits(momentum, other.momentum))
+        return false;
+    for (const auto &[marble, speed] : speeds) {
+        for (const auto &[otherMarble, otherSpeed] : other.speeds) {
+            if (marble == otherMarble && !sameBits(speed, otherSpeed))
+                return false;
+        }
+    }
+    return true;
+}
+
 void PlotDock::cutAfter(std::int64_t frame)
 {
     std::erase_if(m_compareRestarts, [frame](std::int64_t restart) { return restart > frame; });
+    std::erase_if(m_editMarks, [frame](const EditMark &m) { return m.frame > frame; });
     // Frames grow along the buffer: the samples to forget are the newest ones.
     std::size_t later = 0;
     while (later < m_frames.size() && m_frames.at(m_frames.size() - 1 - later) > frame)
@@ -870,7 +923,13 @@ void PlotDock::refreshChart()
 
     // Speeds and the energy are never negative: their axes start at zero. The momentum's
     // components may be: its axis takes in zero and both signs where they occur.
-    const AxisRange time = n > 0 ? niceRange(m_rangeScratch, x(0), x(n - 1)) : niceRange(m_rangeScratch, 0.0, xOf(100));
+    // A mark at the newest frame would lie on the chart's right edge, where the frame hides it:
+    // the axis then reaches a frame further (to its next round number).
+    const bool markAtEnd = n > 0
+        && ((!m_editMarks.empty() && m_editMarks.back().frame >= m_frames.last())
+            || (m_restartMarks && !m_compareRestarts.empty() && m_compareRestarts.back() >= m_frames.last()));
+    const double end = n > 0 ? (markAtEnd ? xOf(m_frames.last() + 1) : x(n - 1)) : 0.0;
+    const AxisRange time = n > 0 ? niceRange(m_rangeScratch, x(0), end) : niceRange(m_rangeScratch, 0.0, xOf(100));
     applyRange(m_axisX, m_timeInSeconds ? time : wholeTicks(time));
     // A little room above the highest point: a line at a round maximum (Newton's cradle's 6
     // px/frame) ran along the chart's top edge, where it could hardly be seen.
@@ -886,6 +945,26 @@ void PlotDock::refreshChart()
     applyNonNegativeRange(m_axisSpeed, speedRange);
     applyNonNegativeRange(m_axisTotals, energyRange);
     applyRange(m_axisMomentum, momentumRange);
+    if (m_editMarkSeries) {
+        // Likewise at each edit that made the lines jump, from the ones the plot still holds.
+        QList<QPointF> marks;
+        const double top = m_axisSpeed->max();
+        for (const EditMark &m : m_editMarks) {
+            if (n > 0 && m.frame >= m_frames.at(0))
+                marks << QPointF(xOf(m.frame), 0.0) << QPointF(xOf(m.frame), top) << QPointF(xOf(m.frame), 0.0);
+        }
+        m_editMarkSeries->replace(marks);
+        bool changed = false;
+        for (QLegendMarker *marker : m_chart->legend()->markers(m_editMarkSeries)) {
+            changed = changed || marker->isVisible() != !marks.isEmpty();
+            marker->setVisible(!marks.isEmpty());
+        }
+        if (changed) { // as for the restarts' key below
+            updateLegendLabels();
+            m_chart->legend()->hide();
+            m_chart->legend()->show();
+        }
+    }
     if (m_restartMarks) {
         // Down and up at each restart, joined along the time axis, where the joins vanish.
         QList<QPointF> marks;
@@ -1389,6 +1468,7 @@ void PlotDock::remakeOverlays()
     deleteSeries(m_modelKey);
     deleteSeries(m_compareKey);
     deleteSeries(m_restartMarks);
+    deleteSeries(m_editMarkSeries);
     const bool comparing = !m_compareModel.isEmpty();
     m_kineticSeries = addTotalSeries(kKineticColour, m_axisTotals);
     if (comparing)
@@ -1420,6 +1500,17 @@ void PlotDock::remakeOverlays()
         for (QLegendMarker *marker : m_chart->legend()->markers(m_restartMarks))
             marker->setVisible(!m_compareRestarts.empty());
     }
+    m_editMarkSeries = new QLineSeries;
+    QPen editPen(kEditMarkColour, 1.5, Qt::DashDotLine);
+    editPen.setCapStyle(Qt::FlatCap);
+    m_editMarkSeries->setPen(editPen);
+    m_editMarkSeries->setName(tr("scene edited"));
+    m_chart->addSeries(m_editMarkSeries);
+    m_editMarkSeries->attachAxis(m_axisX);
+    m_editMarkSeries->attachAxis(m_axisSpeed);
+    for (QLegendMarker *marker : m_chart->legend()->markers(m_editMarkSeries))
+        marker->setVisible(false); // listed from the first mark on (refreshChart())
+    m_dirty = true;
     styleSeries();
     m_dirty = true;
 }
@@ -1534,6 +1625,8 @@ bool PlotDock::fullLegendFits() const
     // "kinetic e…", "moment…"; a teacher's finding).
     if (m_restartMarks && !m_compareRestarts.empty())
         entry(m_restartMarks->name());
+    if (m_editMarkSeries && !m_editMarks.empty())
+        entry(m_editMarkSeries->name());
     const std::array<QLineSeries *, 3> totals = sceneTotals();
     for (std::size_t k = 0; k < totals.size(); ++k) {
         if (totals[k] && totals[k]->isVisible())

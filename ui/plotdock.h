@@ -137,6 +137,12 @@ public:
     void unmarkCompareRestart(std::int64_t frame);
     /// The frames marked so, oldest first.
     const std::vector<std::int64_t> &compareRestarts() const { return m_compareRestarts; }
+    /// The frames where an edit made the scene's lines jump, oldest first: a velocity set, the
+    /// mass scale or a mass changed mid-run, or such a change carried back by Step Back (the
+    /// parameters keep their latest values, so the frame stepped back to is taken again with
+    /// them). A dotted line across the chart marks each ("scene edited"), so that the jump is not
+    /// read as energy from nowhere. An edit undone where it was made takes its mark away.
+    std::vector<std::int64_t> editMarks() const;
     /// Name of the comparison model plotted, or "" when none.
     QString compareModel() const { return m_compareModel; }
     /// Speed |v| of `marble` in the comparison model at sample `i`, px/frame; NaN when there was no
@@ -373,6 +379,23 @@ private:
     QLineSeries *m_compareKey = nullptr; ///< legend entry only, while comparing: "exact (dashed)"
     QLineSeries *m_restartMarks = nullptr; ///< while comparing: a dotted line at each restart
     std::vector<std::int64_t> m_compareRestarts;
+    /// The scene's values at one sample: what a jump in its lines is seen in.
+    struct SceneSample {
+        double kinetic = 0.0;
+        Vec2 momentum;
+        std::vector<std::pair<int, double>> speeds; ///< (marble, speed) of every sampled marble
+        /// The same bits, marble by marble where both have a marble's speed.
+        bool sameAs(const SceneSample &other) const;
+    };
+    /// The newest sample's scene values (there must be one).
+    SceneSample newestSceneSample() const;
+    /// A frame where an edit made the lines jump, with the values it had as stepped.
+    struct EditMark {
+        std::int64_t frame = 0;
+        SceneSample asStepped;
+    };
+    std::vector<EditMark> m_editMarks;
+    QLineSeries *m_editMarkSeries = nullptr; ///< a dotted line at each edit mark
     QCheckBox *m_showKinetic = nullptr;
     QCheckBox *m_showMomentum = nullptr;
     QRadioButton *m_frameAxis = nullptr;

@@ -150,6 +150,7 @@ private Q_SLOTS:
     void commandLineOpensPresets();
     void compareEditUndoneWhereItWasMadeIsTakenBack_data();
     void compareEditUndoneWhereItWasMadeIsTakenBack();
+    void plotMarksEditsThatMakeItsLinesJump();
     void deleteMidRunKeepsTheRunBeforeIt();
     void addUndoneKeepsTheRunBeforeIt();
     void coloursFollowTheMarbles();
@@ -858,6 +859,35 @@ void TestMainWindow::undoInAFieldSelectsItsWholeNumber()
     QTest::keyClicks(x, QStringLiteral("70"));
     QTest::keyClick(x, Qt::Key_Return);
     QCOMPARE(doc->world().position[0].x, 70.0);
+}
+
+void TestMainWindow::plotMarksEditsThatMakeItsLinesJump()
+{
+    // A helper's finding, with the plot's CSV: the mass scale set to 2.5 at frame 100, run on,
+    // and Left back to 70: the energy read 487.8 to frame 69 and 770.6 at 70, a rise a class
+    // would read as energy from nowhere, unmarked. The plot marks the frame where an edit made
+    // its lines jump: where the edit was made, and the frame Step Back carries it to.
+    SceneDocument *doc = m_window->document();
+    PlotDock *plot = m_window->plotDock();
+    QVERIFY(m_window->openPreset(QStringLiteral("four-marbles")));
+    QVERIFY(doc->setMarbleVelocity(0, {3, 1}).isEmpty()); // moving from frame 0
+    doc->advance(20);
+    QVERIFY(plot->editMarks().empty());
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty()); // no jump
+    QVERIFY(plot->editMarks().empty());
+    const double scale = doc->world().params.massScale;
+    QVERIFY(doc->setParam(QStringLiteral("massScale"), QStringLiteral("2.5")).isEmpty());
+    QCOMPARE(plot->editMarks(), std::vector<std::int64_t>{20});
+    doc->advance(10);
+    for (int k = 0; k < 15; ++k)
+        QVERIFY(doc->stepBack());
+    QCOMPARE(doc->world().frame, 15);
+    QCOMPARE(plot->editMarks(), std::vector<std::int64_t>{15});
+    // The mass scale undone there: the frame has its energy as stepped again, and no mark.
+    doc->undoStack()->undo();
+    QCOMPARE(doc->world().params.massScale, scale);
+    QVERIFY(plot->editMarks().empty());
+    QCOMPARE(plot->sampleKineticEnergy(plot->sampleCount() - 1), doc->world().kineticEnergy());
 }
 
 void TestMainWindow::keysLeaveADockHiddenBehindItsTab()

@@ -67,6 +67,7 @@ private slots:
     void legendLabelsFitTheRow();
     void legendListsMarblesInOrder();
     void totalsStayOverTheSpeedLines();
+    void editsThatMakeTheLinesJumpAreMarked();
     void restartMarkedOnlyAfterADashedLine();
     void legendNamesEveryModelOfTheLines();
     void totalsOnRequest();
@@ -598,8 +599,9 @@ void TestPlotDock::plottedMarbles()
     dock.reset(world);
     dock.setSelectedMarbles(selection);
     QCOMPARE(dock.plottedMarbles(), plotted);
-    // One line per plotted marble, plus the totals' three (kinetic energy, momentum x and y).
-    QCOMPARE(dock.chartView()->chart()->series().size(), plotted.size() + 3);
+    // One line per plotted marble, plus the totals' three (kinetic energy, momentum x and y) and
+    // the edit marks' (empty until an edit makes the lines jump).
+    QCOMPARE(dock.chartView()->chart()->series().size(), plotted.size() + 4);
     for (int m : plotted)
         QVERIFY(dock.speedSeries(m));
 
@@ -1129,6 +1131,98 @@ void TestPlotDock::legendListsMarblesInOrder()
     QCOMPARE(dock.sampleSpeed(5, 3), std::hypot(0.06, 1.5));
 }
 
+void TestPlotDock::editsThatMakeTheLinesJumpAreMarked()
+{
+    // A helper's finding: the mass scale changed at frame 100, Step Back to 70 (the parameters
+    // keep their latest values, so frame 70 is taken again with it), and the energy line rose
+    // at 70 without a word, "energy from nowhere" to a class. Where a frame's sample is taken
+    // again and the scene's lines jump, the frame is marked; undone there, the mark goes.
+    PlotDock dock;
+    World world = worldWith(3);
+    dock.reset(world);
+    runFrames(dock, world, 10);
+    dock.resize(1400, 350);
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    const auto marks = [&dock] {
+        dock.refreshChart();
+        QList<qreal> xs;
+        for (QAbstractSeries *series : dock.chartView()->chart()->series()) {
+            if (series->name() == QStringLiteral("scene edited")) {
+                for (const QPointF &p : static_cast<QLineSeries *>(series)->points())
+                    xs << p.x();
+            }
+        }
+        return xs;
+    };
+    const auto listed = [&dock] {
+        for (QLegendMarker *marker : dock.chartView()->chart()->legend()->markers()) {
+            if (marker->series()->name() == QStringLiteral("scene edited"))
+                return marker->isVisible();
+        }
+        return false;
+    };
+    QVERIFY(dock.editMarks().empty());
+    QVERIFY(marks().isEmpty());
+    QVERIFY(!listed());
+
+    // Taken again as it was (Step Back to a frame, a friction edit): no jump, no mark.
+    dock.cutAfter(8);
+    World at8 = world;
+    at8.frame = 8;
+    for (int i = 0; i < at8.marbleCount(); ++i)
+        at8.velocity[static_cast<std::size_t>(i)] = {0.01 * 8, -0.5 * i};
+    dock.resample(at8, nullptr);
+    QVERIFY(dock.editMarks().empty());
+
+    // The mass scale changed there: the energy and momentum jump, the speeds do not.
+    World heavier = at8;
+    heavier.setMassScale(2.5);
+    dock.resample(heavier, nullptr);
+    QCOMPARE(dock.editMarks(), std::vector<std::int64_t>{8});
+    QCOMPARE(marks(), (QList<qreal>{8, 8, 8})); // down, up and down again at frame 8
+    QTRY_VERIFY(listed());
+    // At the newest frame, it is not drawn on the chart's edge: the time axis goes on past it.
+    const QList<QAbstractAxis *> across = dock.chartView()->chart()->axes(Qt::Horizontal);
+    QVERIFY(!across.isEmpty());
+    auto *time = qobject_cast<QValueAxis *>(across.first());
+    QVERIFY(time);
+    QVERIFY2(time->max() > 8.0, qPrintable(QString::number(time->max())));
+    // Edited again at the same frame (a velocity too): still one mark.
+    heavier.velocity[1] = {3, 0};
+    dock.resample(heavier, nullptr);
+    QCOMPARE(dock.editMarks(), std::vector<std::int64_t>{8});
+    // Both undone: the frame has its values as stepped again, and the mark goes.
+    dock.resample(at8, nullptr);
+    QVERIFY(dock.editMarks().empty());
+    QVERIFY(marks().isEmpty());
+    QTRY_VERIFY(!listed());
+
+    // A speed alone: marked (the energy and momentum may stay, a velocity turned round).
+    World turned = at8;
+    turned.velocity[2] = {-turned.velocity[2].x, -turned.velocity[2].y};
+    dock.setSelectedMarbles({2});
+    dock.resample(turned, nullptr);
+    QCOMPARE(dock.editMarks(), std::vector<std::int64_t>{8});
+    // Run on, then back before the mark: it goes with the frames after the one stepped back to,
+    // and comes at that frame if the edit is carried there.
+    world = turned;
+    for (int f = 9; f <= 12; ++f) {
+        world.frame = f;
+        dock.appendFrame(world, nullptr);
+    }
+    dock.cutAfter(5);
+    QVERIFY(dock.editMarks().empty());
+    World at5 = world;
+    at5.frame = 5;
+    at5.setMassScale(4.0);
+    dock.resample(at5, nullptr);
+    QCOMPARE(dock.editMarks(), std::vector<std::int64_t>{5});
+    // A new scene forgets them.
+    dock.reset(world);
+    QVERIFY(dock.editMarks().empty());
+}
+
 void TestPlotDock::totalsStayOverTheSpeedLines()
 {
     // Compared with exact, energy and momentum shown, after a restart: the totals are drawn over
@@ -1199,7 +1293,7 @@ void TestPlotDock::totalsStayOverTheSpeedLines()
                                QStringLiteral("momentum 0"),     QStringLiteral("momentum 0, exact"),
                                QStringLiteral("momentum 1"),     QStringLiteral("momentum 1, exact"),
                                QStringLiteral("book (solid)"),   QStringLiteral("exact (dashed)"),
-                               QStringLiteral("comparison restarted")};
+                               QStringLiteral("comparison restarted"), QStringLiteral("scene edited")};
     const QStringList legend{QStringLiteral("marble 0"),   QStringLiteral("marble 1"),     QStringLiteral("marble 2"),
                              QStringLiteral("marble 3"),   QStringLiteral("energy"),       QStringLiteral("momentum 0"),
                              QStringLiteral("momentum 1"), QStringLiteral("book (solid)"), QStringLiteral("exact (dashed)"),
