@@ -961,7 +961,7 @@ void MainWindow::readSettings()
     const bool smallerScreen = savedScreen.isValid() && screenNow.isValid()
         && (screenNow.width() < savedScreen.width() || screenNow.height() < savedScreen.height());
     const QByteArray geometry = settings.value(QStringLiteral("window/geometry")).toByteArray();
-    if (smallerScreen || geometry.isEmpty() || !restoreGeometry(geometry))
+    if (smallerScreen || geometry.isEmpty() || !restoreGeometryOnScreen(geometry))
         fitFirstWindow();
     // The docks and toolbars are laid out when the window is first shown, at its size: restored
     // before, the Parameters dock came back about 310 px wide whatever width it had been given.
@@ -977,6 +977,35 @@ void MainWindow::readSettings()
     const int speed = settings.value(QStringLiteral("run/speedIndex"), kRealTimeSpeedIndex).toInt();
     if (speed >= 0 && speed < m_speedBox->count())
         m_speedBox->setCurrentIndex(speed);
+}
+
+bool MainWindow::restoreGeometryOnScreen(const QByteArray &saved)
+{
+    if (!restoreGeometry(saved))
+        return false;
+    const QScreen *where = screen();
+    if (!where)
+        return true;
+    // A window saved maximized before it had ever had a size of its own (a first start on a
+    // small screen) came back with a size of its own larger than the screen, which is what it
+    // opens at where nothing maximizes it (no window manager), and what a window manager gives
+    // it back when it is no longer maximized: 2099 x 1017 px on a 1280 x 720 projector at a
+    // scale of 1.5, the docks and the status bar beyond the screen's edges, at every start
+    // after the first (a helper's finding). One saved 20 px down came back with its status bar
+    // below the screen's edge.
+    const QRect room = where->availableGeometry();
+    const bool maximized = isMaximized() || isFullScreen();
+    const QRect placed = maximized ? normalGeometry() : geometry();
+    if (placed.width() > room.width() || placed.height() > room.height() || (maximized && !room.contains(placed))) {
+        setWindowState(Qt::WindowNoState);
+        move(room.topLeft()); // laid out as on a first start, where that puts it
+        return false;
+    }
+    if (!room.contains(placed)) {
+        move(std::clamp(placed.x(), room.left(), room.right() + 1 - placed.width()),
+             std::clamp(placed.y(), room.top(), room.bottom() + 1 - placed.height()));
+    }
+    return true;
 }
 
 void MainWindow::fitFirstWindow()

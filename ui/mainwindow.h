@@ -180,6 +180,9 @@ private:
     static void setTotal(ElidingLabel *label, const QString &text);
     void updateFrameLabelsShown();
     void fitFirstWindow();
+    /// restoreGeometry(), kept only where the window it gives fits the screen's free area: moved
+    /// into it if it lies partly outside; false (the state cleared) if it is larger.
+    bool restoreGeometryOnScreen(const QByteArray &saved);
     /// Breaks the toolbars into rows where one would not fit beside the last (on every start).
     void fitToolBars();
     /// A Parameters dock narrower than its fields gets the width they need, as far as the stage
