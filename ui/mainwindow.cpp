@@ -280,7 +280,7 @@ void MainWindow::createActions()
     m_newAction = new QAction(themeIcon(QStringLiteral("document-new"), QStyle::SP_FileIcon), tr("&New"), this);
     m_newAction->setObjectName(QStringLiteral("actionNew"));
     m_newAction->setShortcut(QKeySequence::New);
-    m_newAction->setStatusTip(tr("Start again from the chapter's four marbles"));
+    m_newAction->setStatusTip(tr("Start a new, empty scene (the chapter's scenes are under File > Presets)"));
     connect(m_newAction, &QAction::triggered, this, &MainWindow::newScene);
 
     m_openAction = new QAction(themeIcon(QStringLiteral("document-open"), QStyle::SP_DialogOpenButton), tr("&Open…"), this);
@@ -635,7 +635,8 @@ void MainWindow::showKeysAndMouse()
     }
     QString rows;
     const auto row = [&rows](const QString &what, const QString &how) {
-        rows += QStringLiteral("<tr><td>%1</td><td>&nbsp;&nbsp;%2</td></tr>").arg(what.toHtmlEscaped(), how.toHtmlEscaped());
+        // A column of its own between the two, so that a wrapped line starts where its first did.
+        rows += QStringLiteral("<tr><td>%1</td><td width=12></td><td>%2</td></tr>").arg(what.toHtmlEscaped(), how.toHtmlEscaped());
     };
     for (QMenu *menu : menuBar()->findChildren<QMenu *>(Qt::FindDirectChildrenOnly)) {
         for (const QAction *action : menu->actions()) {
@@ -649,20 +650,24 @@ void MainWindow::showKeysAndMouse()
             }
         }
     }
-    rows += QStringLiteral("<tr><td colspan=2>&nbsp;</td></tr>");
+    rows += QStringLiteral("<tr><td colspan=3>&nbsp;</td></tr>");
     row(tr("Click a marble"), tr("push it: further from its centre pushes harder, away from the click"));
     row(tr("The push"), tr("acts on the next frame; an arrow shows it until then (clicks add up), as it does a scene's scripted push; Esc takes it back"));
     row(tr("The marble clicked"), tr("is selected: inspected, plotted, and with Trails on its trail kept long"));
     row(tr("Drag a marble or a pin"), tr("move it (paused or running)"));
     row(tr("Right-click"), tr("add or delete here"));
     row(tr("Wheel"), tr("zoom"));
-    rows += QStringLiteral("<tr><td colspan=2>&nbsp;</td></tr>");
+    rows += QStringLiteral("<tr><td colspan=3>&nbsp;</td></tr>");
     row(tr("Tab, Shift+Tab"), tr("from control to control; Space presses a button or ticks a box tabbed to (one clicked leaves the keys on the stage)"));
     row(tr("Alt + a field's underlined letter"), tr("to that field (Enter takes a number typed; Space takes it and plays; Esc puts the number back and returns to the stage)"));
     auto *label = m_keysDialog->findChild<QLabel *>(QStringLiteral("keysText"));
     label->setText(QStringLiteral("<table>%1</table>").arg(rows));
-    // As large as the list asks, within the screen.
+    // As large as the list asks, within the screen; narrower than its lines, it wraps them (at
+    // 1024 x 768 the long ones ran past the dialog's edge, read by scrolling sideways: a
+    // helper's finding).
+    label->setWordWrap(false);
     const QSize wanted = label->sizeHint() + QSize(48, 96);
+    label->setWordWrap(true);
     const QSize room = screen() ? screen()->availableGeometry().size() * 9 / 10 : wanted;
     m_keysDialog->resize(wanted.boundedTo(room));
     m_keysDialog->show();
