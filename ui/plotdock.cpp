@@ -1492,7 +1492,7 @@ void PlotDock::remakeOverlays()
         QPen marks(QColor(0x75, 0x75, 0x75), 1.5, Qt::DotLine);
         marks.setCapStyle(Qt::FlatCap);
         m_restartMarks->setPen(marks);
-        m_restartMarks->setName(tr("comparison restarted"));
+        m_restartMarks->setName(keyName(Key::Restart, m_compactLegend));
         m_chart->addSeries(m_restartMarks);
         m_restartMarks->attachAxis(m_axisX);
         m_restartMarks->attachAxis(m_axisSpeed);
@@ -1504,7 +1504,7 @@ void PlotDock::remakeOverlays()
     QPen editPen(kEditMarkColour, 1.5, Qt::DashDotLine);
     editPen.setCapStyle(Qt::FlatCap);
     m_editMarkSeries->setPen(editPen);
-    m_editMarkSeries->setName(tr("scene edited"));
+    m_editMarkSeries->setName(keyName(Key::Edit, m_compactLegend));
     m_chart->addSeries(m_editMarkSeries);
     m_editMarkSeries->attachAxis(m_axisX);
     m_editMarkSeries->attachAxis(m_axisSpeed);
@@ -1544,11 +1544,6 @@ void PlotDock::styleSeries()
                 marker->setVisible(false);
         }
     }
-    if (m_modelKey && m_compareKey) {
-        m_modelKey->setName(tr("%1 (solid)").arg(solidModels()));
-        m_compareKey->setName(tr("%1 (dashed)").arg(m_compareModel));
-    }
-
     // The totals: solid in colours of their own; dashed is kept for the comparison model's lines
     // (a dashed energy line without a comparison read as another model's), as for speeds, whose
     // legend entries ("book (solid)", "exact (dashed)") stand for the totals too.
@@ -1587,6 +1582,31 @@ void PlotDock::updateLegendLabels()
         if (totals[k]) // (not yet, as the dock is built)
             totals[k]->setName(m_compactLegend ? totalShortName(static_cast<int>(k)) : totalName(static_cast<int>(k)));
     }
+    // And the models' keys and the marks, whose line samples show solid, dashed or dotted: at
+    // 1024 x 768 "book (s…" and "exact (…" were cut, and a named marble with them ("heavy …").
+    if (m_modelKey && m_compareKey) {
+        m_modelKey->setName(keyName(Key::Model, m_compactLegend));
+        m_compareKey->setName(keyName(Key::Compare, m_compactLegend));
+    }
+    if (m_restartMarks)
+        m_restartMarks->setName(keyName(Key::Restart, m_compactLegend));
+    if (m_editMarkSeries)
+        m_editMarkSeries->setName(keyName(Key::Edit, m_compactLegend));
+}
+
+QString PlotDock::keyName(Key key, bool compact) const
+{
+    switch (key) {
+    case Key::Model:
+        return compact ? solidModels() : tr("%1 (solid)").arg(solidModels());
+    case Key::Compare:
+        return compact ? m_compareModel : tr("%1 (dashed)").arg(m_compareModel);
+    case Key::Restart:
+        return compact ? tr("restarted") : tr("comparison restarted");
+    case Key::Edit:
+        return compact ? tr("edited") : tr("scene edited");
+    }
+    return QString();
 }
 
 std::array<QLineSeries *, 3> PlotDock::sceneTotals() const
@@ -1617,16 +1637,17 @@ bool PlotDock::fullLegendFits() const
     const auto entry = [&](const QString &label) { needed += metrics.horizontalAdvance(label) + metrics.height() + 16; };
     for (const Track &t : m_tracks)
         entry(marbleLabel(t.marble));
-    for (const QLineSeries *key : {m_modelKey, m_compareKey}) {
-        if (key)
-            entry(key->name());
+    // Each in full, whatever the legend shows now.
+    if (m_modelKey && m_compareKey) {
+        entry(keyName(Key::Model, false));
+        entry(keyName(Key::Compare, false));
     }
     // The restarts' key while there is one (with it the legend's labels were cut: "compari…",
     // "kinetic e…", "moment…"; a teacher's finding).
     if (m_restartMarks && !m_compareRestarts.empty())
-        entry(m_restartMarks->name());
+        entry(keyName(Key::Restart, false));
     if (m_editMarkSeries && !m_editMarks.empty())
-        entry(m_editMarkSeries->name());
+        entry(keyName(Key::Edit, false));
     const std::array<QLineSeries *, 3> totals = sceneTotals();
     for (std::size_t k = 0; k < totals.size(); ++k) {
         if (totals[k] && totals[k]->isVisible())

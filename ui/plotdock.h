@@ -324,6 +324,11 @@ private:
     /// legend gives them where the full ones do not fit ("KE", "p x", "p y").
     QString totalName(int k) const;
     QString totalShortName(int k) const;
+    /// The legend's entries that are not lines of data: the two models' keys and the marks.
+    enum class Key { Model, Compare, Restart, Edit };
+    /// Such an entry's label, in full ("book (solid)", "comparison restarted") or short ("book",
+    /// "restarted"), where its line sample tells the rest.
+    QString keyName(Key key, bool compact) const;
     void updateAxisTitles();
     void updateTotalsAxis();
 

@@ -1071,6 +1071,20 @@ void TestPlotDock::legendLabelsFitTheRow()
     QVERIFY(showComparing(dock, world, 5, 700));
     QTRY_VERIFY(dock.legendIsCompact());
     QCOMPARE(dock.speedSeries(3)->name(), QStringLiteral("#3"));
+    // The models' keys too, their line samples telling solid from dashed ("book (s…" and
+    // "exact (…" were cut at 1024 x 768: a helper's finding).
+    const auto labels = [&dock] {
+        QStringList shown;
+        for (QLegendMarker *marker : dock.chartView()->chart()->legend()->markers()) {
+            if (marker->isVisible())
+                shown << marker->label();
+        }
+        return shown;
+    };
+    const auto endsWith = [](const QStringList &all, const QStringList &tail) {
+        return all.size() >= tail.size() && all.mid(all.size() - tail.size()) == tail;
+    };
+    QTRY_VERIFY2(endsWith(labels(), QStringList{QStringLiteral("book"), QStringLiteral("exact")}), qPrintable(labels().join(u'|')));
     dock.describePoint(dock.speedSeries(3), QPointF(2.0, 0.0));
     QVERIFY2(dock.describePoint(dock.speedSeries(3), QPointF(2.0, 0.0)).contains(QStringLiteral("marble 3, speed")),
              qPrintable(dock.describePoint(dock.speedSeries(3), QPointF(2.0, 0.0))));
@@ -1087,6 +1101,7 @@ void TestPlotDock::legendLabelsFitTheRow()
     QTRY_VERIFY(!dock.legendIsCompact());
     QCOMPARE(dock.speedSeries(3)->name(), QStringLiteral("marble 3"));
     QCOMPARE(dock.momentumSeries(0)->name(), QStringLiteral("momentum x"));
+    QTRY_VERIFY(endsWith(labels(), QStringList{QStringLiteral("book (solid)"), QStringLiteral("exact (dashed)")}));
 
     // The comparison's restart key takes room in the row too: at the narrowest width where the
     // full labels fit without it, they do not with it (they were cut, "compari…", "moment…").
@@ -1103,6 +1118,8 @@ void TestPlotDock::legendLabelsFitTheRow()
     QCOMPARE(dock.compareRestarts().size(), std::size_t(1));
     dock.refreshChart();
     QVERIFY(dock.legendIsCompact());
+    QTRY_VERIFY2(endsWith(labels(), QStringList{QStringLiteral("book"), QStringLiteral("exact"), QStringLiteral("restarted")}),
+                 qPrintable(labels().join(u'|')));
 }
 
 void TestPlotDock::legendListsMarblesInOrder()
