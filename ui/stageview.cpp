@@ -85,6 +85,26 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
         m_trail->cutAfter(frame);
         m_trailsSince = std::min(m_trailsSince, frame);
     });
+    // The selection stays on the marble it was on while marbles before it leave or come back
+    // (it stayed on the index, another marble). A selected marble that leaves takes the
+    // selection with it, and gives it back when it comes back (a delete undone): the marble came
+    // back unselected, the Inspector empty (a helper's finding).
+    connect(m_document, &SceneDocument::marbleInsertedAt, this, [this](int i) {
+        if (m_selectionKind == SelectionKind::Marble && m_selectionIndex >= i)
+            selectMarble(m_selectionIndex + 1);
+        else if (m_selectionKind == SelectionKind::None && i == m_unselectedByRemoval)
+            selectMarble(i);
+    });
+    connect(m_document, &SceneDocument::marbleRemovedAt, this, [this](int i) {
+        if (m_selectionKind != SelectionKind::Marble || m_selectionIndex < i)
+            return;
+        if (m_selectionIndex > i) {
+            selectMarble(m_selectionIndex - 1);
+            return;
+        }
+        clearSelection();
+        m_unselectedByRemoval = i;
+    });
     connect(m_document, &SceneDocument::sceneChanged, this, [this](SceneDocument::Change change) {
         // A new scene is shown whole, whatever the zoom was on the last one.
         if (change == SceneDocument::Change::Scene) {
@@ -117,6 +137,7 @@ void StageView::selectMarble(int i)
     }
     m_selectionKind = SelectionKind::Marble;
     m_selectionIndex = i;
+    m_unselectedByRemoval = -1;
     updateHighlights();
     Q_EMIT selectionChanged();
 }
@@ -177,12 +198,14 @@ void StageView::selectPin(int j)
     }
     m_selectionKind = SelectionKind::Pin;
     m_selectionIndex = j;
+    m_unselectedByRemoval = -1;
     updateHighlights();
     Q_EMIT selectionChanged();
 }
 
 void StageView::clearSelection()
 {
+    m_unselectedByRemoval = -1;
     if (m_selectionKind == SelectionKind::None)
         return;
     m_selectionKind = SelectionKind::None;
@@ -195,10 +218,12 @@ void StageView::deleteSelection()
 {
     const SelectionKind kind = m_selectionKind;
     const int index = m_selectionIndex;
+    if (kind == SelectionKind::Marble) {
+        m_document->removeMarble(index); // takes the selection with it (and gives it back on undo)
+        return;
+    }
     clearSelection();
-    if (kind == SelectionKind::Marble)
-        m_document->removeMarble(index);
-    else if (kind == SelectionKind::Pin)
+    if (kind == SelectionKind::Pin)
         m_document->removePin(index);
 }
 

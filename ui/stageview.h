@@ -209,6 +209,9 @@ private:
     Tool m_tool = Tool::Select;
     SelectionKind m_selectionKind = SelectionKind::None;
     int m_selectionIndex = -1;
+    /// The marble whose leaving took the selection with it, while nothing has been selected
+    /// since (its coming back selects it again); -1 when none.
+    int m_unselectedByRemoval = -1;
     bool m_vectorsVisible = true;
     bool m_trailsVisible = false;
     bool m_trailsSuppressed = false;

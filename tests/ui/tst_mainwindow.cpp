@@ -156,6 +156,7 @@ private Q_SLOTS:
     void deleteMidRunKeepsTheRunBeforeIt();
     void addUndoneKeepsTheRunBeforeIt();
     void coloursFollowTheMarbles();
+    void selectionFollowsItsMarbleThroughDeletesAndUndos();
     void homeAfterALongRunPlotsFrameZero();
     void stepBackPastThePlotDrawsTheKeptFramesAgain();
     void newOpensAnEmptyScene();
@@ -1724,6 +1725,45 @@ void TestMainWindow::coloursFollowTheMarbles()
     m_prompts->saveChoice = Prompts::SaveChoice::Discard;
     QVERIFY(m_window->openPreset(QStringLiteral("masses")));
     QCOMPARE(colours(), before);
+}
+
+void TestMainWindow::selectionFollowsItsMarbleThroughDeletesAndUndos()
+{
+    // Del on the selected marble, then Ctrl+Z: the marble comes back selected, the Inspector on
+    // it (it came back unselected: a helper's finding). A marble before the selected one deleted
+    // or given back: the selection stays on its marble (it stayed on the index, another marble).
+    QVERIFY(m_window->openPreset(QStringLiteral("masses")));
+    SceneDocument *doc = m_window->document();
+    StageView *view = m_window->stageView();
+    const std::string named = doc->world().info[3].name;
+    view->selectMarble(3);
+    QTest::keyClick(view, Qt::Key_Delete);
+    QCOMPARE(doc->world().marbleCount(), 4);
+    QCOMPARE(view->selectedMarble(), -1);
+    QTest::keyClick(view, Qt::Key_Z, Qt::ControlModifier);
+    QCOMPARE(doc->world().marbleCount(), 5);
+    QCOMPARE(view->selectedMarble(), 3);
+    QCOMPARE(m_window->inspectorDock()->nameField()->text(), QString::fromStdString(named));
+    // Redone, and undone after another marble was selected and the selection cleared: the undo
+    // gives back the marble, not a selection made since.
+    doc->undoStack()->redo();
+    QCOMPARE(view->selectedMarble(), -1);
+    view->selectMarble(0);
+    view->clearSelection();
+    doc->undoStack()->undo();
+    QCOMPARE(view->selectedMarble(), -1);
+
+    view->selectMarble(4);
+    const std::string fourth = doc->world().info[4].name;
+    doc->removeMarble(1);
+    QCOMPARE(view->selectedMarble(), 3);
+    QCOMPARE(doc->world().info[3].name, fourth);
+    doc->undoStack()->undo();
+    QCOMPARE(view->selectedMarble(), 4);
+    QCOMPARE(doc->world().info[4].name, fourth);
+    // A marble added by hand before it would be added at the end: nothing to follow.
+    QVERIFY(doc->addMarble({400.0, 100.0}, 10.0).isEmpty());
+    QCOMPARE(view->selectedMarble(), 4);
 }
 
 void TestMainWindow::homeAfterALongRunPlotsFrameZero()
