@@ -78,10 +78,28 @@ bool SceneDocument::openFile(const QString &path, QString *error)
 
 bool SceneDocument::saveFile(const QString &path, QString *error)
 {
-    const std::string json = sceneToJson(m_world);
     // The whole path, as the plot's exports give it: "lesson.marbles.json: cannot write: No such
     // file or directory" had not said it was /proc that took no file.
     const QString name = QDir::toNativeSeparators(QFileInfo(path).absoluteFilePath());
+    // Never a file this program would refuse to open: saved after the book model's blow-up (a
+    // velocity past the doubles), the scene was written with "vx": null, and Ctrl+S put that over
+    // the teacher's lesson (a helper's finding). Nothing is written then, and the file stays.
+    if (const int marble = m_world.firstNonFiniteMarble(); marble >= 0) {
+        if (error)
+            *error = tr("%1: not saved: at frame %2, marble %3's place or velocity is not a finite number, which a "
+                        "scene file cannot hold. Step back to a frame before that (or go back to the start) and "
+                        "save there.")
+                         .arg(name)
+                         .arg(m_world.frame)
+                         .arg(marble);
+        return false;
+    }
+    const std::string json = sceneToJson(m_world);
+    if (const SceneLoad back = parseScene(json, name.toStdString()); !back.ok) {
+        if (error) // "<file>: <place>: <rule>", as a file that will not open says it
+            *error = tr("%1 (not saved: the scene would not load back)").arg(QString::fromStdString(back.error));
+        return false;
+    }
     if (const QString failure = writeWholeFile(path, QByteArray::fromStdString(json)); !failure.isEmpty()) {
         if (error)
             *error = tr("%1: %2").arg(name, failure);

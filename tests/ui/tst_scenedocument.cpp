@@ -111,6 +111,7 @@ private Q_SLOTS:
     void paramEditsAreNamedAsTheDockNamesThem();
     void saveThenOpenRoundTrips();
     void failedSaveKeepsTheFile();
+    void sceneBlownUpIsNotSaved();
     void invalidFileLeavesSceneUntouched_data();
     void invalidFileLeavesSceneUntouched();
 };
@@ -1335,6 +1336,50 @@ void TestSceneDocument::failedSaveKeepsTheFile()
     QCOMPARE(saved.readAll(), before);
     QVERIFY(doc.isModified());
     QCOMPARE(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList{QStringLiteral("kept.marbles.json")});
+}
+
+void TestSceneDocument::sceneBlownUpIsNotSaved()
+{
+    // A helper's finding: the book model's blow-up (friction 2.5), then Ctrl+S: the file was
+    // written with "vx": null, which no loader takes, over the teacher's lesson. Nothing is
+    // written, the file stays, and the message says why and what to do; a frame before the
+    // blow-up saves.
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    World glide;
+    glide.stage.width = 1600;
+    glide.addMarble({100, 300}, 25, {10, 0});
+    SceneDocument doc;
+    doc.resetScene(glide);
+    const QString path = dir.filePath(QStringLiteral("lesson.marbles.json"));
+    QString error;
+    QVERIFY2(doc.saveFile(path, &error), qPrintable(error));
+    QFile saved(path);
+    QVERIFY(saved.open(QIODevice::ReadOnly));
+    const QByteArray before = saved.readAll();
+    saved.close();
+
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("2.5")).isEmpty());
+    const int done = doc.advance(5000);
+    QCOMPARE_LT(done, 5000); // stopped where the numbers ran out
+    QCOMPARE_GE(doc.world().firstNonFiniteMarble(), 0);
+    QVERIFY(!doc.saveFile(path, &error));
+    QVERIFY2(error.contains(QStringLiteral("not saved")) && error.contains(QStringLiteral("not a finite number"))
+                 && error.contains(QStringLiteral("frame %1").arg(doc.world().frame)),
+             qPrintable(error));
+    QVERIFY(saved.open(QIODevice::ReadOnly));
+    QCOMPARE(saved.readAll(), before);
+    saved.close();
+    QVERIFY(doc.isModified());
+    QCOMPARE(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden), QStringList{QStringLiteral("lesson.marbles.json")});
+
+    // Back to a finite frame, it saves, and reads back.
+    while (doc.world().firstNonFiniteMarble() >= 0)
+        QVERIFY(doc.stepBack());
+    QVERIFY2(doc.saveFile(path, &error), qPrintable(error));
+    World back;
+    QVERIFY2(SceneDocument::readSceneFile(path, back, &error), qPrintable(error));
+    QCOMPARE(back.velocity, doc.world().velocity);
 }
 
 void TestSceneDocument::invalidFileLeavesSceneUntouched_data()
