@@ -1862,8 +1862,14 @@ Vec2 MainWindow::shownMomentum(const World &world)
         sizeX += std::abs(world.mass[i] * world.velocity[i].x);
         sizeY += std::abs(world.mass[i] * world.velocity[i].y);
     }
+    // Only where the sizes are finite: past the doubles (the book model's blow-up, m v beyond
+    // 1.8e308) the bound was infinite too, and a momentum of inf read "p = (0, 0)" beside
+    // "KE inf" (a helper's finding).
     const double bound = world.marbleCount() * std::numeric_limits<double>::epsilon();
-    return {std::abs(p.x) <= bound * sizeX ? 0.0 : p.x, std::abs(p.y) <= bound * sizeY ? 0.0 : p.y};
+    const auto shown = [bound](double component, double size) {
+        return std::isfinite(size) && std::abs(component) <= bound * size ? 0.0 : component;
+    };
+    return {shown(p.x, sizeX), shown(p.y, sizeY)};
 }
 
 void MainWindow::setTotal(ElidingLabel *label, const QString &text)

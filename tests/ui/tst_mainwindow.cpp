@@ -1051,6 +1051,13 @@ void TestMainWindow::massScaleSaysWhenNoMarbleUsesIt()
     QTRY_VERIFY2(momentum->text().endsWith(QStringLiteral(", 0) exact")), qPrintable(momentum->text()));
     QVERIFY(!momentum->text().contains(QStringLiteral("e-")));
     QCOMPARE(MainWindow::shownMomentum(book).y, book.momentum().y); // a real one stays as it is
+    // Past the doubles, infinite, not 0 (the book's blow-up read "p = (0, 0)" beside "KE inf").
+    World blown;
+    blown.addMarble({100, 100}, 25, {7.42e306, 0});
+    blown.addMarble({200, 100}, 25, {1.0, -2.0});
+    QVERIFY(std::isinf(blown.momentum().x));
+    QVERIFY(std::isinf(MainWindow::shownMomentum(blown).x));
+    QCOMPARE(MainWindow::shownMomentum(blown).y, blown.momentum().y);
 
     // The Inspector gives the selected marble in the compared model too (its velocities after
     // the collision could be read only off the plot or the CSV).
