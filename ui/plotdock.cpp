@@ -521,6 +521,10 @@ void PlotDock::replayKeptFrames(const World &world, const World *compare, std::i
 {
     // No further back than the plot holds. (Further back than the lines went: an add undone
     // gives back the frames before it, where the lines had started again.)
+    // The edits' marks on the frames drawn again stay: a marble deleted mid-run, or Step Back
+    // past the plot's oldest sample, had taken away the mark of a velocity set before, the jump
+    // still in the line (a helper's finding).
+    std::vector<EditMark> marks = std::move(m_editMarks);
     reset(world);
     const std::int64_t from = std::max(firstFrame, world.frame - static_cast<std::int64_t>(capacity()) + 1);
     if (m_documentVelocities && from < world.frame) {
@@ -547,6 +551,8 @@ void PlotDock::replayKeptFrames(const World &world, const World *compare, std::i
         }
     }
     appendFrame(world, compare);
+    std::erase_if(marks, [this](const EditMark &m) { return m.frame <= m_frames.at(0) || m.frame > m_frames.last(); });
+    m_editMarks = std::move(marks);
 }
 
 void PlotDock::resample(const World &world, const World *compare)
@@ -945,45 +951,53 @@ void PlotDock::refreshChart()
     applyNonNegativeRange(m_axisSpeed, speedRange);
     applyNonNegativeRange(m_axisTotals, energyRange);
     applyRange(m_axisMomentum, momentumRange);
+    // A dotted line, down and up, at each comparison restart, and a dash-dot one at each edit
+    // that made the lines jump (from the frames the plot still holds): the joins along the time
+    // axis vanish.
+    const double markTop = m_axisSpeed->max();
+    const auto markAt = [this, markTop](QList<QPointF> &marks, std::int64_t frame) {
+        marks << QPointF(xOf(frame), 0.0) << QPointF(xOf(frame), markTop) << QPointF(xOf(frame), 0.0);
+    };
     if (m_editMarkSeries) {
-        // Likewise at each edit that made the lines jump, from the ones the plot still holds.
         QList<QPointF> marks;
-        const double top = m_axisSpeed->max();
         for (const EditMark &m : m_editMarks) {
             if (n > 0 && m.frame >= m_frames.at(0))
-                marks << QPointF(xOf(m.frame), 0.0) << QPointF(xOf(m.frame), top) << QPointF(xOf(m.frame), 0.0);
+                markAt(marks, m.frame);
         }
         m_editMarkSeries->replace(marks);
-        bool changed = false;
-        for (QLegendMarker *marker : m_chart->legend()->markers(m_editMarkSeries)) {
-            changed = changed || marker->isVisible() != !marks.isEmpty();
-            marker->setVisible(!marks.isEmpty());
-        }
-        if (changed) { // as for the restarts' key below
-            updateLegendLabels();
-            m_chart->legend()->hide();
-            m_chart->legend()->show();
-        }
     }
     if (m_restartMarks) {
-        // Down and up at each restart, joined along the time axis, where the joins vanish.
         QList<QPointF> marks;
-        const double top = m_axisSpeed->max();
         for (const std::int64_t restart : m_compareRestarts)
-            marks << QPointF(xOf(restart), 0.0) << QPointF(xOf(restart), top) << QPointF(xOf(restart), 0.0);
+            markAt(marks, restart);
         m_restartMarks->replace(marks);
-        bool changed = false;
-        for (QLegendMarker *marker : m_chart->legend()->markers(m_restartMarks)) {
-            changed = changed || marker->isVisible() != !marks.isEmpty();
-            marker->setVisible(!marks.isEmpty());
+    }
+    // Their keys, while they have marks and the row has room for them (the key takes room in the
+    // row: the labels are measured again).
+    const auto keysShown = [this] {
+        return std::pair{m_restartMarks && m_restartMarks->count() > 0 && !m_markKeysHidden,
+                         m_editMarkSeries && m_editMarkSeries->count() > 0 && !m_markKeysHidden};
+    };
+    const auto wanted = keysShown();
+    bool changed = false;
+    for (auto [series, shown] : {std::pair{m_restartMarks, wanted.first}, std::pair{m_editMarkSeries, wanted.second}}) {
+        for (QLegendMarker *marker : series ? m_chart->legend()->markers(series) : QList<QLegendMarker *>{}) {
+            changed = changed || marker->isVisible() != shown;
+            marker->setVisible(shown);
+        }
+    }
+    if (changed) {
+        updateLegendLabels();
+        if (keysShown() != wanted) { // no room for them after all
+            for (auto [series, shown] : {std::pair{m_restartMarks, keysShown().first}, std::pair{m_editMarkSeries, keysShown().second}}) {
+                for (QLegendMarker *marker : series ? m_chart->legend()->markers(series) : QList<QLegendMarker *>{})
+                    marker->setVisible(shown);
+            }
         }
         // Qt Charts 6.4 draws a marker shown afterwards over its neighbour ("mediumparison
         // restarted", a regression tester's finding) until the legend is laid out again.
-        if (changed) {
-            updateLegendLabels(); // the key takes room in the row
-            m_chart->legend()->hide();
-            m_chart->legend()->show();
-        }
+        m_chart->legend()->hide();
+        m_chart->legend()->show();
     }
     m_dirty = false;
 }
@@ -1570,12 +1584,14 @@ void PlotDock::updateLegendLabels()
     // which line was which. Where the full labels do not fit, the marbles get short ones ("#3",
     // or a named marble's name); hovering a line still gives its full label.
     // A view not on screen has no width worth measuring; it is measured again when shown.
-    m_compactLegend = m_chartView && m_chartView->isVisible() && !fullLegendFits();
-    for (Track &t : m_tracks) {
-        const auto i = static_cast<std::size_t>(t.marble);
-        const bool named = i < m_names.size() && !m_names[i].isEmpty();
-        t.series->setName(!m_compactLegend ? marbleLabel(t.marble) : named ? m_names[i] : tr("#%1").arg(t.marble));
-    }
+    const bool shown = m_chartView && m_chartView->isVisible();
+    m_compactLegend = shown && !legendFits(false, true);
+    // Short, and still too long (a named crowd compared, restarted and edited, at 1024 x 768:
+    // "he…", "ex…", "re…", "e…"): the marks' keys give their room to the lines', whose names a
+    // class needs to tell the lines apart; the marks are still drawn.
+    m_markKeysHidden = m_compactLegend && !legendFits(true, true);
+    for (Track &t : m_tracks)
+        t.series->setName(m_compactLegend ? compactMarbleLabel(t.marble) : marbleLabel(t.marble));
     // The totals too: "momentum x" and "momentum y" were both cut to "mome…".
     const std::array<QLineSeries *, 3> totals = sceneTotals();
     for (std::size_t k = 0; k < totals.size(); ++k) {
@@ -1626,7 +1642,13 @@ QString PlotDock::totalShortName(int k) const
     return names[k];
 }
 
-bool PlotDock::fullLegendFits() const
+QString PlotDock::compactMarbleLabel(int marble) const
+{
+    const auto i = static_cast<std::size_t>(marble);
+    return i < m_names.size() && !m_names[i].isEmpty() ? m_names[i] : tr("#%1").arg(marble);
+}
+
+bool PlotDock::legendFits(bool compact, bool withMarks) const
 {
     const QFontMetrics metrics(m_chart->legend()->font());
     int needed = 0;
@@ -1634,24 +1656,24 @@ bool PlotDock::fullLegendFits() const
     // 16 px): twelve "marble N" fit a 1040-px plot, fourteen with the comparison's keys do not.
     // (With 10 px, five named marbles, both totals and both models' keys were taken to fit a
     // 1240-px plot, and Qt cut one label: "heavy mover (mar…"; a regression tester's finding.)
+    // Each label as it would be, whatever the legend shows now.
     const auto entry = [&](const QString &label) { needed += metrics.horizontalAdvance(label) + metrics.height() + 16; };
     for (const Track &t : m_tracks)
-        entry(marbleLabel(t.marble));
-    // Each in full, whatever the legend shows now.
+        entry(compact ? compactMarbleLabel(t.marble) : marbleLabel(t.marble));
     if (m_modelKey && m_compareKey) {
-        entry(keyName(Key::Model, false));
-        entry(keyName(Key::Compare, false));
+        entry(keyName(Key::Model, compact));
+        entry(keyName(Key::Compare, compact));
     }
     // The restarts' key while there is one (with it the legend's labels were cut: "compari…",
     // "kinetic e…", "moment…"; a teacher's finding).
-    if (m_restartMarks && !m_compareRestarts.empty())
-        entry(keyName(Key::Restart, false));
-    if (m_editMarkSeries && !m_editMarks.empty())
-        entry(keyName(Key::Edit, false));
+    if (withMarks && m_restartMarks && !m_compareRestarts.empty())
+        entry(keyName(Key::Restart, compact));
+    if (withMarks && m_editMarkSeries && !m_editMarks.empty())
+        entry(keyName(Key::Edit, compact));
     const std::array<QLineSeries *, 3> totals = sceneTotals();
     for (std::size_t k = 0; k < totals.size(); ++k) {
         if (totals[k] && totals[k]->isVisible())
-            entry(totalName(static_cast<int>(k))); // measured in full, whatever the legend shows now
+            entry(compact ? totalShortName(static_cast<int>(k)) : totalName(static_cast<int>(k)));
     }
     return needed <= m_chartView->width() - 2 * metrics.height();
 }

@@ -298,7 +298,11 @@ private:
     void styleSeries();
     void updateLegendLabels();
     /// Whether the legend's row has room for every entry with its full label.
-    bool fullLegendFits() const;
+    /// Whether the legend's entries fit its one row: with their short labels or in full, and
+    /// with or without the marks' keys.
+    bool legendFits(bool compact, bool withMarks) const;
+    /// A marble's short label: its name, or "#3".
+    QString compactMarbleLabel(int marble) const;
     QList<int> wantedMarbles() const;
     QColor marbleColor(int marble) const;
     /// Gives marbles 0..count-1 a place in the colour list (the first free ones to those without).
@@ -369,6 +373,7 @@ private:
     QChart *m_chart = nullptr;
     QChartView *m_chartView = nullptr;
     bool m_compactLegend = false; // the marbles' legend labels are the short ones
+    bool m_markKeysHidden = false; // even short, the legend has no room for the marks' keys
     QValueAxis *m_axisX = nullptr;
     // Speeds and energies are never negative: their axes label no tick below zero (they have
     // such ticks only to share the momentum's zero line), so they are category axes.

@@ -892,6 +892,19 @@ void TestMainWindow::plotMarksEditsThatMakeItsLinesJump()
     QCOMPARE(doc->world().params.massScale, scale);
     QVERIFY(plot->editMarks().empty());
     QCOMPARE(plot->sampleKineticEnergy(plot->sampleCount() - 1), doc->world().kineticEnergy());
+
+    // Drawn again from the kept frames (a marble deleted mid-run), the lines keep their jump at a
+    // velocity set, and so does the mark (it went: a helper's finding).
+    doc->advance(10);
+    QVERIFY(doc->setMarbleVelocity(1, {4, -1}).isEmpty());
+    const std::int64_t setAt = doc->world().frame;
+    QCOMPARE(plot->editMarks(), std::vector<std::int64_t>{setAt});
+    doc->advance(10);
+    doc->removeMarble(3);
+    QCOMPARE(plot->sampleFrame(0), std::int64_t(0)); // drawn again from the start
+    QCOMPARE(plot->editMarks(), std::vector<std::int64_t>{setAt});
+    doc->undoStack()->undo();
+    QCOMPARE(plot->editMarks(), std::vector<std::int64_t>{setAt});
 }
 
 void TestMainWindow::keysLeaveADockHiddenBehindItsTab()

@@ -1120,6 +1120,28 @@ void TestPlotDock::legendLabelsFitTheRow()
     QVERIFY(dock.legendIsCompact());
     QTRY_VERIFY2(endsWith(labels(), QStringList{QStringLiteral("book"), QStringLiteral("exact"), QStringLiteral("restarted")}),
                  qPrintable(labels().join(u'|')));
+
+    // Short, and still no room (at 1024 x 768 a named crowd's legend, compared, restarted and
+    // edited, read "he…", "ex…", "re…", "e…": a helper's finding): the marks' keys go, the lines'
+    // stay; the marks are still drawn.
+    World edited = world;
+    edited.frame = dock.sampleFrame(dock.sampleCount() - 1);
+    edited.velocity[0] = {9.0, 9.0};
+    dock.resample(edited, &edited);
+    QCOMPARE(dock.editMarks().size(), std::size_t(1));
+    dock.resize(520, 350);
+    dock.refreshChart();
+    QTRY_VERIFY2(endsWith(labels(), QStringList{QStringLiteral("book"), QStringLiteral("exact")}), qPrintable(labels().join(u'|')));
+    QVERIFY(!labels().contains(QStringLiteral("restarted")) && !labels().contains(QStringLiteral("edited")));
+    for (QAbstractSeries *series : dock.chartView()->chart()->series()) {
+        if (series->name() == QStringLiteral("edited") || series->name() == QStringLiteral("restarted"))
+            QCOMPARE(static_cast<QLineSeries *>(series)->count(), 3);
+    }
+    // Wide again, they come back.
+    dock.resize(3000, 350);
+    dock.refreshChart();
+    QTRY_VERIFY2(endsWith(labels(), QStringList{QStringLiteral("comparison restarted"), QStringLiteral("scene edited")}),
+                 qPrintable(labels().join(u'|')));
 }
 
 void TestPlotDock::legendListsMarblesInOrder()
