@@ -207,10 +207,12 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
     for (const std::string &setting : settings) {
         const auto eq = setting.find('=');
         if (eq == std::string::npos || eq == 0)
-            throw InvalidInput{"--set" + (setting.empty() ? std::string() : " " + setting) + ": expected KEY=VALUE"};
+            throw InvalidInput{sceneLabel(scene) + ": --set" + (setting.empty() ? std::string() : " " + setting)
+                               + ": expected KEY=VALUE"};
+        // The file, the place and the rule, as a file's own error (it named the setting alone).
         const std::string error = setParam(world, setting.substr(0, eq), setting.substr(eq + 1));
         if (!error.empty())
-            throw InvalidInput{"--set " + error}; // the error names the setting ("KEY=VALUE: rule")
+            throw InvalidInput{sceneLabel(scene) + ": --set " + error}; // "KEY=VALUE: rule"
     }
     // The rule may be broken between the two (the file's friction 2.5 with --set model=exact):
     // both are named.

@@ -340,11 +340,15 @@ void TestCli::invalidInputExitsTwo_data()
     QTest::addRow("set without =") << QStringList{"run", "preset:pins", "--set", "friction"} << QByteArray()
                                    << "KEY=VALUE";
     QTest::addRow("set unknown key") << QStringList{"run", "preset:pins", "--set", "spin=3"} << QByteArray()
-                                     << "--set spin=3: unknown key; the keys are";
+                                     << "preset:pins: --set spin=3: unknown key; the keys are";
     QTest::addRow("set gravity one number") << QStringList{"run", "preset:pins", "--set", "gravity=1"} << QByteArray()
-                                            << "--set gravity=1: must be two numbers";
+                                            << "preset:pins: --set gravity=1: must be two numbers";
+    // Named with its scene, as the file's own errors are (a helper's finding: "--set friction=-0.1:
+    // must be >= 0" did not say which scene).
     QTest::addRow("set negative friction") << QStringList{"run", "preset:pins", "--set", "friction=-1"}
-                                           << QByteArray() << "friction";
+                                           << QByteArray() << "preset:pins: --set friction=-1: must be >= 0";
+    QTest::addRow("set without = names the scene") << QStringList{"check", "-", "--set", "friction"} << QByteArray(validScene)
+                                                   << "stdin: --set friction: expected KEY=VALUE";
     QTest::addRow("set friction 1.5 with exact")
         << QStringList{"run", "preset:pins", "--set", "friction=1.5", "--set", "model=exact"} << QByteArray()
         << "preset:pins with --set: params.friction: must be < 1 for the exact model, got 1.5";
