@@ -147,10 +147,24 @@ std::string sceneLabel(const std::string &scene)
 
 std::string oneLine(std::string_view text)
 {
-    std::string line(text);
-    for (char &c : line) {
-        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F)
-            c = '?';
+    // The C0 controls and DEL, and the line breaks of Unicode beyond them (NEL, U+0085; the line
+    // and paragraph separators, U+2028 and U+2029), which a reader splitting lines may take as one.
+    std::string line;
+    line.reserve(text.size());
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const auto c = static_cast<unsigned char>(text[i]);
+        if (c < 0x20 || c == 0x7F) {
+            line += '?';
+        } else if (c == 0xC2 && i + 1 < text.size() && static_cast<unsigned char>(text[i + 1]) == 0x85) {
+            line += '?';
+            ++i;
+        } else if (c == 0xE2 && i + 2 < text.size() && static_cast<unsigned char>(text[i + 1]) == 0x80
+                   && (static_cast<unsigned char>(text[i + 2]) == 0xA8 || static_cast<unsigned char>(text[i + 2]) == 0xA9)) {
+            line += '?';
+            i += 2;
+        } else {
+            line += static_cast<char>(c);
+        }
     }
     return line;
 }

@@ -74,7 +74,8 @@ inline bool isStandardStream(const std::string &path) { return path == "-"; }
 /// How messages name SCENE: "stdin" for "-", else as given with control characters as '?' (oneLine()).
 std::string sceneLabel(const std::string &scene);
 
-/// `text` as one line of a message: control characters (a newline in a file's name) become '?'.
+/// `text` as one line of a message: control characters (a newline in a file's name) and Unicode's
+/// line breaks (U+0085, U+2028, U+2029) become '?'.
 std::string oneLine(std::string_view text);
 /// Loads SCENE ("-" reads standard input; "preset:ID" builds a built-in preset), applies the
 /// KEY=VALUE settings in order and validates the result; throws InvalidInput with one message.

@@ -427,6 +427,10 @@ void TestCli::invalidInputExitsTwo_data()
     QTest::addRow("--out named across two lines")
         << QStringList{"run", "preset:pins", "--frames", "2", "--out", "/nonexistent/x\n/y.csv"} << QByteArray()
         << "/nonexistent/x?/y.csv: cannot write";
+    // And Unicode's line breaks, which a reader splitting lines may take as such (a helper's finding).
+    QTest::addRow("scene named across Unicode lines")
+        << QStringList{"check", QString::fromUtf8("/nonexistent/a\u0085b\u2028c\u2029d\u00e9.json")} << QByteArray()
+        << QString::fromUtf8("/nonexistent/a?b?c?d\u00e9.json: cannot open the file");
     // Output paths are tried before the work: nothing printed (stress printed its whole table).
     QTest::addRow("stress csv into a missing folder")
         << QStringList{"stress", "--quick", "--only", "sparse gas", "--csv", "/nonexistent/dir/x.csv"} << QByteArray()
