@@ -196,10 +196,10 @@ struct AxisRange {
 };
 
 /// A range a little wider than [lo, hi], never empty, with readable tick values: what
-/// QValueAxis::applyNiceNumbers() makes of it from kAxisTicks ticks. Worked out on `scratch`, an
+/// QValueAxis::applyNiceNumbers() makes of it from `ticks` ticks. Worked out on `scratch`, an
 /// axis of no chart, so that the chart's axes change only when the outcome does: every change of
 /// a chart axis's range recomputes the geometry of every line on it.
-AxisRange niceRange(QValueAxis *scratch, double lo, double hi)
+AxisRange niceRange(QValueAxis *scratch, double lo, double hi, int ticks = kAxisTicks)
 {
     if (!(lo <= hi)) {
         lo = 0.0;
@@ -219,7 +219,7 @@ AxisRange niceRange(QValueAxis *scratch, double lo, double hi)
         lo = std::min(lo, largest / 2);
         return {lo, hi, kAxisTicks};
     }
-    scratch->setTickCount(kAxisTicks);
+    scratch->setTickCount(ticks);
     scratch->setRange(lo, hi);
     scratch->applyNiceNumbers();
     return {scratch->min(), scratch->max(), scratch->tickCount()};
@@ -229,8 +229,8 @@ AxisRange niceRange(QValueAxis *scratch, double lo, double hi)
 /// as nice ranges from 0 or across it have): each keeps its tick spacing and gets as many ticks
 /// below zero as the one with most, and as many above. A negative momentum had put its axis's
 /// zero above the others', where its line read as a speed above zero. Ranges without zero on a
-/// tick (the overflow guard's) are left as they are.
-void alignZeros(std::initializer_list<AxisRange *> ranges)
+/// tick (the overflow guard's) are left as they are. At most `maxTicks` + 1 ticks.
+void alignZeros(std::initializer_list<AxisRange *> ranges, int maxTicks)
 {
     struct Steps {
         AxisRange *range;
@@ -256,7 +256,7 @@ void alignZeros(std::initializer_list<AxisRange *> ranges)
     // No more ticks than the axes had (each, kAxisTicks and the one or two nice numbers add):
     // nine, from -4 to 10, were too close for the dock's plot, whose every label then read "…".
     // Fewer are had by doubling every spacing (1, 2, 5 become 2, 4, 10), keeping zero on a tick.
-    while (below + above + 1 > kAxisTicks + 1) {
+    while (below + above + 1 > maxTicks + 1) {
         below = 0;
         above = 0;
         for (Steps &s : steps) {
@@ -941,13 +941,23 @@ void PlotDock::refreshChart()
     // px/frame) ran along the chart's top edge, where it could hardly be seen.
     const auto top = [](double max) { return std::isfinite(max) ? std::max(max, 0.0) * 1.04 : 1.0; };
     const auto bottom = [](double min) { return std::isfinite(min) ? std::min(min, 0.0) * 1.04 : 0.0; };
-    AxisRange speedRange = niceRange(m_rangeScratch, 0.0, top(speedMax));
-    AxisRange energyRange = niceRange(m_rangeScratch, 0.0, top(energy.max));
-    AxisRange momentumRange = niceRange(m_rangeScratch, bottom(momentum.min), top(momentum.max));
+    updateAxisTitles();
+    // As many ticks up the chart as its height has room for, each label a line and as much
+    // again apart: at a scale of 1.5 on a 1280 x 720 projector the plot is about 100 px high,
+    // and Qt cut each of six labels that had less than a line to "…" (a helper's finding).
+    const double plotHeight = m_chart->plotArea().height();
+    const int lineHeight = QFontMetrics(m_axisSpeed->labelsFont()).height();
+    const int valueTicks = plotHeight > 0.0 && lineHeight > 0
+        ? std::clamp(static_cast<int>(plotHeight / (2.0 * lineHeight)) + 1, 2, kAxisTicks)
+        : kAxisTicks;
+    AxisRange speedRange = niceRange(m_rangeScratch, 0.0, top(speedMax), valueTicks);
+    AxisRange energyRange = niceRange(m_rangeScratch, 0.0, top(energy.max), valueTicks);
+    AxisRange momentumRange = niceRange(m_rangeScratch, bottom(momentum.min), top(momentum.max), valueTicks);
     // One zero line for every axis drawn.
     if (m_showMomentum->isChecked())
         alignZeros(m_showKinetic->isChecked() ? std::initializer_list<AxisRange *>{&speedRange, &energyRange, &momentumRange}
-                                              : std::initializer_list<AxisRange *>{&speedRange, &momentumRange});
+                                              : std::initializer_list<AxisRange *>{&speedRange, &momentumRange},
+                   valueTicks);
     applyNonNegativeRange(m_axisSpeed, speedRange);
     applyNonNegativeRange(m_axisTotals, energyRange);
     applyRange(m_axisMomentum, momentumRange);
@@ -1841,8 +1851,19 @@ void PlotDock::updateTotalsAxis()
 
 void PlotDock::updateAxisTitles()
 {
-    m_axisX->setTitleText(m_timeInSeconds ? tr("time (s)") : tr("frame"));
-    m_axisSpeed->setTitleText(m_timeInSeconds ? tr("speed (px/s)") : tr("speed (px/frame)"));
+    const auto title = [](QAbstractAxis *axis, const QString &text) {
+        if (axis->titleText() != text)
+            axis->setTitleText(text);
+    };
+    title(m_axisX, m_timeInSeconds ? tr("time (s)") : tr("frame"));
+    // The titles up the chart's sides in short where the chart is less high than the speed's
+    // is long (at a scale of 1.5 on a 1280 x 720 projector: "speed (px/fr…", "kinetic ener…").
+    const QString speed = m_timeInSeconds ? tr("speed (px/s)") : tr("speed (px/frame)");
+    const double height = m_chart->plotArea().height();
+    const bool full = !(height > 0.0) || QFontMetrics(m_axisSpeed->titleFont()).horizontalAdvance(speed) <= height;
+    title(m_axisSpeed, full ? speed : m_timeInSeconds ? tr("v (px/s)") : tr("v (px/frame)"));
+    title(m_axisTotals, full ? tr("kinetic energy") : tr("KE"));
+    title(m_axisMomentum, full ? tr("momentum") : tr("p"));
 }
 
 double PlotDock::perSecond() const

@@ -68,6 +68,7 @@ private slots:
     void legendListsMarblesInOrder();
     void totalsStayOverTheSpeedLines();
     void editsThatMakeTheLinesJumpAreMarked();
+    void shortChartKeepsItsLabelsWhole();
     void restartMarkedOnlyAfterADashedLine();
     void legendNamesEveryModelOfTheLines();
     void totalsOnRequest();
@@ -1260,6 +1261,59 @@ void TestPlotDock::editsThatMakeTheLinesJumpAreMarked()
     // A new scene forgets them.
     dock.reset(world);
     QVERIFY(dock.editMarks().empty());
+}
+
+void TestPlotDock::shortChartKeepsItsLabelsWhole()
+{
+    // A helper's finding at a scale of 1.5 on a 1280 x 720 projector: the plot about 100 px high,
+    // every speed label read "…" (six labels, each given less than a line by Qt) and the titles
+    // "speed (px/fr…" and "kinetic ener…". A short chart has as many ticks as it has room for, a
+    // line apart at least, and its side titles in short.
+    PlotDock dock;
+    World world = worldWith(3);
+    dock.setKineticEnergyShown(true);
+    dock.setMomentumShown(true);
+    dock.reset(world);
+    for (int f = 1; f <= 20; ++f) {
+        world.frame = f;
+        world.velocity[0] = {0.9 * f, 0.0}; // up to 18 px/frame
+        dock.appendFrame(world, nullptr);
+    }
+    const auto speedAxis = [&dock]() -> QCategoryAxis * {
+        for (QAbstractAxis *axis : dock.chartView()->chart()->axes(Qt::Vertical)) {
+            if (auto *category = qobject_cast<QCategoryAxis *>(axis); category && category->titleText().contains(QStringLiteral("px/frame")))
+                return category;
+        }
+        return nullptr;
+    };
+    dock.chartView()->setMinimumHeight(150); // as MainWindow lets it on a screen less than 600 px high
+    dock.resize(900, 200);
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    for (int k = 0; k < 3; ++k) { // the layout settles with the labels it is given
+        dock.refreshChart();
+        QCoreApplication::processEvents();
+    }
+    QCategoryAxis *speed = speedAxis();
+    QVERIFY(speed);
+    const double height = dock.chartView()->chart()->plotArea().height();
+    const int line = QFontMetrics(speed->labelsFont()).height();
+    QVERIFY2(height < 4.0 * 2 * line, qPrintable(QString::number(height))); // short indeed
+    const qsizetype labels = speed->categoriesLabels().size();
+    // At least a line and a half apart (five labels in 57 px had 14 px each for a 14-px line).
+    QVERIFY2(labels >= 2 && (labels - 1) * 1.5 * line <= height,
+             qPrintable(QStringLiteral("%1 labels in %2 px, a line %3 px").arg(labels).arg(height).arg(line)));
+    QCOMPARE(speed->titleText(), QStringLiteral("v (px/frame)"));
+
+    dock.resize(900, 700);
+    for (int k = 0; k < 3; ++k) {
+        dock.refreshChart();
+        QCoreApplication::processEvents();
+    }
+    speed = speedAxis();
+    QVERIFY(speed);
+    QCOMPARE(speed->titleText(), QStringLiteral("speed (px/frame)"));
+    QCOMPARE_GE(speed->categoriesLabels().size(), 4);
 }
 
 void TestPlotDock::totalsStayOverTheSpeedLines()
