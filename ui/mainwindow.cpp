@@ -947,10 +947,14 @@ void MainWindow::fitScreenHeight(int availableHeight)
     // Below 600 px (a 1080p projector at a scale of 2 is 540 px tall) the stage's smallest height
     // goes down again: the window came out 546 px tall there, its status bar below the screen's
     // edge. The plot keeps 190, below which its axes lose their labels.
+    // Below 500 px (a 1280 x 720 projector at a scale of 1.5 is 480 px tall) the window still
+    // came out 497 px tall, its status bar below the edge: there the plot goes down to 160 px,
+    // where it has fewer ticks and its side titles in short (refreshChart()).
     const bool small = availableHeight < kSmallScreenHeight;
     const bool smaller = availableHeight < 600;
+    const bool smallest = availableHeight < 500;
     m_view->setMinimumHeight(smaller ? 120 : small ? 170 : StageView::kMinimumHeight);
-    m_plotDock->chartView()->setMinimumHeight(small ? 190 : PlotDock::kMinimumChartHeight);
+    m_plotDock->chartView()->setMinimumHeight(smallest ? 160 : small ? 190 : PlotDock::kMinimumChartHeight);
 }
 
 void MainWindow::readSettings()

@@ -1858,10 +1858,15 @@ void PlotDock::updateAxisTitles()
     title(m_axisX, m_timeInSeconds ? tr("time (s)") : tr("frame"));
     // The titles up the chart's sides in short where the chart is less high than the speed's
     // is long (at a scale of 1.5 on a 1280 x 720 projector: "speed (px/fr…", "kinetic ener…").
+    // Shorter still where even that is too long (the window made to fit 480 px): "v".
     const QString speed = m_timeInSeconds ? tr("speed (px/s)") : tr("speed (px/frame)");
+    const QString shortSpeed = m_timeInSeconds ? tr("v (px/s)") : tr("v (px/frame)");
     const double height = m_chart->plotArea().height();
-    const bool full = !(height > 0.0) || QFontMetrics(m_axisSpeed->titleFont()).horizontalAdvance(speed) <= height;
-    title(m_axisSpeed, full ? speed : m_timeInSeconds ? tr("v (px/s)") : tr("v (px/frame)"));
+    const auto fits = [this, height](const QString &text) {
+        return !(height > 0.0) || QFontMetrics(m_axisSpeed->titleFont()).horizontalAdvance(text) <= height;
+    };
+    const bool full = fits(speed);
+    title(m_axisSpeed, full ? speed : fits(shortSpeed) ? shortSpeed : tr("v"));
     title(m_axisTotals, full ? tr("kinetic energy") : tr("KE"));
     title(m_axisMomentum, full ? tr("momentum") : tr("p"));
 }

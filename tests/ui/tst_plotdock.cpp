@@ -1281,7 +1281,7 @@ void TestPlotDock::shortChartKeepsItsLabelsWhole()
     }
     const auto speedAxis = [&dock]() -> QCategoryAxis * {
         for (QAbstractAxis *axis : dock.chartView()->chart()->axes(Qt::Vertical)) {
-            if (auto *category = qobject_cast<QCategoryAxis *>(axis); category && category->titleText().contains(QStringLiteral("px/frame")))
+            if (auto *category = qobject_cast<QCategoryAxis *>(axis); category && category->alignment() == Qt::AlignLeft)
                 return category;
         }
         return nullptr;
@@ -1303,7 +1303,10 @@ void TestPlotDock::shortChartKeepsItsLabelsWhole()
     // At least a line and a half apart (five labels in 57 px had 14 px each for a 14-px line).
     QVERIFY2(labels >= 2 && (labels - 1) * 1.5 * line <= height,
              qPrintable(QStringLiteral("%1 labels in %2 px, a line %3 px").arg(labels).arg(height).arg(line)));
-    QCOMPARE(speed->titleText(), QStringLiteral("v (px/frame)"));
+    // Short, and as long as the chart is high at most ("v (px/frame)", or "v" where even that is not).
+    QVERIFY2(speed->titleText().startsWith(QStringLiteral("v"))
+                 && QFontMetrics(speed->titleFont()).horizontalAdvance(speed->titleText()) <= height,
+             qPrintable(speed->titleText()));
 
     dock.resize(900, 700);
     for (int k = 0; k < 3; ++k) {
