@@ -80,9 +80,9 @@ const QColor kKineticColour(0x33, 0x33, 0x33);
 // and a green for y looked like marble 1's bluish green): x solid, y dotted, each dashed the
 // more for a compared model.
 const QColor kMomentumColour(0x00, 0x00, 0xa0);
-/// The edit marks' grey, the comparison restarts', told apart by its dashes and dots: a colour
-/// of its own would come near a marble's.
-const QColor kEditMarkColour(0x75, 0x75, 0x75);
+/// The grey of the comparison restarts' and the edits' marks, told apart by their dashes and
+/// dots: a colour of their own would come near a marble's.
+const QColor kMarkColour(0x75, 0x75, 0x75);
 
 /// The pen of the momentum's component `c` (0 x, 1 y), the comparison model's when `compared`.
 QPen momentumPen(int c, bool compared)
@@ -1473,6 +1473,23 @@ QLineSeries *PlotDock::addKeySeries(bool dashed)
     return series;
 }
 
+QLineSeries *PlotDock::addMarkSeries(Qt::PenStyle style, Key key, bool listed)
+{
+    // Vertical lines across the chart in the marks' grey, told apart by their dashes; listed in
+    // the legend from their first mark on (refreshChart()).
+    auto *series = new QLineSeries;
+    QPen pen(kMarkColour, 1.5, style);
+    pen.setCapStyle(Qt::FlatCap);
+    series->setPen(pen);
+    series->setName(keyName(key, m_compactLegend));
+    m_chart->addSeries(series);
+    series->attachAxis(m_axisX);
+    series->attachAxis(m_axisSpeed);
+    for (QLegendMarker *marker : m_chart->legend()->markers(series))
+        marker->setVisible(listed);
+    return series;
+}
+
 void PlotDock::remakeOverlays()
 {
     // Over the marbles' speed lines, and after them in the legend, always in this order: the
@@ -1512,28 +1529,9 @@ void PlotDock::remakeOverlays()
     if (comparing) {
         m_modelKey = addKeySeries(false);
         m_compareKey = addKeySeries(true);
-        m_restartMarks = new QLineSeries;
-        QPen marks(QColor(0x75, 0x75, 0x75), 1.5, Qt::DotLine);
-        marks.setCapStyle(Qt::FlatCap);
-        m_restartMarks->setPen(marks);
-        m_restartMarks->setName(keyName(Key::Restart, m_compactLegend));
-        m_chart->addSeries(m_restartMarks);
-        m_restartMarks->attachAxis(m_axisX);
-        m_restartMarks->attachAxis(m_axisSpeed);
-        // Listed from the first restart on (refreshChart()).
-        for (QLegendMarker *marker : m_chart->legend()->markers(m_restartMarks))
-            marker->setVisible(!m_compareRestarts.empty());
+        m_restartMarks = addMarkSeries(Qt::DotLine, Key::Restart, !m_compareRestarts.empty());
     }
-    m_editMarkSeries = new QLineSeries;
-    QPen editPen(kEditMarkColour, 1.5, Qt::DashDotLine);
-    editPen.setCapStyle(Qt::FlatCap);
-    m_editMarkSeries->setPen(editPen);
-    m_editMarkSeries->setName(keyName(Key::Edit, m_compactLegend));
-    m_chart->addSeries(m_editMarkSeries);
-    m_editMarkSeries->attachAxis(m_axisX);
-    m_editMarkSeries->attachAxis(m_axisSpeed);
-    for (QLegendMarker *marker : m_chart->legend()->markers(m_editMarkSeries))
-        marker->setVisible(false); // listed from the first mark on (refreshChart())
+    m_editMarkSeries = addMarkSeries(Qt::DashDotLine, Key::Edit, false);
     m_dirty = true;
     styleSeries();
     m_dirty = true;

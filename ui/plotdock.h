@@ -333,6 +333,9 @@ private:
     /// Such an entry's label, in full ("book (solid)", "comparison restarted") or short ("book",
     /// "restarted"), where its line sample tells the rest.
     QString keyName(Key key, bool compact) const;
+    /// A series of marks (Key::Restart or Key::Edit) drawn in `style`, its legend entry shown
+    /// when `listed`.
+    QLineSeries *addMarkSeries(Qt::PenStyle style, Key key, bool listed);
     void updateAxisTitles();
     void updateTotalsAxis();
 

@@ -105,6 +105,17 @@ World worldWith(int marbles)
     return world;
 }
 
+/// The labels of the legend's entries shown, in order.
+QStringList shownLegendLabels(PlotDock &dock)
+{
+    QStringList shown;
+    for (QLegendMarker *marker : dock.chartView()->chart()->legend()->markers()) {
+        if (marker->isVisible())
+            shown << marker->label();
+    }
+    return shown;
+}
+
 /// Sets every marble's velocity from the frame number (a different, known speed per frame) and
 /// records the frame: frames 1..n.
 void runFrames(PlotDock &dock, World &world, int n, const World *compare = nullptr)
@@ -1074,14 +1085,7 @@ void TestPlotDock::legendLabelsFitTheRow()
     QCOMPARE(dock.speedSeries(3)->name(), QStringLiteral("#3"));
     // The models' keys too, their line samples telling solid from dashed ("book (s…" and
     // "exact (…" were cut at 1024 x 768: a helper's finding).
-    const auto labels = [&dock] {
-        QStringList shown;
-        for (QLegendMarker *marker : dock.chartView()->chart()->legend()->markers()) {
-            if (marker->isVisible())
-                shown << marker->label();
-        }
-        return shown;
-    };
+    const auto labels = [&dock] { return shownLegendLabels(dock); };
     const auto endsWith = [](const QStringList &all, const QStringList &tail) {
         return all.size() >= tail.size() && all.mid(all.size() - tail.size()) == tail;
     };
@@ -1152,14 +1156,7 @@ void TestPlotDock::legendListsMarblesInOrder()
     PlotDock dock;
     World world = worldWith(4);
     QVERIFY(showComparing(dock, world, 6, 1400));
-    const auto visibleLabels = [&dock] {
-        QStringList labels;
-        for (QLegendMarker *marker : dock.chartView()->chart()->legend()->markers()) {
-            if (marker->isVisible())
-                labels << marker->label();
-        }
-        return labels;
-    };
+    const auto visibleLabels = [&dock] { return shownLegendLabels(dock); };
     const QStringList inOrder{QStringLiteral("marble 0"), QStringLiteral("marble 1"), QStringLiteral("marble 2"),
                               QStringLiteral("marble 3"), QStringLiteral("book (solid)"), QStringLiteral("exact (dashed)")};
     QTRY_COMPARE(visibleLabels(), inOrder);
