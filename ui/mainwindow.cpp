@@ -1859,7 +1859,19 @@ Vec2 MainWindow::shownMomentum(const World &world)
     // A component within the sum's rounding error of zero is zero: the exact model's momentum y
     // of marbles moving only across read "-4.441e-16" beside the book's "-0.4395". The error of a
     // sum of n terms is at most about n eps times the sum of their sizes.
-    const Vec2 p = world.momentum();
+    Vec2 p = world.momentum();
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+        // Past the doubles (the book model's blow-up): one m v at +inf and another at -inf made the
+        // sum NaN, "p = (nan, inf)", where the true sum was finite (a helper's finding). Summed
+        // with a wider exponent, it is the sum, or an infinity where the sum itself is beyond.
+        long double sumX = 0.0L;
+        long double sumY = 0.0L;
+        for (int i = 0; i < world.marbleCount(); ++i) {
+            sumX += static_cast<long double>(world.mass[i]) * world.velocity[i].x;
+            sumY += static_cast<long double>(world.mass[i]) * world.velocity[i].y;
+        }
+        p = {static_cast<double>(sumX), static_cast<double>(sumY)};
+    }
     double sizeX = 0.0;
     double sizeY = 0.0;
     for (int i = 0; i < world.marbleCount(); ++i) {

@@ -229,7 +229,7 @@ AxisRange niceRange(QValueAxis *scratch, double lo, double hi, int ticks = kAxis
 /// as nice ranges from 0 or across it have): each keeps its tick spacing and gets as many ticks
 /// below zero as the one with most, and as many above. A negative momentum had put its axis's
 /// zero above the others', where its line read as a speed above zero. Ranges without zero on a
-/// tick (the overflow guard's) are left as they are. At most `maxTicks` + 1 ticks.
+/// tick (the overflow guard's) are left as they are. At most `maxTicks` ticks.
 void alignZeros(std::initializer_list<AxisRange *> ranges, int maxTicks)
 {
     struct Steps {
@@ -256,7 +256,7 @@ void alignZeros(std::initializer_list<AxisRange *> ranges, int maxTicks)
     // No more ticks than the axes had (each, kAxisTicks and the one or two nice numbers add):
     // nine, from -4 to 10, were too close for the dock's plot, whose every label then read "…".
     // Fewer are had by doubling every spacing (1, 2, 5 become 2, 4, 10), keeping zero on a tick.
-    while (below + above + 1 > maxTicks + 1) {
+    while (below + above + 1 > maxTicks) {
         below = 0;
         above = 0;
         for (Steps &s : steps) {
@@ -957,7 +957,8 @@ void PlotDock::refreshChart()
     if (m_showMomentum->isChecked())
         alignZeros(m_showKinetic->isChecked() ? std::initializer_list<AxisRange *>{&speedRange, &energyRange, &momentumRange}
                                               : std::initializer_list<AxisRange *>{&speedRange, &momentumRange},
-                   valueTicks);
+                   // one more than asked where there is room (the nice numbers' own), none on a short chart
+                   valueTicks == kAxisTicks ? kAxisTicks + 1 : valueTicks);
     applyNonNegativeRange(m_axisSpeed, speedRange);
     applyNonNegativeRange(m_axisTotals, energyRange);
     applyRange(m_axisMomentum, momentumRange);
@@ -1856,7 +1857,7 @@ void PlotDock::updateAxisTitles()
     title(m_axisX, m_timeInSeconds ? tr("time (s)") : tr("frame"));
     // The titles up the chart's sides in short where the chart is less high than the speed's
     // is long (at a scale of 1.5 on a 1280 x 720 projector: "speed (px/fr…", "kinetic ener…").
-    // Shorter still where even that is too long (the window made to fit 480 px): "v".
+    // Shorter still where even that is too long (the window made to fit 480 px): "speed".
     const QString speed = m_timeInSeconds ? tr("speed (px/s)") : tr("speed (px/frame)");
     const QString shortSpeed = m_timeInSeconds ? tr("v (px/s)") : tr("v (px/frame)");
     const double height = m_chart->plotArea().height();
@@ -1864,7 +1865,7 @@ void PlotDock::updateAxisTitles()
         return !(height > 0.0) || QFontMetrics(m_axisSpeed->titleFont()).horizontalAdvance(text) <= height;
     };
     const bool full = fits(speed);
-    title(m_axisSpeed, full ? speed : fits(shortSpeed) ? shortSpeed : tr("v"));
+    title(m_axisSpeed, full ? speed : fits(shortSpeed) ? shortSpeed : tr("speed")); // a "v" turned up read as ">"
     title(m_axisTotals, full ? tr("kinetic energy") : tr("KE"));
     title(m_axisMomentum, full ? tr("momentum") : tr("p"));
 }

@@ -1071,6 +1071,14 @@ void TestMainWindow::massScaleSaysWhenNoMarbleUsesIt()
     QVERIFY(std::isinf(blown.momentum().x));
     QVERIFY(std::isinf(MainWindow::shownMomentum(blown).x));
     QCOMPARE(MainWindow::shownMomentum(blown).y, blown.momentum().y);
+    // Two m v past the doubles, of opposite signs, whose sum is not: that sum, not NaN ("p =
+    // (nan, inf)" after a blow-up; a helper's finding).
+    World opposite;
+    opposite.addMarble({100, 100}, 30, {8e306, 0}, 37.5);  // m v = 3e308
+    opposite.addMarble({200, 100}, 20, {-1e307, 0}, 25.0); // m v = -2.5e308
+    QVERIFY(std::isnan(opposite.momentum().x));
+    const double sum = MainWindow::shownMomentum(opposite).x;
+    QVERIFY2(std::isfinite(sum) && std::abs(sum - 5e307) <= 1e-9 * 5e307, qPrintable(QString::number(sum)));
 
     // The Inspector gives the selected marble in the compared model too (its velocities after
     // the collision could be read only off the plot or the CSV).
