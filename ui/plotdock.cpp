@@ -983,28 +983,24 @@ void PlotDock::refreshChart()
             markAt(marks, restart);
         m_restartMarks->replace(marks);
     }
-    // Their keys, while they have marks and the row has room for them (the key takes room in the
-    // row: the labels are measured again).
-    const auto keysShown = [this] {
-        return std::pair{m_restartMarks && m_restartMarks->count() > 0 && !m_markKeysHidden,
-                         m_editMarkSeries && m_editMarkSeries->count() > 0 && !m_markKeysHidden};
-    };
-    const auto wanted = keysShown();
-    bool changed = false;
-    for (auto [series, shown] : {std::pair{m_restartMarks, wanted.first}, std::pair{m_editMarkSeries, wanted.second}}) {
-        for (QLegendMarker *marker : series ? m_chart->legend()->markers(series) : QList<QLegendMarker *>{}) {
-            changed = changed || marker->isVisible() != shown;
-            marker->setVisible(shown);
-        }
-    }
-    if (changed) {
-        updateLegendLabels();
-        if (keysShown() != wanted) { // no room for them after all
-            for (auto [series, shown] : {std::pair{m_restartMarks, keysShown().first}, std::pair{m_editMarkSeries, keysShown().second}}) {
-                for (QLegendMarker *marker : series ? m_chart->legend()->markers(series) : QList<QLegendMarker *>{})
-                    marker->setVisible(shown);
+    // Their keys, while they have marks and the row has room for them; whether any key came or
+    // went.
+    const auto showKeys = [this] {
+        bool changed = false;
+        for (QLineSeries *series : {m_restartMarks, m_editMarkSeries}) {
+            const bool shown = series && series->count() > 0 && !m_markKeysHidden;
+            for (QLegendMarker *marker : series ? m_chart->legend()->markers(series) : QList<QLegendMarker *>{}) {
+                changed = changed || marker->isVisible() != shown;
+                marker->setVisible(shown);
             }
         }
+        return changed;
+    };
+    if (showKeys()) {
+        // A key takes room in the row: the labels are measured again, which may leave no room
+        // for the keys after all.
+        updateLegendLabels();
+        showKeys();
         // Qt Charts 6.4 draws a marker shown afterwards over its neighbour ("mediumparison
         // restarted", a regression tester's finding) until the legend is laid out again.
         m_chart->legend()->hide();
@@ -1533,7 +1529,6 @@ void PlotDock::remakeOverlays()
         m_restartMarks = addMarkSeries(Qt::DotLine, Key::Restart, !m_compareRestarts.empty());
     }
     m_editMarkSeries = addMarkSeries(Qt::DashDotLine, Key::Edit, false);
-    m_dirty = true;
     styleSeries();
     m_dirty = true;
 }
@@ -1594,11 +1589,11 @@ void PlotDock::updateLegendLabels()
     // or a named marble's name); hovering a line still gives its full label.
     // A view not on screen has no width worth measuring; it is measured again when shown.
     const bool shown = m_chartView && m_chartView->isVisible();
-    m_compactLegend = shown && !legendFits(false, true);
+    m_compactLegend = shown && !legendFits(false);
     // Short, and still too long (a named crowd compared, restarted and edited, at 1024 x 768:
     // "he…", "ex…", "re…", "e…"): the marks' keys give their room to the lines', whose names a
     // class needs to tell the lines apart; the marks are still drawn.
-    m_markKeysHidden = m_compactLegend && !legendFits(true, true);
+    m_markKeysHidden = m_compactLegend && !legendFits(true);
     for (Track &t : m_tracks)
         t.series->setName(m_compactLegend ? compactMarbleLabel(t.marble) : marbleLabel(t.marble));
     // The totals too: "momentum x" and "momentum y" were both cut to "mome…".
@@ -1657,7 +1652,7 @@ QString PlotDock::compactMarbleLabel(int marble) const
     return i < m_names.size() && !m_names[i].isEmpty() ? m_names[i] : tr("#%1").arg(marble);
 }
 
-bool PlotDock::legendFits(bool compact, bool withMarks) const
+bool PlotDock::legendFits(bool compact) const
 {
     const QFontMetrics metrics(m_chart->legend()->font());
     int needed = 0;
@@ -1675,9 +1670,9 @@ bool PlotDock::legendFits(bool compact, bool withMarks) const
     }
     // The restarts' key while there is one (with it the legend's labels were cut: "compari…",
     // "kinetic e…", "moment…"; a teacher's finding).
-    if (withMarks && m_restartMarks && !m_compareRestarts.empty())
+    if (m_restartMarks && !m_compareRestarts.empty())
         entry(keyName(Key::Restart, compact));
-    if (withMarks && m_editMarkSeries && !m_editMarks.empty())
+    if (m_editMarkSeries && !m_editMarks.empty())
         entry(keyName(Key::Edit, compact));
     const std::array<QLineSeries *, 3> totals = sceneTotals();
     for (std::size_t k = 0; k < totals.size(); ++k) {

@@ -140,7 +140,7 @@ public:
     /// The frames where an edit made the scene's lines jump, oldest first: a velocity set, the
     /// mass scale or a mass changed mid-run, or such a change carried back by Step Back (the
     /// parameters keep their latest values, so the frame stepped back to is taken again with
-    /// them). A dotted line across the chart marks each ("scene edited"), so that the jump is not
+    /// them). A dash-dot line across the chart marks each ("scene edited"), so that the jump is not
     /// read as energy from nowhere. An edit undone where it was made takes its mark away.
     std::vector<std::int64_t> editMarks() const;
     /// Name of the comparison model plotted, or "" when none.
@@ -297,10 +297,9 @@ private:
     void showTotal(QLineSeries *series, bool shown);
     void styleSeries();
     void updateLegendLabels();
-    /// Whether the legend's row has room for every entry with its full label.
-    /// Whether the legend's entries fit its one row: with their short labels or in full, and
-    /// with or without the marks' keys.
-    bool legendFits(bool compact, bool withMarks) const;
+    /// Whether the legend's entries, the marks' keys among them, fit its one row: with their
+    /// short labels or in full.
+    bool legendFits(bool compact) const;
     /// A marble's short label: its name, or "#3".
     QString compactMarbleLabel(int marble) const;
     QList<int> wantedMarbles() const;
@@ -408,7 +407,7 @@ private:
         SceneSample asStepped;
     };
     std::vector<EditMark> m_editMarks;
-    QLineSeries *m_editMarkSeries = nullptr; ///< a dotted line at each edit mark
+    QLineSeries *m_editMarkSeries = nullptr; ///< a dash-dot line at each edit mark
     QCheckBox *m_showKinetic = nullptr;
     QCheckBox *m_showMomentum = nullptr;
     QRadioButton *m_frameAxis = nullptr;
