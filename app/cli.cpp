@@ -142,31 +142,7 @@ Options parseOptions(const std::vector<std::string> &args, std::initializer_list
 
 std::string sceneLabel(const std::string &scene)
 {
-    return isStandardStream(scene) ? std::string("stdin") : oneLine(scene);
-}
-
-std::string oneLine(std::string_view text)
-{
-    // The C0 controls and DEL, and the line breaks of Unicode beyond them (NEL, U+0085; the line
-    // and paragraph separators, U+2028 and U+2029), which a reader splitting lines may take as one.
-    std::string line;
-    line.reserve(text.size());
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        const auto c = static_cast<unsigned char>(text[i]);
-        if (c < 0x20 || c == 0x7F) {
-            line += '?';
-        } else if (c == 0xC2 && i + 1 < text.size() && static_cast<unsigned char>(text[i + 1]) == 0x85) {
-            line += '?';
-            ++i;
-        } else if (c == 0xE2 && i + 2 < text.size() && static_cast<unsigned char>(text[i + 1]) == 0x80
-                   && (static_cast<unsigned char>(text[i + 2]) == 0xA8 || static_cast<unsigned char>(text[i + 2]) == 0xA9)) {
-            line += '?';
-            i += 2;
-        } else {
-            line += static_cast<char>(c);
-        }
-    }
-    return line;
+    return isStandardStream(scene) ? std::string("stdin") : printableText(scene);
 }
 
 namespace {
@@ -621,19 +597,19 @@ int main(int argc, char **argv)
         std::cout << "usage:\n" << usage << notes;
         return written(ExitOk);
     } catch (const InvalidInput &e) {
-        std::cerr << oneLine(e.message) << '\n';
+        std::cerr << marbles::printableText(e.message) << '\n';
         return ExitInvalid;
     } catch (const WriteFailed &e) {
-        std::cerr << oneLine(e.message) << '\n';
+        std::cerr << marbles::printableText(e.message) << '\n';
         return ExitInternal;
     } catch (const OutOfMemory &e) {
-        std::cerr << oneLine(e.message) << '\n';
+        std::cerr << marbles::printableText(e.message) << '\n';
         return ExitInternal;
     } catch (const std::bad_alloc &) {
         std::cerr << "internal error: not enough memory (std::bad_alloc)\n";
         return ExitInternal;
     } catch (const std::exception &e) {
-        std::cerr << "internal error: " << oneLine(e.what()) << '\n';
+        std::cerr << "internal error: " << marbles::printableText(e.what()) << '\n';
         return ExitInternal;
     }
 }

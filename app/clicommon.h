@@ -71,12 +71,9 @@ Options parseOptions(const std::vector<std::string> &args, std::initializer_list
                      std::initializer_list<std::string_view> flags = {});
 /// Whether a path is "-": standard input as SCENE, standard output as run's or a scene's --out.
 inline bool isStandardStream(const std::string &path) { return path == "-"; }
-/// How messages name SCENE: "stdin" for "-", else as given with control characters as '?' (oneLine()).
+/// How messages name SCENE: "stdin" for "-", else as given, on one line (printableText()).
 std::string sceneLabel(const std::string &scene);
 
-/// `text` as one line of a message: control characters (a newline in a file's name) and Unicode's
-/// line breaks (U+0085, U+2028, U+2029) become '?'.
-std::string oneLine(std::string_view text);
 /// Loads SCENE ("-" reads standard input; "preset:ID" builds a built-in preset), applies the
 /// KEY=VALUE settings in order and validates the result; throws InvalidInput with one message.
 World loadWorld(const std::string &scene, const std::vector<std::string> &settings);

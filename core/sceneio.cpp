@@ -41,53 +41,75 @@ std::string formatNumber(double v)
     return std::string(buffer, result.ptr);
 }
 
-/// Length of the valid UTF-8 sequence starting at s[i], or 0 when the bytes there are not one.
+/// Length of the valid UTF-8 sequence starting at s[i], or 0 when the bytes there are not one
+/// (a stray or missing continuation byte, an overlong form, a surrogate, or beyond U+10FFFF).
 std::size_t utf8SequenceLength(std::string_view s, std::size_t i)
 {
     const auto lead = static_cast<unsigned char>(s[i]);
     std::size_t length = 0;
-    if (lead >= 0xC2 && lead <= 0xDF)
+    // The second byte's range, which the lead narrows (RFC 3629's table).
+    unsigned char low = 0x80;
+    unsigned char high = 0xBF;
+    if (lead >= 0xC2 && lead <= 0xDF) {
         length = 2;
-    else if (lead >= 0xE0 && lead <= 0xEF)
+    } else if (lead >= 0xE0 && lead <= 0xEF) {
         length = 3;
-    else if (lead >= 0xF0 && lead <= 0xF4)
+        low = lead == 0xE0 ? 0xA0 : 0x80;
+        high = lead == 0xED ? 0x9F : 0xBF;
+    } else if (lead >= 0xF0 && lead <= 0xF4) {
         length = 4;
-    else
+        low = lead == 0xF0 ? 0x90 : 0x80;
+        high = lead == 0xF4 ? 0x8F : 0xBF;
+    } else {
         return 0;
+    }
     if (i + length > s.size())
         return 0;
     for (std::size_t k = 1; k < length; ++k) {
         const auto c = static_cast<unsigned char>(s[i + k]);
-        if (c < 0x80 || c > 0xBF)
+        if (c < (k == 1 ? low : 0x80) || c > (k == 1 ? high : 0xBF))
             return 0;
     }
     return length;
 }
 
-/// A piece of input made safe to print in one line: control characters and broken UTF-8
-/// become '?', and anything beyond `maxBytes` is cut (at a character boundary) and marked "...".
-std::string printable(std::string_view s, std::size_t maxBytes = 60)
+} // namespace
+
+std::string printableText(std::string_view text, std::size_t maxBytes)
 {
     std::string out;
     std::size_t i = 0;
-    while (i < s.size()) {
+    while (i < text.size()) {
         if (out.size() >= maxBytes) {
             out += "...";
             break;
         }
-        const auto c = static_cast<unsigned char>(s[i]);
+        const auto c = static_cast<unsigned char>(text[i]);
         if (c < 0x80) {
             out += (c < 0x20 || c == 0x7F) ? '?' : static_cast<char>(c);
             ++i;
-        } else if (const std::size_t n = utf8SequenceLength(s, i); n > 0) {
-            out.append(s.substr(i, n));
-            i += n;
-        } else {
+        } else if (const std::size_t n = utf8SequenceLength(text, i); n == 0) {
             out += '?';
             ++i;
+        } else {
+            const std::string_view character = text.substr(i, n);
+            const bool lineBreak = character == "\xC2\x85" || character == "\xE2\x80\xA8" || character == "\xE2\x80\xA9";
+            if (lineBreak)
+                out += '?';
+            else
+                out.append(character);
+            i += n;
         }
     }
     return out;
+}
+
+namespace {
+
+/// A piece of input made safe to print in one line, at most `maxBytes` long (printableText()).
+std::string printable(std::string_view s, std::size_t maxBytes = 60)
+{
+    return printableText(s, maxBytes);
 }
 
 /// What a JSON value is, for "got ..." in messages: `string "abc"`, `number 5`, `array`.
@@ -1069,18 +1091,27 @@ std::string osError(int error)
 // -------------------------------------------------------------------------------------------------
 // Public functions
 
+namespace {
+
+/// parseInto(), with what it throws said as a rule broken; sets `outOfMemory` when memory ran out.
+std::string parseCaught(std::string_view text, World &world, bool &outOfMemory)
+{
+    try {
+        return parseInto(text, world);
+    } catch (const std::bad_alloc &) {
+        outOfMemory = true;
+        return "size: not enough memory to read this scene";
+    } catch (const std::exception &e) {
+        return "scene: cannot be read: " + printable(e.what(), 160);
+    }
+}
+
+} // namespace
+
 SceneLoad parseScene(std::string_view text, std::string_view source)
 {
     SceneLoad result;
-    std::string error;
-    try {
-        error = parseInto(text, result.world);
-    } catch (const std::bad_alloc &) {
-        error = "size: not enough memory to read this scene";
-        result.outOfMemory = true;
-    } catch (const std::exception &e) {
-        error = "scene: cannot be read: " + printable(e.what(), 160);
-    }
+    const std::string error = parseCaught(text, result.world, result.outOfMemory);
     if (error.empty()) {
         result.ok = true;
     } else {
@@ -1259,15 +1290,20 @@ std::string sceneToJson(const World &world)
     return out;
 }
 
+std::string sceneTextLoadingBack(const World &world, std::string &text)
+{
+    text = sceneToJson(world);
+    World check;
+    bool outOfMemory = false;
+    return parseCaught(text, check, outOfMemory);
+}
+
 std::string saveSceneFile(const World &world, const std::string &path)
 {
-    const std::string text = sceneToJson(world);
     // Never write a file this program would refuse to open again.
-    {
-        World check;
-        if (std::string error = parseInto(text, check); !error.empty())
-            return path + ": not saved, the scene would not load back: " + error;
-    }
+    std::string text;
+    if (std::string error = sceneTextLoadingBack(world, text); !error.empty())
+        return path + ": not saved, the scene would not load back: " + error;
 
     if (std::string error = writeFileWhole(path, text, SpecialFiles::Refuse); !error.empty())
         return path + ": cannot save: " + error;

@@ -53,8 +53,12 @@ SceneLoad loadSceneFile(const std::string &path, std::string_view shownAs = {});
 /// The file starts at the world's current frame: its pushes are counted from it, and those of
 /// earlier frames, which have acted, are left out; read back, the scene runs on as the world would.
 std::string sceneToJson(const World &world);
+/// Puts the scene file text of `world` (sceneToJson()) in `text`, and checks it: returns "" when it
+/// loads back, else why it would not, as the loader says it ("marbles[0].x: must be a number, got null").
+std::string sceneTextLoadingBack(const World &world, std::string &text);
 /// Writes atomically (temporary file in the same folder, flushed, then renamed over the target);
-/// returns "" on success or a message naming the file and the OS error. Never leaves a half-written file.
+/// returns "" on success or a message naming the file and the OS error. Never leaves a half-written
+/// file, nor a file that would not load back (sceneTextLoadingBack()).
 std::string saveSceneFile(const World &world, const std::string &path);
 /// Checks params against the rules; returns "" or e.g. "params.friction: must be >= 0, got -1".
 std::string validateParams(const Params &p);
@@ -64,5 +68,10 @@ std::string validateParams(const Params &p);
 /// massScale refreshes derived masses (World::setMassScale). Returns "" or a message naming the key and value.
 /// Does NOT run the cross-field validation; callers call validateParams after all settings.
 std::string setParam(World &world, std::string_view key, std::string_view value);
+/// Text from outside (a file name, a key, a value, an OS message) made safe to print on one line:
+/// the C0 controls and DEL, Unicode's line breaks beyond them (NEL U+0085, U+2028 and U+2029,
+/// which a reader splitting lines may take as such) and bytes that are not UTF-8 each become '?';
+/// beyond `maxBytes` the text is cut at a character boundary and marked "...".
+std::string printableText(std::string_view text, std::size_t maxBytes = std::string_view::npos);
 
 } // namespace marbles

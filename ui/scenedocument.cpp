@@ -94,10 +94,10 @@ bool SceneDocument::saveFile(const QString &path, QString *error)
                          .arg(marble);
         return false;
     }
-    const std::string json = sceneToJson(m_world);
-    if (const SceneLoad back = parseScene(json, name.toStdString()); !back.ok) {
+    std::string json;
+    if (const std::string rule = sceneTextLoadingBack(m_world, json); !rule.empty()) {
         if (error) // "<file>: <place>: <rule>", as a file that will not open says it
-            *error = tr("%1 (not saved: the scene would not load back)").arg(QString::fromStdString(back.error));
+            *error = tr("%1: %2 (not saved: the scene would not load back)").arg(name, QString::fromStdString(rule));
         return false;
     }
     if (const QString failure = writeWholeFile(path, QByteArray::fromStdString(json)); !failure.isEmpty()) {

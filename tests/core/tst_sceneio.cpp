@@ -235,6 +235,8 @@ private slots:
     void setMassScaleRefreshesDerivedMasses();
     void validateParams_data();
     void validateParams();
+    void printableTextIsOneLine_data();
+    void printableTextIsOneLine();
 };
 
 void TestSceneIo::baseSceneIsValid()
@@ -1199,6 +1201,8 @@ void TestSceneIo::setParamRejects_data()
     QTest::addRow("width zero") << "width" << "0" << "width=0: must be > 0";
     QTest::addRow("height negative") << "height" << "-1" << "height=-1: must be > 0";
     QTest::addRow("unknown key") << "frictoin" << "0.2" << "frictoin=0.2: unknown key; the keys are model, massScale";
+    QTest::addRow("key across Unicode lines") << QString::fromUtf8("fric\u2028tion") << "0.2"
+                                              << "fric?tion=0.2: unknown key";
     QTest::addRow("params prefix is not a key") << "params.friction" << "0.2" << "params.friction=0.2: unknown key";
 }
 
@@ -1226,6 +1230,36 @@ void TestSceneIo::setMassScaleRefreshesDerivedMasses()
     QCOMPARE(w.params.massScale, 2.0);
     QCOMPARE(w.mass[0], 20.0);
     QCOMPARE(w.mass[1], 7.0);
+}
+
+void TestSceneIo::printableTextIsOneLine_data()
+{
+    QTest::addColumn<QByteArray>("text");
+    QTest::addColumn<int>("maxBytes"); // -1: no limit
+    QTest::addColumn<QByteArray>("shown");
+    QTest::addRow("plain") << QByteArray("lesson 3.json") << -1 << QByteArray("lesson 3.json");
+    QTest::addRow("controls and DEL") << QByteArray("a\nb\rc\td\x7F\x1B") << -1 << QByteArray("a?b?c?d??");
+    QTest::addRow("Unicode line breaks") << QByteArray("a\xC2\x85" "b\xE2\x80\xA8" "c\xE2\x80\xA9" "d") << -1
+                                         << QByteArray("a?b?c?d");
+    QTest::addRow("other characters kept") << QByteArray("\xC3\xA9\xE4\xB8\xAD\xE2\x80\xA7\xF0\x9F\x8E\xB1") << -1
+                                           << QByteArray("\xC3\xA9\xE4\xB8\xAD\xE2\x80\xA7\xF0\x9F\x8E\xB1");
+    QTest::addRow("Latin-1 byte") << QByteArray("caf\xE9.json") << -1 << QByteArray("caf?.json");
+    QTest::addRow("cut sequence") << QByteArray("a\xE2\x80") << -1 << QByteArray("a??");
+    // Not UTF-8 though each byte is in range: an overlong '/', a surrogate, past U+10FFFF.
+    QTest::addRow("overlong") << QByteArray("\xE0\x80\xAF") << -1 << QByteArray("???");
+    QTest::addRow("surrogate") << QByteArray("\xED\xA0\x80") << -1 << QByteArray("???");
+    QTest::addRow("beyond U+10FFFF") << QByteArray("\xF4\x90\x80\x80") << -1 << QByteArray("????");
+    QTest::addRow("cut at a character") << QByteArray("ab\xC3\xA9" "cd") << 3 << QByteArray("ab\xC3\xA9...");
+}
+
+void TestSceneIo::printableTextIsOneLine()
+{
+    QFETCH(QByteArray, text);
+    QFETCH(int, maxBytes);
+    QFETCH(QByteArray, shown);
+    const std::string_view view(text.constData(), static_cast<std::size_t>(text.size()));
+    const std::string out = maxBytes < 0 ? printableText(view) : printableText(view, static_cast<std::size_t>(maxBytes));
+    QCOMPARE(QByteArray::fromStdString(out), shown);
 }
 
 void TestSceneIo::validateParams_data()
