@@ -1173,7 +1173,7 @@ bool MainWindow::maybeSave()
 {
     if (!m_document->isModified())
         return true;
-    switch (m_prompts->askSaveChanges(this, sceneName(), m_document->world().frame)) {
+    switch (m_prompts->askSaveChanges(this, sceneName(), m_document->world().frame, m_document->unsavableReason())) {
     case Prompts::SaveChoice::Save:
         return save();
     case Prompts::SaveChoice::Discard:

@@ -25,8 +25,20 @@ QString sceneFilter()
 
 Prompts::~Prompts() = default;
 
-Prompts::SaveChoice Prompts::askSaveChanges(QWidget *parent, const QString &documentName, std::int64_t frame)
+Prompts::SaveChoice Prompts::askSaveChanges(QWidget *parent, const QString &documentName, std::int64_t frame,
+                                            const QString &unsavable)
 {
+    // A Save that could only fail is not offered (after the book model's blow-up it was, and
+    // then refused with a message of its own).
+    if (!unsavable.isEmpty()) {
+        const QString text = tr("The scene \"%1\" has changes that are not saved, and they cannot be saved as it is "
+                                "now: %2.\n\nTo keep them, Cancel, then step back to an earlier frame (or press Home "
+                                "to go back to the start) and save there.")
+                                 .arg(documentName, unsavable);
+        const auto answer = QMessageBox::warning(parent, tr("Unsaved changes"), text,
+                                                 QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Cancel);
+        return answer == QMessageBox::Discard ? SaveChoice::Discard : SaveChoice::Cancel;
+    }
     QString text = tr("The scene \"%1\" has changes that are not saved.\nSave them before they are lost?").arg(documentName);
     if (frame > 0)
         text += tr("\n\nIt is saved as it is now, at frame %1, which it opens at as frame 0; the run's start is not "

@@ -20,7 +20,10 @@ public:
 
     /// Asks whether to save the changes to `documentName` before they are lost; `frame` is the
     /// frame the scene would be saved at (after frame 0, the run's start is not what is saved).
-    virtual SaveChoice askSaveChanges(QWidget *parent, const QString &documentName, std::int64_t frame);
+    /// Where the scene cannot be saved at that frame, `unsavable` says why, and the only choices
+    /// are Discard and Cancel.
+    virtual SaveChoice askSaveChanges(QWidget *parent, const QString &documentName, std::int64_t frame,
+                                      const QString &unsavable);
     /// Asks whether to recover the scene described by `details` from the autosave.
     virtual bool askRecover(QWidget *parent, const QString &details);
     /// Asks for a scene file to open, starting in `directory`; empty when cancelled.

@@ -84,14 +84,11 @@ bool SceneDocument::saveFile(const QString &path, QString *error)
     // Never a file this program would refuse to open: saved after the book model's blow-up (a
     // velocity past the doubles), the scene was written with "vx": null, and Ctrl+S put that over
     // the teacher's lesson (a helper's finding). Nothing is written then, and the file stays.
-    if (const int marble = m_world.firstNonFiniteMarble(); marble >= 0) {
+    if (const QString reason = unsavableReason(); !reason.isEmpty()) {
         if (error)
-            *error = tr("%1: not saved: at frame %2, marble %3's place or velocity is not a finite number, which a "
-                        "scene file cannot hold. Step back to a frame before that (or go back to the start) and "
-                        "save there.")
-                         .arg(name)
-                         .arg(m_world.frame)
-                         .arg(marble);
+            *error = tr("%1: not saved: %2. Step back to a frame before that (or go back to the start) and save "
+                        "there.")
+                         .arg(name, reason);
         return false;
     }
     std::string json;
@@ -110,6 +107,16 @@ bool SceneDocument::saveFile(const QString &path, QString *error)
     setFileName(QFileInfo(path).absoluteFilePath());
     emitModification();
     return true;
+}
+
+QString SceneDocument::unsavableReason() const
+{
+    const int marble = m_world.firstNonFiniteMarble();
+    if (marble < 0)
+        return {};
+    return tr("at frame %1, marble %2's place or velocity is not a finite number, which a scene file cannot hold")
+        .arg(m_world.frame)
+        .arg(marble);
 }
 
 QString SceneDocument::displayName() const

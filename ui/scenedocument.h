@@ -44,6 +44,9 @@ public:
     bool openFile(const QString &path, QString *error);
     /// Writes the scene atomically (QSaveFile); on success the document is clean and named `path`.
     bool saveFile(const QString &path, QString *error);
+    /// Why the scene cannot be saved as it is now ("at frame 812, marble 3's place or velocity is
+    /// not a finite number, which a scene file cannot hold"), or empty when it can.
+    QString unsavableReason() const;
     /// Path of the scene file, or empty for an unsaved scene.
     QString fileName() const { return m_fileName; }
     /// Name shown to the user: the file's name, or "Untitled".

@@ -103,7 +103,10 @@ int ghostCount(QGraphicsScene *scene)
 /// Answers the window's questions without a dialog (closing with unsaved edits discards them).
 class DiscardPrompts : public Prompts {
 public:
-    SaveChoice askSaveChanges(QWidget *, const QString &, std::int64_t) override { return SaveChoice::Discard; }
+    SaveChoice askSaveChanges(QWidget *, const QString &, std::int64_t, const QString &) override
+    {
+        return SaveChoice::Discard;
+    }
     bool askRecover(QWidget *, const QString &) override { return false; }
     QString askOpenFileName(QWidget *, const QString &) override { return {}; }
     QString askSaveFileName(QWidget *, const QString &) override { return {}; }

@@ -74,12 +74,14 @@ public:
     QString recoverDetails; // what the last recovery question said of the scene
     QStringList errors;
     std::int64_t savedAtFrame = -1; // the frame the last save question named
+    QString unsavableReason;        // why the last save question said the scene cannot be saved
 
-    SaveChoice askSaveChanges(QWidget *, const QString &name, std::int64_t frame) override
+    SaveChoice askSaveChanges(QWidget *, const QString &name, std::int64_t frame, const QString &unsavable) override
     {
         ++saveQuestions;
         savedSceneName = name;
         savedAtFrame = frame;
+        unsavableReason = unsavable;
         return saveChoice;
     }
     bool askRecover(QWidget *, const QString &details) override
@@ -131,6 +133,7 @@ private Q_SLOTS:
     void invalidFileLeavesSceneAsItWas();
     void unsavedChangesAreAskedAbout_data();
     void unsavedChangesAreAskedAbout();
+    void blownUpSceneIsNotOfferedASave();
     void plotGetsOneSamplePerFrame();
     void plotShowsAPushAsAJump();
     void frictionChangedMidRunBendsThePlot();
@@ -685,6 +688,31 @@ void TestMainWindow::unsavedChangesAreAskedAbout()
         QCOMPARE(m_window->statusBar()->currentMessage(), QStringLiteral("Preset \"Marbles among pins (Example 2)\"."));
         QVERIFY(m_window->windowTitle().startsWith(QStringLiteral("Preset: Marbles among pins (Example 2)")));
     }
+}
+
+void TestMainWindow::blownUpSceneIsNotOfferedASave()
+{
+    // After the book model's blow-up (friction 2.5) the question offered Save, which was then
+    // refused with a message of its own. It says why the scene cannot be saved there, and what
+    // to do; at a finite frame it asks as before.
+    SceneDocument *doc = m_window->document();
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("2.5")).isEmpty());
+    QCOMPARE_LT(doc->advance(5000), 5000); // stopped where the numbers ran out
+    const int marble = doc->world().firstNonFiniteMarble();
+    QCOMPARE_GE(marble, 0);
+    m_prompts->saveChoice = Prompts::SaveChoice::Cancel;
+    QVERIFY(!m_window->openPreset(QStringLiteral("pins")));
+    QCOMPARE(m_prompts->saveQuestions, 1);
+    QCOMPARE(m_prompts->unsavableReason, QStringLiteral("at frame %1, marble %2's place or velocity is not a finite "
+                                                        "number, which a scene file cannot hold")
+                                             .arg(doc->world().frame)
+                                             .arg(marble));
+    while (doc->world().firstNonFiniteMarble() >= 0)
+        QVERIFY(doc->stepBack());
+    QVERIFY(!m_window->openPreset(QStringLiteral("pins")));
+    QCOMPARE(m_prompts->saveQuestions, 2);
+    QCOMPARE(m_prompts->unsavableReason, QString());
+    QVERIFY(m_prompts->errors.isEmpty());
 }
 
 void TestMainWindow::plotGetsOneSamplePerFrame()
