@@ -829,7 +829,10 @@ void MainWindow::createDocks()
     connect(m_document, &SceneDocument::marbleRemovedAt, this,
             [this](int i) { m_plotDock->marbleRemovedAt(i, m_document->world().marbleCount() + 1); });
     connect(m_document, &SceneDocument::marbleInsertedAt, this,
-            [this](int i) { m_plotDock->marbleInsertedAt(i, m_document->world().marbleCount()); });
+            [this](int i) {
+                const World &world = m_document->world();
+                m_plotDock->marbleInsertedAt(i, world.marbleCount(), world.mass[static_cast<std::size_t>(i)]);
+            });
     connect(m_document, &SceneDocument::sceneChanged, this, [this](SceneDocument::Change change) {
         if (change == SceneDocument::Change::Scene)
             m_plotDock->forgetColourOrder();

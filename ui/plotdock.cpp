@@ -495,6 +495,7 @@ void PlotDock::reset(const World &world)
     m_frames.clear();
     m_compareRestarts.clear();
     m_editMarks.clear();
+    m_massesFrom.clear();
     forEachValueBuffer([](RingBuffer<double> &values) { values.clear(); });
 
     m_marbleCount = world.marbleCount();
@@ -525,25 +526,36 @@ void PlotDock::replayKeptFrames(const World &world, const World *compare, std::i
     // past the plot's oldest sample, had taken away the mark of a velocity set before, the jump
     // still in the line (a helper's finding).
     std::vector<EditMark> marks = std::move(m_editMarks);
+    const std::vector<MassesFrom> masses = std::move(m_massesFrom);
     reset(world);
     const std::int64_t from = std::max(firstFrame, world.frame - static_cast<std::int64_t>(capacity()) + 1);
     if (m_documentVelocities && from < world.frame) {
-        // The marbles and masses of now, with the velocities of each kept frame: what the frames
-        // hold is what Step Back returns to.
+        // The marbles of now, with the velocities of each kept frame (what Step Back returns to)
+        // and the masses it was taken with where they are known.
         World ours = world;
         std::optional<World> theirs;
         if (compare)
             theirs = *compare;
+        const std::vector<double> *massesTaken = &world.mass; // what ours.mass holds
         for (std::int64_t f = from; f < world.frame; ++f) {
             const std::vector<Vec2> *velocities = m_documentVelocities(f);
             if (!velocities || velocities->size() != ours.velocity.size())
                 continue;
             ours.velocity = *velocities;
             ours.frame = f;
+            const std::vector<double> *mass = massesAt(masses, f, world.marbleCount());
+            if (!mass)
+                mass = &world.mass;
+            if (mass != massesTaken) { // a copy only where they change (a crowd's replay is O(frames x marbles))
+                ours.mass = *mass;
+                massesTaken = mass;
+            }
             const std::vector<Vec2> *compared = theirs && m_compareVelocities ? m_compareVelocities(f) : nullptr;
             if (compared && compared->size() == theirs->velocity.size()) {
                 theirs->velocity = *compared;
                 theirs->frame = f;
+                if (theirs->mass.size() == ours.mass.size())
+                    theirs->mass = ours.mass;
             } else {
                 compared = nullptr;
             }
@@ -683,7 +695,18 @@ void PlotDock::appendFrame(const World &world, const World *compare)
         rebuildTracks();
     }
     m_frameMs = world.params.frameMs;
+    // Samples from this frame on are taken again (stepped on after Step Back, or an edit there):
+    // their masses with them. Entries no sample needs any more go.
+    while (!m_massesFrom.empty() && m_massesFrom.back().frame >= world.frame)
+        m_massesFrom.pop_back();
+    if (m_massesFrom.empty() || m_massesFrom.back().mass != world.mass)
+        m_massesFrom.push_back({world.frame, world.mass});
     m_frames.push(world.frame);
+    const std::int64_t oldest = m_frames.at(0);
+    const auto stillNeeded = std::find_if(m_massesFrom.begin() + 1, m_massesFrom.end(),
+                                          [oldest](const MassesFrom &e) { return e.frame > oldest; });
+    if (stillNeeded - 1 != m_massesFrom.begin())
+        m_massesFrom.erase(m_massesFrom.begin(), stillNeeded - 1);
     m_kinetic.push(world.kineticEnergy());
     const Vec2 p = world.momentum();
     m_momentum[0].push(p.x);
@@ -1776,8 +1799,22 @@ void PlotDock::ensureColourOrder(int count)
         m_hues.push_back(takeFreeHue(taken, next));
 }
 
+const std::vector<double> *PlotDock::massesAt(const std::vector<MassesFrom> &eras, std::int64_t frame, int count) const
+{
+    const auto after = std::upper_bound(eras.begin(), eras.end(), frame,
+                                        [](std::int64_t f, const MassesFrom &e) { return f < e.frame; });
+    if (after == eras.begin())
+        return nullptr;
+    const std::vector<double> &mass = std::prev(after)->mass;
+    return mass.size() == static_cast<std::size_t>(count) ? &mass : nullptr;
+}
+
 void PlotDock::marbleRemovedAt(int i, int countBefore)
 {
+    for (MassesFrom &e : m_massesFrom) {
+        if (static_cast<std::size_t>(i) < e.mass.size() && e.mass.size() == static_cast<std::size_t>(countBefore))
+            e.mass.erase(e.mass.begin() + i);
+    }
     ensureColourOrder(countBefore);
     const auto at = static_cast<std::size_t>(i);
     if (at >= m_hues.size())
@@ -1786,8 +1823,12 @@ void PlotDock::marbleRemovedAt(int i, int countBefore)
     m_hues.erase(m_hues.begin() + static_cast<std::ptrdiff_t>(at));
 }
 
-void PlotDock::marbleInsertedAt(int i, int countAfter)
+void PlotDock::marbleInsertedAt(int i, int countAfter, double mass)
 {
+    for (MassesFrom &e : m_massesFrom) {
+        if (i >= 0 && static_cast<std::size_t>(i) <= e.mass.size() && e.mass.size() + 1 == static_cast<std::size_t>(countAfter))
+            e.mass.insert(e.mass.begin() + i, mass);
+    }
     ensureColourOrder(countAfter - 1);
     if (i < 0 || i > static_cast<int>(m_hues.size()))
         return;

@@ -107,9 +107,10 @@ public:
     /// Marble colours follow the marbles, not their numbers: a marble removed at index i takes
     /// its colour with it (the later marbles keep theirs), and one put back at i gets it back; a
     /// marble added gets the first colour no marble has. (Deleting a marble had given every
-    /// later marble, and its line, the colour of the one before it.)
+    /// later marble, and its line, the colour of the one before it.) The masses the samples were
+    /// taken with follow them too: one put back at i has `mass` in the frames before.
     void marbleRemovedAt(int i, int countBefore);
-    void marbleInsertedAt(int i, int countAfter);
+    void marbleInsertedAt(int i, int countAfter, double mass);
     /// A new scene: marble i gets the i-th colour again.
     void forgetColourOrder();
     /// Scene indices of the marbles plotted now, in plotting order.
@@ -354,6 +355,17 @@ private:
     std::vector<int> m_hues;
     /// The places of the marbles removed, with their index then, newest last (marbleInsertedAt()).
     std::vector<std::pair<int, int>> m_removedHues;
+    /// The masses the scene's samples were taken with, from `frame` on (up to the next entry's),
+    /// oldest first: replayKeptFrames() takes each frame again with them. (With the masses of
+    /// now, a mass edited at frame 60 and a marble deleted and put back had redrawn frames 0 to
+    /// 59 with the new mass: an elastic head-on collision's momentum jumped where it is kept.)
+    struct MassesFrom {
+        std::int64_t frame = 0;
+        std::vector<double> mass;
+    };
+    std::vector<MassesFrom> m_massesFrom;
+    /// The masses frame `frame` was taken with, where they are known for `count` marbles; else null.
+    const std::vector<double> *massesAt(const std::vector<MassesFrom> &eras, std::int64_t frame, int count) const;
     VelocityLookup m_documentVelocities; ///< may be empty (no earlier speeds for new lines)
     VelocityLookup m_compareVelocities;  ///< may be empty
 

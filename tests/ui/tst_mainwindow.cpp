@@ -140,6 +140,7 @@ private Q_SLOTS:
     void spaceAfterTypingPlaysWithTheNumberTyped();
     void undoInAFieldSelectsItsWholeNumber();
     void spaceWorksAFocusedButtonOrCheckBox();
+    void redrawnLinesKeepTheMassesTheyWereTakenWith();
     void keysLeaveADockHiddenBehindItsTab();
     void plotExportsAreInTheFileMenu();
     void massScaleSaysWhenNoMarbleUsesIt();
@@ -933,6 +934,60 @@ void TestMainWindow::plotMarksEditsThatMakeItsLinesJump()
     QCOMPARE(plot->editMarks(), std::vector<std::int64_t>{setAt});
     doc->undoStack()->undo();
     QCOMPARE(plot->editMarks(), std::vector<std::int64_t>{setAt});
+}
+
+void TestMainWindow::redrawnLinesKeepTheMassesTheyWereTakenWith()
+{
+    // A helper's finding: an elastic head-on collision in the exact model, stepped past it; the
+    // heavy marble's mass changed at frame 60 (the lines jump there, marked); a marble deleted and
+    // the delete undone, which draws the lines again from the kept frames. They were drawn with
+    // the mass of now: the momentum 0 before the collision and 166.7 after it, as if the
+    // collision had made momentum. Each frame is taken with the masses it was stepped with.
+    World headOn;
+    headOn.stage = {800, 600, true};
+    headOn.params.model = ModelKind::Exact;
+    headOn.params.friction = 0.0;
+    headOn.params.zeroThreshold = 0.0;
+    headOn.addMarble({200, 300}, 20, {4, 0}, 25);
+    headOn.addMarble({500, 300}, 40, {-1, 0}, 50);
+    headOn.addMarble({400, 500}, 10, {}, 5); // at rest, away from the others: the one deleted
+    SceneDocument *doc = m_window->document();
+    PlotDock *plot = m_window->plotDock();
+    doc->resetScene(headOn);
+    doc->advance(60);
+    QVERIFY(doc->setMarbleMass(1, 100).isEmpty());
+    QCOMPARE(plot->editMarks(), std::vector<std::int64_t>{60});
+    const auto asStepped = [plot] {
+        std::vector<std::pair<double, Vec2>> values;
+        for (qsizetype k = 0; k < plot->sampleCount(); ++k)
+            values.emplace_back(plot->sampleKineticEnergy(k), plot->sampleMomentum(k));
+        return values;
+    };
+    // The same sums of the same numbers, to a relative 1e-12.
+    const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::max({1.0, std::abs(a), std::abs(b)}); };
+    const auto before = asStepped();
+    QCOMPARE(before.size(), std::size_t(61));
+    QVERIFY(near(before.front().first, 225.0)); // 25 * 16 / 2 + 50 / 2
+    QVERIFY(near(before.front().second.x, 50.0));
+    QVERIFY(near(before[59].second.x, 50.0)); // kept through the collision at frame 48
+
+    doc->removeMarble(2);
+    QCOMPARE(plot->sampleCount(), qsizetype(61));
+    doc->undoStack()->undo();
+    QCOMPARE(doc->world().marbleCount(), 3);
+    const auto after = asStepped();
+    QCOMPARE(after.size(), before.size());
+    for (std::size_t k = 0; k < after.size(); ++k) {
+        QVERIFY2(near(after[k].first, before[k].first) && near(after[k].second.x, before[k].second.x)
+                     && near(after[k].second.y, before[k].second.y),
+                 qPrintable(QStringLiteral("frame %1: KE %2, p.x %3 drawn again; %4, %5 as stepped")
+                                .arg(plot->sampleFrame(static_cast<qsizetype>(k)))
+                                .arg(after[k].first)
+                                .arg(after[k].second.x)
+                                .arg(before[k].first)
+                                .arg(before[k].second.x)));
+    }
+    QCOMPARE(plot->editMarks(), std::vector<std::int64_t>{60});
 }
 
 void TestMainWindow::keysLeaveADockHiddenBehindItsTab()
