@@ -914,6 +914,16 @@ void PlotDock::refreshChart()
         appendThinned(
             points, n, maxPoints, x, [&t, f](qsizetype i) { return t.speed.at(static_cast<std::size_t>(i)) * f; },
             speedMin, speedMax);
+        addEditJumps(
+            points,
+            [&t, f](const SceneSample &s) -> std::optional<double> {
+                for (const auto &[marble, speed] : s.speeds) {
+                    if (marble == t.marble)
+                        return speed * f;
+                }
+                return std::nullopt;
+            },
+            speedMin, speedMax);
         t.series->replace(points);
         showPoints(t.series);
         if (t.compareSeries) {
@@ -929,25 +939,31 @@ void PlotDock::refreshChart()
         double min = std::numeric_limits<double>::infinity();
         double max = -std::numeric_limits<double>::infinity();
     } energy, momentum;
+    // asStepped: the scene's own lines' value as stepped, for their jumps at edits (none for the
+    // comparison's, which starts again at an edit and has marks of its own).
     auto refreshTotal = [&](QLineSeries *series, const RingBuffer<double> &values, bool shown, double scale,
-                            Extent &extent) {
+                            Extent &extent, const SampleValue &asStepped) {
         QList<QPointF> points;
         if (shown) {
             appendThinned(
                 points, n, maxPoints, x,
                 [&values, scale](qsizetype i) { return values.at(static_cast<std::size_t>(i)) * scale; }, extent.min,
                 extent.max);
+            if (asStepped)
+                addEditJumps(points, asStepped, extent.min, extent.max);
         }
         series->replace(points);
         showPoints(series);
     };
-    refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked(), f * f, energy);
+    refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked(), f * f, energy,
+                 [f](const SceneSample &s) { return std::optional<double>(s.kinetic * f * f); });
     if (m_compareKineticSeries)
-        refreshTotal(m_compareKineticSeries, m_compareKinetic, m_showKinetic->isChecked(), f * f, energy);
+        refreshTotal(m_compareKineticSeries, m_compareKinetic, m_showKinetic->isChecked(), f * f, energy, {});
     for (int c : {0, 1}) {
-        refreshTotal(m_momentumSeries[c], m_momentum[c], m_showMomentum->isChecked(), f, momentum);
+        refreshTotal(m_momentumSeries[c], m_momentum[c], m_showMomentum->isChecked(), f, momentum,
+                     [c, f](const SceneSample &s) { return std::optional<double>((c == 0 ? s.momentum.x : s.momentum.y) * f); });
         if (m_compareMomentumSeries[c])
-            refreshTotal(m_compareMomentumSeries[c], m_compareMomentum[c], m_showMomentum->isChecked(), f, momentum);
+            refreshTotal(m_compareMomentumSeries[c], m_compareMomentum[c], m_showMomentum->isChecked(), f, momentum, {});
     }
 
     // Speeds and the energy are never negative: their axes start at zero. The momentum's
@@ -1799,6 +1815,25 @@ void PlotDock::ensureColourOrder(int count)
         m_hues.push_back(takeFreeHue(taken, next));
 }
 
+void PlotDock::addEditJumps(QList<QPointF> &points, const SampleValue &asStepped, double &yMin, double &yMax) const
+{
+    for (const EditMark &m : m_editMarks) {
+        // The point of the mark's frame, where the line has one (a thinned line may not), after
+        // the line's first: a line that starts at the mark has nothing to jump from.
+        const double x = xOf(m.frame);
+        const auto at = std::find_if(points.begin(), points.end(), [x](const QPointF &p) { return p.x() >= x; });
+        if (at == points.begin() || at == points.end() || at->x() != x)
+            continue;
+        const std::optional<double> stepped = m.asSteppedKnown ? asStepped(m.asStepped) : std::nullopt;
+        const double from = stepped ? *stepped : std::prev(at)->y();
+        if (!std::isfinite(from) || from == at->y())
+            continue;
+        yMin = std::min(yMin, from);
+        yMax = std::max(yMax, from);
+        points.insert(at, QPointF(x, from));
+    }
+}
+
 const std::vector<double> *PlotDock::massesAt(const std::vector<MassesFrom> &eras, std::int64_t frame, int count) const
 {
     const auto after = std::upper_bound(eras.begin(), eras.end(), frame,
@@ -1811,6 +1846,8 @@ const std::vector<double> *PlotDock::massesAt(const std::vector<MassesFrom> &era
 
 void PlotDock::marbleRemovedAt(int i, int countBefore)
 {
+    for (EditMark &m : m_editMarks)
+        m.asSteppedKnown = false;
     for (MassesFrom &e : m_massesFrom) {
         if (static_cast<std::size_t>(i) < e.mass.size() && e.mass.size() == static_cast<std::size_t>(countBefore))
             e.mass.erase(e.mass.begin() + i);
@@ -1825,6 +1862,8 @@ void PlotDock::marbleRemovedAt(int i, int countBefore)
 
 void PlotDock::marbleInsertedAt(int i, int countAfter, double mass)
 {
+    for (EditMark &m : m_editMarks)
+        m.asSteppedKnown = false;
     for (MassesFrom &e : m_massesFrom) {
         if (i >= 0 && static_cast<std::size_t>(i) <= e.mass.size() && e.mass.size() + 1 == static_cast<std::size_t>(countAfter))
             e.mass.insert(e.mass.begin() + i, mass);

@@ -417,7 +417,16 @@ private:
     struct EditMark {
         std::int64_t frame = 0;
         SceneSample asStepped;
+        /// False once marbles came or went: the totals as stepped had other marbles in them.
+        bool asSteppedKnown = true;
     };
+    /// A value of a scene line in a sample as stepped, scaled as drawn; none where it has none.
+    using SampleValue = std::function<std::optional<double>(const SceneSample &)>;
+    /// Where an edit made a scene line jump at frame F, the line goes straight up or down at F,
+    /// from the value F had as stepped (or, where marbles came or went since, the sample before
+    /// it): it sloped across the frame before, which read as a change during that frame (a
+    /// helper's finding). Widens [yMin, yMax] to cover the points added.
+    void addEditJumps(QList<QPointF> &points, const SampleValue &asStepped, double &yMin, double &yMax) const;
     std::vector<EditMark> m_editMarks;
     QLineSeries *m_editMarkSeries = nullptr; ///< a dash-dot line at each edit mark
     QCheckBox *m_showKinetic = nullptr;

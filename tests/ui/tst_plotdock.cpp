@@ -68,6 +68,7 @@ private slots:
     void legendListsMarblesInOrder();
     void totalsStayOverTheSpeedLines();
     void editsThatMakeTheLinesJumpAreMarked();
+    void editedLinesJumpAtTheirMark();
     void shortChartKeepsItsLabelsWhole();
     void restartMarkedOnlyAfterADashedLine();
     void legendNamesEveryModelOfTheLines();
@@ -1426,6 +1427,63 @@ void TestPlotDock::totalsStayOverTheSpeedLines()
     impulseLegend.removeLast();
     QCOMPARE(drawn(), speeds + impulseOverlays);
     QTRY_COMPARE(listed(), impulseLegend);
+}
+
+void TestPlotDock::editedLinesJumpAtTheirMark()
+{
+    // A helper's finding: the mass scale changed at frame 60 made the energy and momentum slope up
+    // from frame 59 to 60, which pupils read as energy gained during that frame. The line goes
+    // straight up at the mark, from the value the frame had as stepped.
+    PlotDock dock;
+    for (const char *box : {"kineticCheck", "momentumCheck"})
+        dock.findChild<QCheckBox *>(QLatin1String(box))->setChecked(true);
+    World world = worldWith(3);
+    dock.reset(world);
+    dock.setSelectedMarbles({1, 2});
+    runFrames(dock, world, 8);
+    const World at8 = world;
+    World edited = at8;
+    edited.setMassScale(2.5);
+    edited.velocity[2] = {3, 4};
+    dock.resample(edited, nullptr);
+    QCOMPARE(dock.editMarks(), std::vector<std::int64_t>{8});
+    for (int f = 9; f <= 10; ++f) {
+        edited.frame = f;
+        dock.appendFrame(edited, nullptr);
+    }
+    dock.refreshChart();
+    // The points at frame 8 (sample 7: the samples start at frame 1), in the order drawn.
+    const auto atMark = [](QLineSeries *series) {
+        QList<qreal> ys;
+        for (const QPointF &p : series->points()) {
+            if (p.x() == 8.0)
+                ys << p.y();
+        }
+        return ys;
+    };
+    // The values drawn, to a relative 1e-12 (the frame axis draws them unscaled).
+    const auto same = [](const QList<qreal> &drawn, const QList<qreal> &expected) {
+        if (drawn.size() != expected.size())
+            return false;
+        for (qsizetype k = 0; k < drawn.size(); ++k) {
+            if (std::abs(drawn[k] - expected[k]) > 1e-12 * std::max(1.0, std::abs(expected[k])))
+                return false;
+        }
+        return true;
+    };
+    QVERIFY(same(atMark(dock.kineticSeries()), QList<qreal>{at8.kineticEnergy(), dock.sampleKineticEnergy(7)}));
+    QVERIFY(same(atMark(dock.momentumSeries(1)), QList<qreal>{at8.momentum().y, dock.sampleMomentum(7).y}));
+    QVERIFY(same(atMark(dock.speedSeries(2)), QList<qreal>{length(at8.velocity[2]), 5.0}));
+    // Not where the line did not jump (marble 1's speed: the mass scale is no velocity), nor
+    // anywhere else.
+    QCOMPARE(atMark(dock.speedSeries(1)).size(), 1);
+    QCOMPARE(dock.kineticSeries()->points().size(), 11); // frames 1 to 10, and the jump
+
+    // Marbles came or went since: the totals as stepped had others in them. The jump is from
+    // the frame before.
+    dock.marbleRemovedAt(0, 3);
+    dock.refreshChart();
+    QVERIFY(same(atMark(dock.kineticSeries()), QList<qreal>{dock.sampleKineticEnergy(6), dock.sampleKineticEnergy(7)}));
 }
 
 void TestPlotDock::restartMarkedOnlyAfterADashedLine()
