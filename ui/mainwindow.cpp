@@ -1266,7 +1266,27 @@ bool MainWindow::save()
 {
     if (m_document->fileName().isEmpty())
         return saveAs();
-    return saveFile(m_document->fileName());
+    const std::optional<SceneDocument::SavedFrame> which = askSavedFrame(m_document->fileName());
+    return which && saveFile(m_document->fileName(), *which);
+}
+
+std::optional<SceneDocument::SavedFrame> MainWindow::askSavedFrame(const QString &path)
+{
+    // Ctrl+S in the middle of a lesson's run had put that frame over the lesson's file, and the
+    // status bar said so only afterwards (a helper's finding).
+    const std::int64_t frame = m_document->world().frame;
+    const std::int64_t start = m_document->startFrame();
+    if (frame == start)
+        return SceneDocument::SavedFrame::Shown;
+    switch (m_prompts->askSaveFrame(this, QFileInfo(path).fileName(), frame, start, m_document->unsavableReason())) {
+    case Prompts::SaveFrame::Now:
+        return SceneDocument::SavedFrame::Shown;
+    case Prompts::SaveFrame::Start:
+        return SceneDocument::SavedFrame::Start;
+    case Prompts::SaveFrame::Cancel:
+        break;
+    }
+    return std::nullopt;
 }
 
 bool MainWindow::saveAs()
@@ -1282,13 +1302,15 @@ bool MainWindow::saveAs()
     const QString path = m_prompts->askSaveFileName(this, suggestion);
     if (path.isEmpty())
         return false;
-    return saveFile(path);
+    const std::optional<SceneDocument::SavedFrame> which = askSavedFrame(path);
+    return which && saveFile(path, *which);
 }
 
-bool MainWindow::saveFile(const QString &path)
+bool MainWindow::saveFile(const QString &path, SceneDocument::SavedFrame which)
 {
     QString error;
-    if (!m_document->saveFile(path, &error)) {
+    const std::int64_t start = m_document->startFrame();
+    if (!m_document->saveFile(path, &error, which)) {
         showStatus(error);
         m_prompts->showError(this, tr("Cannot save the scene"), error);
         return false;
@@ -1298,15 +1320,17 @@ bool MainWindow::saveFile(const QString &path)
     // A click's push waits for the next frame in the world; a file holds only scripted pushes.
     const World &world = m_document->world();
     bool pushPending = false;
-    for (int i = 0; i < world.marbleCount() && !pushPending; ++i)
+    for (int i = 0; i < world.marbleCount() && !pushPending && which == SceneDocument::SavedFrame::Shown; ++i)
         pushPending = world.pushPending(i);
     // Saved mid-run, the file holds the scene as it is now, not the run's start: said, as a
-    // teacher who saved at frame 36 reopened a different lesson without a word.
-    QString text = world.frame > 0 ? tr("Saved %1 as the scene is at frame %2, which it opens at as frame 0 (Home first "
-                                        "to save the run's start)")
-                                         .arg(QDir::toNativeSeparators(path))
-                                         .arg(world.frame)
-                                   : tr("Saved %1").arg(QDir::toNativeSeparators(path));
+    // teacher who saved at frame 36 reopened a different lesson without a word. (Short: a
+    // 1600-px window's status bar had cut off its end.)
+    const QString name = QDir::toNativeSeparators(path);
+    QString text = tr("Saved %1").arg(name);
+    if (which == SceneDocument::SavedFrame::Start && world.frame != start)
+        text = tr("Saved %1 as at the start of its run, frame %2").arg(name).arg(start);
+    else if (world.frame > 0)
+        text = tr("Saved %1 at frame %2, where it opens as frame 0").arg(name).arg(world.frame);
     if (pushPending)
         text += tr(", without the push still to act (a click's push is not kept in the file)");
     showStatus(text + QLatin1Char('.'));

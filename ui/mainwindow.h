@@ -1,6 +1,7 @@
 #pragma once
 
 #include "core/presets.h"
+#include "ui/scenedocument.h"
 
 #include <QElapsedTimer>
 #include <QKeySequence>
@@ -9,6 +10,7 @@
 #include <QStringList>
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 class QAction;
@@ -71,8 +73,9 @@ public:
     /// Opens what the command line names: a scene file, or "preset:ID" (as marbles-cli reads it)
     /// when no file of that name exists. Returns true when it was opened.
     bool openArgument(const QString &argument);
-    /// Saves the scene to `path` atomically; false (with a message) on failure.
-    bool saveFile(const QString &path);
+    /// Saves the scene to `path` atomically, at the frame shown or as at the start of its run;
+    /// false (with a message) on failure.
+    bool saveFile(const QString &path, SceneDocument::SavedFrame which);
     /// Replaces the scene with preset `id` (unsaved changes are asked about first).
     bool openPreset(const QString &id);
     /// Offers to recover an autosaved scene left by a session that did not end cleanly. Returns
@@ -135,6 +138,8 @@ private:
     void open();
     bool save();
     bool saveAs();
+    /// Which frame a save writes: in the middle of a run the user is asked; none when cancelled.
+    std::optional<SceneDocument::SavedFrame> askSavedFrame(const QString &path);
     void openRecent();
     void addRecentFile(const QString &path);
     /// Stores the recent files' list (newest first) and rebuilds File > Open Recent from it.

@@ -28,22 +28,14 @@ Prompts::~Prompts() = default;
 Prompts::SaveChoice Prompts::askSaveChanges(QWidget *parent, const QString &documentName, std::int64_t frame,
                                             const QString &unsavable)
 {
-    // A Save that could only fail is not offered (after the book model's blow-up it was, and
-    // then refused with a message of its own).
-    if (!unsavable.isEmpty()) {
-        const QString text = tr("The scene \"%1\" has changes that are not saved, and they cannot be saved as it is "
-                                "now: %2.\n\nTo keep them, Cancel, then step back to an earlier frame (or press Home "
-                                "to go back to the start) and save there.")
-                                 .arg(documentName, unsavable);
-        const auto answer = QMessageBox::warning(parent, tr("Unsaved changes"), text,
-                                                 QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Cancel);
-        return answer == QMessageBox::Discard ? SaveChoice::Discard : SaveChoice::Cancel;
-    }
     QString text = tr("The scene \"%1\" has changes that are not saved.\nSave them before they are lost?").arg(documentName);
-    if (frame > 0)
-        text += tr("\n\nIt is saved as it is now, at frame %1, which it opens at as frame 0; the run's start is not "
-                   "kept (Cancel, then Home, to save that).")
-                    .arg(frame);
+    // Save asks next which frame to save (askSaveFrame()). After the book model's blow-up the
+    // frame shown cannot be saved (Save had been offered, then refused with a message of its own).
+    if (!unsavable.isEmpty())
+        text += tr("\n\nThe frame shown cannot be saved (%1); Save offers the start of the run, with every change.")
+                    .arg(unsavable);
+    else if (frame > 0)
+        text += tr("\n\nThe run is at frame %1: Save then asks whether to save that frame or the run's start.").arg(frame);
     const auto answer = QMessageBox::warning(parent, tr("Unsaved changes"), text,
                                              QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel,
                                              QMessageBox::Save);
@@ -55,6 +47,37 @@ Prompts::SaveChoice Prompts::askSaveChanges(QWidget *parent, const QString &docu
     default:
         return SaveChoice::Cancel;
     }
+}
+
+Prompts::SaveFrame Prompts::askSaveFrame(QWidget *parent, const QString &fileName, std::int64_t frame,
+                                         std::int64_t startFrame, const QString &unsavable)
+{
+    // Ctrl+S in the middle of a lesson's run had put that frame over the lesson's file, and said
+    // so only afterwards (a helper's finding): the run's start is offered first, and is the default.
+    QMessageBox box(QMessageBox::Question, tr("Save at frame %1?").arg(frame),
+                    unsavable.isEmpty()
+                        ? tr("The run is at frame %1. Save %2 as the scene is now (it opens at this frame, as frame "
+                             "0, without its start), or its start, frame %3, with every change?")
+                              .arg(frame)
+                              .arg(fileName)
+                              .arg(startFrame)
+                        : tr("The run is at frame %1, which cannot be saved: %2. Save the start of %3's run, frame "
+                             "%4, with every change?")
+                              .arg(frame)
+                              .arg(unsavable, fileName)
+                              .arg(startFrame),
+                    QMessageBox::Cancel, parent);
+    QPushButton *start = box.addButton(tr("Save the &Start (Frame %1)").arg(startFrame), QMessageBox::AcceptRole);
+    QPushButton *now = nullptr;
+    if (unsavable.isEmpty())
+        now = box.addButton(tr("Save &Frame %1").arg(frame), QMessageBox::AcceptRole);
+    box.setDefaultButton(start);
+    box.exec();
+    if (box.clickedButton() == start)
+        return SaveFrame::Start;
+    if (now && box.clickedButton() == now)
+        return SaveFrame::Now;
+    return SaveFrame::Cancel;
 }
 
 bool Prompts::askRecover(QWidget *parent, const QString &details)

@@ -10,6 +10,8 @@
 
 #include <QDir>
 #include <QFile>
+
+#include <optional>
 #include <QFileInfo>
 
 #include <cmath>
@@ -76,15 +78,19 @@ bool SceneDocument::openFile(const QString &path, QString *error)
     return true;
 }
 
-bool SceneDocument::saveFile(const QString &path, QString *error)
+bool SceneDocument::saveFile(const QString &path, QString *error, SavedFrame which)
 {
+    std::optional<World> start;
+    if (which == SavedFrame::Start)
+        start = worldAtStart();
+    const World &saved = start ? *start : m_world;
     // The whole path, as the plot's exports give it: "lesson.marbles.json: cannot write: No such
     // file or directory" had not said it was /proc that took no file.
     const QString name = QDir::toNativeSeparators(QFileInfo(path).absoluteFilePath());
     // Never a file this program would refuse to open: saved after the book model's blow-up (a
     // velocity past the doubles), the scene was written with "vx": null, and Ctrl+S put that over
     // the teacher's lesson (a helper's finding). Nothing is written then, and the file stays.
-    if (const QString reason = unsavableReason(); !reason.isEmpty()) {
+    if (const QString reason = unsavableReasonOf(saved); !reason.isEmpty()) {
         if (error)
             *error = tr("%1: not saved: %2. Step back to a frame before that (or go back to the start) and save "
                         "there.")
@@ -92,7 +98,7 @@ bool SceneDocument::saveFile(const QString &path, QString *error)
         return false;
     }
     std::string json;
-    if (const std::string rule = sceneTextLoadingBack(m_world, json); !rule.empty()) {
+    if (const std::string rule = sceneTextLoadingBack(saved, json); !rule.empty()) {
         if (error) // "<file>: <place>: <rule>", as a file that will not open says it
             *error = tr("%1: %2 (not saved: the scene would not load back)").arg(name, QString::fromStdString(rule));
         return false;
@@ -111,11 +117,16 @@ bool SceneDocument::saveFile(const QString &path, QString *error)
 
 QString SceneDocument::unsavableReason() const
 {
-    const int marble = m_world.firstNonFiniteMarble();
+    return unsavableReasonOf(m_world);
+}
+
+QString SceneDocument::unsavableReasonOf(const World &world)
+{
+    const int marble = world.firstNonFiniteMarble();
     if (marble < 0)
         return {};
     return tr("at frame %1, marble %2's place or velocity is not a finite number, which a scene file cannot hold")
-        .arg(m_world.frame)
+        .arg(world.frame)
         .arg(marble);
 }
 

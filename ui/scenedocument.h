@@ -42,11 +42,15 @@ public:
     /// Loads a scene file; on error returns false, leaves the scene untouched and sets `error`
     /// to the loader's message, which names the file.
     bool openFile(const QString &path, QString *error);
+    /// Which frame of the run a save writes: the one shown, or the start of the run (worldAtStart()).
+    enum class SavedFrame { Shown, Start };
     /// Writes the scene atomically (QSaveFile); on success the document is clean and named `path`.
-    bool saveFile(const QString &path, QString *error);
+    bool saveFile(const QString &path, QString *error, SavedFrame which = SavedFrame::Shown);
     /// Why the scene cannot be saved as it is now ("at frame 812, marble 3's place or velocity is
     /// not a finite number, which a scene file cannot hold"), or empty when it can.
     QString unsavableReason() const;
+    /// The same for `world`.
+    static QString unsavableReasonOf(const World &world);
     /// Path of the scene file, or empty for an unsaved scene.
     QString fileName() const { return m_fileName; }
     /// Name shown to the user: the file's name, or "Untitled".

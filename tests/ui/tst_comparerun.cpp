@@ -107,6 +107,10 @@ public:
     {
         return SaveChoice::Discard;
     }
+    SaveFrame askSaveFrame(QWidget *, const QString &, std::int64_t, std::int64_t, const QString &) override
+    {
+        return SaveFrame::Cancel;
+    }
     bool askRecover(QWidget *, const QString &) override { return false; }
     QString askOpenFileName(QWidget *, const QString &) override { return {}; }
     QString askSaveFileName(QWidget *, const QString &) override { return {}; }

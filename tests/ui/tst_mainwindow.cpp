@@ -75,6 +75,12 @@ public:
     QStringList errors;
     std::int64_t savedAtFrame = -1; // the frame the last save question named
     QString unsavableReason;        // why the last save question said the scene cannot be saved
+    SaveFrame saveFrame = SaveFrame::Now;
+    int frameQuestions = 0;
+    QString frameFile;            // the file the last frame question named
+    std::int64_t frameAsked = -1; // and the frame and start it named
+    std::int64_t startAsked = -1;
+    QString frameUnsavable;       // why it said the frame cannot be saved
 
     SaveChoice askSaveChanges(QWidget *, const QString &name, std::int64_t frame, const QString &unsavable) override
     {
@@ -83,6 +89,16 @@ public:
         savedAtFrame = frame;
         unsavableReason = unsavable;
         return saveChoice;
+    }
+    SaveFrame askSaveFrame(QWidget *, const QString &file, std::int64_t frame, std::int64_t start,
+                           const QString &unsavable) override
+    {
+        ++frameQuestions;
+        frameFile = file;
+        frameAsked = frame;
+        startAsked = start;
+        frameUnsavable = unsavable;
+        return saveFrame;
     }
     bool askRecover(QWidget *, const QString &details) override
     {
@@ -133,7 +149,7 @@ private Q_SLOTS:
     void invalidFileLeavesSceneAsItWas();
     void unsavedChangesAreAskedAbout_data();
     void unsavedChangesAreAskedAbout();
-    void blownUpSceneIsNotOfferedASave();
+    void blownUpSceneSavesItsStart();
     void plotGetsOneSamplePerFrame();
     void plotShowsAPushAsAJump();
     void frictionChangedMidRunBendsThePlot();
@@ -542,12 +558,42 @@ void TestMainWindow::saveThenOpenRoundTrips()
              qPrintable(m_window->statusBar()->currentMessage()));
     doc->advance(1); // the push acts
     QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.25")).isEmpty());
+    QCOMPARE(m_prompts->frameQuestions, 0); // at the start of the run: nothing to choose
+    m_prompts->saveFrame = Prompts::SaveFrame::Now;
     m_window->findChild<QAction *>(QStringLiteral("actionSave"))->trigger();
-    // Saved mid-run (frame 1 now): the status bar says the file opens at this frame.
+    // Saved mid-run (frame 1 now), asked first (the lesson's start had been written over without
+    // a word before the status bar's): the status bar says the file opens at this frame.
+    QCOMPARE(m_prompts->frameQuestions, 1);
+    QCOMPARE(m_prompts->frameFile, QStringLiteral("saved.marbles.json"));
+    QCOMPARE(m_prompts->frameAsked, std::int64_t(1));
+    QCOMPARE(m_prompts->startAsked, std::int64_t(0));
+    QVERIFY(m_prompts->frameUnsavable.isEmpty());
     QCOMPARE(m_window->statusBar()->currentMessage(),
-             QStringLiteral("Saved %1 as the scene is at frame 1, which it opens at as frame 0 (Home first to save the "
-                            "run's start).")
+             QStringLiteral("Saved %1 at frame 1, where it opens as frame 0.")
                  .arg(QDir::toNativeSeparators(QFileInfo(path).absoluteFilePath())));
+    World reread;
+    QString readError;
+    QVERIFY(SceneDocument::readSceneFile(path, reread, &readError));
+    QCOMPARE(reread.velocity, doc->world().velocity);
+    // The run's start chosen: the scene as Home would give it, with every change; cancelled:
+    // nothing written.
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
+    m_prompts->saveFrame = Prompts::SaveFrame::Cancel;
+    m_window->findChild<QAction *>(QStringLiteral("actionSave"))->trigger();
+    QVERIFY(doc->isModified());
+    QVERIFY(SceneDocument::readSceneFile(path, reread, &readError));
+    QCOMPARE(reread.params.friction, 0.25);
+    m_prompts->saveFrame = Prompts::SaveFrame::Start;
+    m_window->findChild<QAction *>(QStringLiteral("actionSave"))->trigger();
+    QVERIFY(!doc->isModified());
+    QCOMPARE(doc->world().frame, std::int64_t(1)); // the run stays where it is
+    QCOMPARE(m_window->statusBar()->currentMessage(),
+             QStringLiteral("Saved %1 as at the start of its run, frame 0.")
+                 .arg(QDir::toNativeSeparators(QFileInfo(path).absoluteFilePath())));
+    QVERIFY(SceneDocument::readSceneFile(path, reread, &readError));
+    QCOMPARE(sceneToJson(reread), sceneToJson(doc->worldAtStart()));
+    QCOMPARE(reread.params.friction, 0.3);
+    m_prompts->saveFrame = Prompts::SaveFrame::Now;
 
 
     // Open Recent on a file deleted since: its error, and it leaves the list.
@@ -691,29 +737,48 @@ void TestMainWindow::unsavedChangesAreAskedAbout()
     }
 }
 
-void TestMainWindow::blownUpSceneIsNotOfferedASave()
+void TestMainWindow::blownUpSceneSavesItsStart()
 {
     // After the book model's blow-up (friction 2.5) the question offered Save, which was then
-    // refused with a message of its own. It says why the scene cannot be saved there, and what
-    // to do; at a finite frame it asks as before.
+    // refused with a message of its own. It says why the frame shown cannot be saved, and Save
+    // offers the run's start alone; at a finite frame it asks as before.
+    QTemporaryDir dir;
     SceneDocument *doc = m_window->document();
     QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("2.5")).isEmpty());
     QCOMPARE_LT(doc->advance(5000), 5000); // stopped where the numbers ran out
     const int marble = doc->world().firstNonFiniteMarble();
     QCOMPARE_GE(marble, 0);
+    const QString reason = QStringLiteral("at frame %1, marble %2's place or velocity is not a finite number, which a "
+                                          "scene file cannot hold")
+                               .arg(doc->world().frame)
+                               .arg(marble);
     m_prompts->saveChoice = Prompts::SaveChoice::Cancel;
     QVERIFY(!m_window->openPreset(QStringLiteral("pins")));
     QCOMPARE(m_prompts->saveQuestions, 1);
-    QCOMPARE(m_prompts->unsavableReason, QStringLiteral("at frame %1, marble %2's place or velocity is not a finite "
-                                                        "number, which a scene file cannot hold")
-                                             .arg(doc->world().frame)
-                                             .arg(marble));
-    while (doc->world().firstNonFiniteMarble() >= 0)
-        QVERIFY(doc->stepBack());
-    QVERIFY(!m_window->openPreset(QStringLiteral("pins")));
-    QCOMPARE(m_prompts->saveQuestions, 2);
-    QCOMPARE(m_prompts->unsavableReason, QString());
+    QCOMPARE(m_prompts->unsavableReason, reason);
+
+    // Save, then the start chosen: written, and the preset opens.
+    const QString path = dir.filePath(QStringLiteral("blown.marbles.json"));
+    m_prompts->saveChoice = Prompts::SaveChoice::Save;
+    m_prompts->saveName = path;
+    m_prompts->saveFrame = Prompts::SaveFrame::Start;
+    const World start = doc->worldAtStart();
+    QVERIFY(m_window->openPreset(QStringLiteral("pins")));
+    QCOMPARE(m_prompts->frameQuestions, 1);
+    QCOMPARE(m_prompts->frameUnsavable, reason);
     QVERIFY(m_prompts->errors.isEmpty());
+    World reread;
+    QString error;
+    QVERIFY2(SceneDocument::readSceneFile(path, reread, &error), qPrintable(error));
+    QCOMPARE(sceneToJson(reread), sceneToJson(start));
+
+    // At a finite frame, nothing to say.
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.5")).isEmpty());
+    doc->advance(3);
+    m_prompts->saveChoice = Prompts::SaveChoice::Cancel;
+    QVERIFY(!m_window->openPreset(QStringLiteral("masses")));
+    QCOMPARE(m_prompts->saveQuestions, 3);
+    QCOMPARE(m_prompts->unsavableReason, QString());
 }
 
 void TestMainWindow::plotGetsOneSamplePerFrame()
