@@ -420,6 +420,10 @@ int checkCommand(const std::vector<std::string> &args)
     const Options o = parseOptions(args, {"--set"});
     if (o.positional.size() != 1)
         throw InvalidInput{"check: expected exactly one SCENE, got " + std::to_string(o.positional.size())};
+    // "check s.json >> s.json" had added its line to the scene, which then no longer loaded, and
+    // said ok (a helper's finding; run refused it).
+    if (writesOverScene(o.positional.front(), nullptr))
+        throw InvalidInput{"standard output: is SCENE, the file being read; name another file"};
     const World w = loadWorld(o.positional.front(), o.all("--set"));
     auto plural = [](std::size_t n, const char *word) {
         const std::string w(word);

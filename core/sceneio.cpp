@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <new>
 #include <system_error>
@@ -73,6 +74,24 @@ std::size_t utf8SequenceLength(std::string_view s, std::size_t i)
     return length;
 }
 
+/// The code point of a valid UTF-8 sequence of 2 to 4 bytes.
+char32_t codePointOf(std::string_view sequence)
+{
+    const auto byte = [&sequence](std::size_t k) { return static_cast<char32_t>(static_cast<unsigned char>(sequence[k])); };
+    char32_t code = byte(0) & (sequence.size() == 2 ? 0x1Fu : sequence.size() == 3 ? 0x0Fu : 0x07u);
+    for (std::size_t k = 1; k < sequence.size(); ++k)
+        code = (code << 6) | (byte(k) & 0x3Fu);
+    return code;
+}
+
+/// Characters that show nothing, or turn the text around them (Unicode's bidirectional
+/// controls): in a message they would hide what is wrong, or reorder what a terminal shows.
+bool invisibleFormat(char32_t c)
+{
+    return c == 0xAD || c == 0x61C || c == 0x180E || (c >= 0x200B && c <= 0x200F) || (c >= 0x202A && c <= 0x202E)
+        || (c >= 0x2060 && c <= 0x2064) || (c >= 0x2066 && c <= 0x2069) || c == 0xFEFF;
+}
+
 } // namespace
 
 std::string printableText(std::string_view text, std::size_t maxBytes)
@@ -94,10 +113,15 @@ std::string printableText(std::string_view text, std::size_t maxBytes)
         } else {
             const std::string_view character = text.substr(i, n);
             const bool lineBreak = character == "\xC2\x85" || character == "\xE2\x80\xA8" || character == "\xE2\x80\xA9";
-            if (lineBreak)
+            if (lineBreak) {
                 out += '?';
-            else
+            } else if (const char32_t code = codePointOf(character); invisibleFormat(code)) {
+                char hex[16];
+                std::snprintf(hex, sizeof hex, "<U+%04X>", static_cast<unsigned>(code));
+                out += hex;
+            } else {
                 out.append(character);
+            }
             i += n;
         }
     }
@@ -485,13 +509,24 @@ void readPush(Json &j, const std::string &place, World &world)
             push.frame = readInteger(value, at, 0, std::numeric_limits<std::int64_t>::max());
         } else if (key == "marble") {
             const std::int64_t count = world.marbleCount();
+            const auto noSuchMarble = [&](const std::string &got) {
+                fail(at, count == 0 ? "must name an existing marble, but the scene has none, got " + got
+                                    : "must name an existing marble (0 to " + std::to_string(count - 1) + "), got " + got);
+            };
+            // A whole number beyond int64 names no marble either (it said "must be <=
+            // 9223372036854775807", a rule no scene could mean).
+            if (value.is_number_unsigned()
+                && value.get<std::uint64_t>() > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+                noSuchMarble(std::to_string(value.get<std::uint64_t>()));
+            if (value.is_number_float()) {
+                const double d = value.get<double>();
+                if (std::isfinite(d) && d == std::trunc(d) && std::abs(d) >= 9223372036854775808.0)
+                    noSuchMarble(formatNumber(d));
+            }
             const std::int64_t m = readInteger(value, at, std::numeric_limits<std::int64_t>::min(),
                                                std::numeric_limits<std::int64_t>::max());
-            if (count == 0)
-                fail(at, "must name an existing marble, but the scene has none, got " + std::to_string(m));
             if (m < 0 || m >= count)
-                fail(at, "must name an existing marble (0 to " + std::to_string(count - 1) + "), got "
-                             + std::to_string(m));
+                noSuchMarble(std::to_string(m));
             push.marble = static_cast<int>(m);
         } else if (key == "x") {
             push.at.x = readNumber(value, at);
@@ -943,6 +978,8 @@ std::string parseInto(std::string_view text, World &world)
     std::string_view body = text;
     if (body.substr(0, 3) == "\xEF\xBB\xBF")
         body.remove_prefix(3);
+    if (body.substr(0, 3) == "\xEF\xBB\xBF")
+        return lineColumn(text, 3) + ": a second byte order mark (U+FEFF): a scene file may start with one, not two";
     if (body.find_first_not_of(" \t\r\n") == std::string_view::npos)
         return "line 1, column 1: the text is empty; a scene file holds a JSON object";
     if (std::string nesting = checkNesting(text); !nesting.empty())
@@ -976,6 +1013,22 @@ std::string parseInto(std::string_view text, World &world)
             const std::string path = builder.failedPath().empty() ? std::string("value") : builder.failedPath();
             // The place first, as in every other message ("FILE: PLACE: RULE", INTERFACES.md).
             return path + ": must be a finite number, got " + printable(token) + " (" + lineColumn(text, start) + ")";
+        }
+        // "radius": 01 reads as the number 0 and then a number where a ',' should come, which
+        // the message said ("a comma missing?", a helper's finding): a leading zero is named.
+        const std::string &token = builder.lastToken();
+        const std::size_t start = builder.position() >= token.size() ? builder.position() - token.size() : 0;
+        const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+        if (!token.empty() && digit(token.front()) && start >= 1 && start <= text.size() && text[start - 1] == '0'
+            && (start < 2 || !(digit(text[start - 2]) || text[start - 2] == '.' || text[start - 2] == 'e' || text[start - 2] == 'E'))) {
+            // The number as written: from its sign or zero to where number characters end.
+            const std::size_t from = start >= 2 && text[start - 2] == '-' ? start - 2 : start - 1;
+            std::size_t to = start;
+            while (to < text.size() && (digit(text[to]) || std::string_view(".eE+-").find(text[to]) != std::string_view::npos))
+                ++to;
+            const std::string written = printable(text.substr(from, to - from));
+            return lineColumn(text, start - 1) + ": not valid JSON: a number with a leading zero (" + written
+                + "), which JSON does not allow: write it without the zero";
         }
         const std::size_t offset = builder.position() > 0 ? builder.position() - 1 : 0;
         return lineColumn(text, offset) + ": not valid JSON: " + parserDetail(builder.what());
@@ -1435,10 +1488,15 @@ std::string setParam(World &world, std::string_view key, std::string_view value)
         return setNumber(p.restitution, ruleUnitInterval);
     if (key == "gravity") {
         const std::size_t comma = value.find(',');
-        Vec2 g;
-        if (comma == std::string_view::npos || !parseDouble(value.substr(0, comma), g.x).empty()
-            || !parseDouble(value.substr(comma + 1), g.y).empty())
+        if (comma == std::string_view::npos)
             return head + "must be two numbers \"x,y\"";
+        // Each side's own rule: "1e400,0" is a number too large, as friction=1e400 says.
+        Vec2 g;
+        for (const auto &[side, text] : {std::pair{&g.x, value.substr(0, comma)}, std::pair{&g.y, value.substr(comma + 1)}}) {
+            if (std::string rule = parseDouble(text, *side); !rule.empty())
+                return head + (rule == "must be a number" ? std::string("must be two numbers \"x,y\"")
+                                                         : (side == &g.x ? "x " : "y ") + rule);
+        }
         if (!isFinite(g))
             return head + "must be two finite numbers";
         p.gravity = g;

@@ -71,7 +71,8 @@ std::string setParam(World &world, std::string_view key, std::string_view value)
 /// Text from outside (a file name, a key, a value, an OS message) made safe to print on one line:
 /// the C0 controls and DEL, Unicode's line breaks beyond them (NEL U+0085, U+2028 and U+2029,
 /// which a reader splitting lines may take as such) and bytes that are not UTF-8 each become '?';
-/// beyond `maxBytes` the text is cut at a character boundary and marked "...".
+/// characters that show nothing or reorder the text (U+FEFF, U+200B, the bidirectional controls)
+/// are named, "<U+FEFF>"; beyond `maxBytes` the text is cut at a character boundary and marked "...".
 std::string printableText(std::string_view text, std::size_t maxBytes = std::string_view::npos);
 
 } // namespace marbles

@@ -243,17 +243,20 @@ void TestCli::runKeepsItsSceneAndReadsOptionsAlike()
         file.close();
     }
     // The scene as standard input and the --out file, the scene as standard output, or as both
-    // standard streams ("run - < s.json >> s.json" appended the CSV to the scene).
-    for (const char *how : {"stdin and --out", "stdout", "stdin and stdout"}) {
+    // standard streams ("run - < s.json >> s.json" appended the CSV to the scene); and check's
+    // line ("check s.json >> s.json" said ok and left a scene that no longer loaded).
+    for (const char *how : {"stdin and --out", "stdout", "stdin and stdout", "check stdout", "check stdin and stdout"}) {
         QProcess p;
-        const bool viaStdin = QByteArray(how).startsWith("stdin");
+        const QByteArray way(how);
+        const bool check = way.startsWith("check ");
+        const bool viaStdin = way.contains("stdin");
         if (viaStdin)
             p.setStandardInputFile(scene);
-        if (QByteArray(how).endsWith("stdout"))
+        if (way.endsWith("stdout"))
             p.setStandardOutputFile(scene, QIODevice::Append);
-        p.start(QStringLiteral(MARBLES_CLI_PATH), QByteArray(how) == "stdin and --out"
-                                                      ? QStringList{"run", "-", "--frames", "2", "--out", scene}
-                                                      : QStringList{"run", viaStdin ? "-" : scene, "--frames", "2"});
+        p.start(QStringLiteral(MARBLES_CLI_PATH), way == "stdin and --out" ? QStringList{"run", "-", "--frames", "2", "--out", scene}
+                                                  : check                  ? QStringList{"check", viaStdin ? "-" : scene}
+                                                                           : QStringList{"run", viaStdin ? "-" : scene, "--frames", "2"});
         QVERIFY(p.waitForFinished(60000));
         QCOMPARE(p.exitCode(), 2);
         QVERIFY2(p.readAllStandardError().contains("is SCENE, the file being read"), how);

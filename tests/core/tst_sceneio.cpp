@@ -336,6 +336,14 @@ void TestSceneIo::invalidScene_data()
                                          << "must name an existing marble (0 to 3), got 4";
     QTest::addRow("push marble negative") << "/pushes/0/marble" << QByteArray("-1") << "pushes[0].marble"
                                           << "must name an existing marble (0 to 3), got -1";
+    // Beyond int64: no marble either (a helper's finding: "must be <= 9223372036854775807").
+    QTest::addRow("push marble beyond int64") << "/pushes/0/marble" << QByteArray("1000000000000000000000000000000")
+                                              << "pushes[0].marble" << "must name an existing marble (0 to 3), got 1e+30";
+    QTest::addRow("push marble beyond uint64") << "/pushes/0/marble" << QByteArray("18446744073709551615")
+                                               << "pushes[0].marble"
+                                               << "must name an existing marble (0 to 3), got 18446744073709551615";
+    QTest::addRow("push marble below int64") << "/pushes/0/marble" << QByteArray("-1e19") << "pushes[0].marble"
+                                             << "must name an existing marble (0 to 3), got -1e+19";
     QTest::addRow("push marble fraction") << "/pushes/0/marble" << QByteArray("0.5") << "pushes[0].marble"
                                           << "must be an integer, got 0.5";
     QTest::addRow("push marble string") << "/pushes/0/marble" << QByteArray(R"("0")") << "pushes[0].marble"
@@ -489,6 +497,20 @@ void TestSceneIo::placeOfSyntaxError_data()
         << R"(demo.marbles.json: line 1, column 61: not valid JSON: a ']' right after a ',' (a comma too many?))";
     QTest::addRow("comma missing in a list")
         << QByteArray("[1 2]") << R"(demo.marbles.json: line 1, column 4: not valid JSON: a number where a ',' or the ']' should come (a comma missing?))";
+    // A leading zero read as the number 0 and then a number where a comma should come, which it
+    // said (a helper's finding).
+    QTest::addRow("a leading zero")
+        << QByteArray("{\"radius\": 01}")
+        << R"(demo.marbles.json: line 1, column 12: not valid JSON: a number with a leading zero (01), which JSON does not allow: write it without the zero)";
+    QTest::addRow("leading zeros, negative")
+        << QByteArray("[1, -007.5e2]")
+        << R"(demo.marbles.json: line 1, column 6: not valid JSON: a number with a leading zero (-007.5e2), which JSON does not allow: write it without the zero)";
+    QTest::addRow("a zero then a number")
+        << QByteArray("[0 1]") << R"(demo.marbles.json: line 1, column 4: not valid JSON: a number where a ',' or the ']' should come (a comma missing?))";
+    // The invisible second mark had been quoted as it was ("last read: '\uFEFF?'").
+    QTest::addRow("two byte order marks")
+        << QByteArray("\xEF\xBB\xBF\xEF\xBB\xBF{}")
+        << R"(demo.marbles.json: line 1, column 4: a second byte order mark (U+FEFF): a scene file may start with one, not two)";
     QTest::addRow("a comment")
         << QByteArray("// lesson 3\n{}")
         << R"(demo.marbles.json: line 1, column 1: not valid JSON: a comment: JSON has none ('//' and '/* */' are not allowed) (last read: '/'))";
@@ -1186,6 +1208,12 @@ void TestSceneIo::setParamRejects_data()
     QTest::addRow("gravity one number") << "gravity" << "1" << R"(gravity=1: must be two numbers "x,y")";
     QTest::addRow("gravity three numbers") << "gravity" << "1,2,3" << R"(gravity=1,2,3: must be two numbers "x,y")";
     QTest::addRow("gravity nan") << "gravity" << "nan,0" << "gravity=nan,0: must be two finite numbers";
+    // As friction's: too large, not "two numbers" (a helper's finding).
+    QTest::addRow("gravity x overflow") << "gravity" << "1e400,0"
+                                        << "gravity=1e400,0: x must be a number within the range of a double";
+    QTest::addRow("gravity y overflow") << "gravity" << "0,-1e999"
+                                        << "gravity=0,-1e999: y must be a number within the range of a double";
+    QTest::addRow("gravity y empty") << "gravity" << "0," << R"(gravity=0,: must be two numbers "x,y")";
     QTest::addRow("substeps zero") << "substeps" << "0" << "substeps=0: must be >= 1";
     QTest::addRow("substeps fraction") << "substeps" << "2.5" << "substeps=2.5: must be an integer";
     QTest::addRow("substeps plus minus") << "substeps" << "+-1" << "substeps=+-1: must be an integer";
@@ -1249,6 +1277,9 @@ void TestSceneIo::printableTextIsOneLine_data()
     QTest::addRow("overlong") << QByteArray("\xE0\x80\xAF") << -1 << QByteArray("???");
     QTest::addRow("surrogate") << QByteArray("\xED\xA0\x80") << -1 << QByteArray("???");
     QTest::addRow("beyond U+10FFFF") << QByteArray("\xF4\x90\x80\x80") << -1 << QByteArray("????");
+    // Shown as nothing, or turning the text around them in a terminal: named.
+    QTest::addRow("invisible and bidirectional") << QByteArray("a\xEF\xBB\xBF" "b\xE2\x80\xAE" "c\xC2\xAD" "d\xE2\x80\x8B")
+                                                 << -1 << QByteArray("a<U+FEFF>b<U+202E>c<U+00AD>d<U+200B>");
     QTest::addRow("cut at a character") << QByteArray("ab\xC3\xA9" "cd") << 3 << QByteArray("ab\xC3\xA9...");
 }
 
