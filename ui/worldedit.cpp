@@ -101,6 +101,14 @@ bool isFreeSpot(const World &world, Vec2 p, double r, BodyKind kind, int ignoreM
 std::optional<Vec2> nearestFreeSpot(const World &world, Vec2 p, double r, BodyKind kind, int ignoreMarble,
                                     int ignorePin, double maxDistancePx)
 {
+    // A drop off the stage comes onto it, at the stage's nearest edge: a pin dragged below the
+    // stage had been refused as "no free spot near (360, 1539)", and a marble dropped past a
+    // wall came back 2 px rings short of it (779.99 for 780; a helper's findings).
+    const double margin = kind == BodyKind::Marble ? r : 0.0;
+    if (isFinite(p) && world.stage.width >= 2.0 * margin && world.stage.height >= 2.0 * margin) {
+        p.x = std::clamp(p.x, margin, world.stage.width - margin);
+        p.y = std::clamp(p.y, margin, world.stage.height - margin);
+    }
     if (isFreeSpot(world, p, r, kind, ignoreMarble, ignorePin))
         return p;
     constexpr double ringStepPx = 2.0;

@@ -40,7 +40,8 @@ enum class BodyKind { Marble, Pin };
 bool isFreeSpot(const World &world, Vec2 p, double r, BodyKind kind, int ignoreMarble = -1, int ignorePin = -1);
 
 /// The free spot nearest to `p`, searched on rings of growing radius (2 px apart) out to
-/// `maxDistancePx`; `p` itself when it is free; nothing when no spot is free.
+/// `maxDistancePx` around the nearest place on the stage (`p` itself when on it); that place when
+/// it is free; nothing when no spot is free.
 std::optional<Vec2> nearestFreeSpot(const World &world, Vec2 p, double r, BodyKind kind, int ignoreMarble = -1,
                                     int ignorePin = -1, double maxDistancePx = 400.0);
 

@@ -104,6 +104,7 @@ private Q_SLOTS:
     void editsDoNotMergeAcrossAMoveInTime();
     void heldMarbleStaysStill();
     void dropOntoMarbleFindsFreeSpot();
+    void dropOffTheStageComesToItsEdge();
     void scriptedPushesMoveWithTheirMarble();
     void dropWithNoRoomIsRefused();
     void radiusGrownIntoAnotherIsRefused();
@@ -772,6 +773,33 @@ void TestSceneDocument::dropOntoMarbleFindsFreeSpot()
     QCOMPARE_GE(d, w.radius[1] + w.radius[2]);
     QCOMPARE_LE(d, w.radius[1] + w.radius[2] + 2.5);
     QCOMPARE(doc.undoStack()->count(), 1);
+}
+
+void TestSceneDocument::dropOffTheStageComesToItsEdge()
+{
+    // A helper's findings: a pin dragged far below the stage was refused ("No free spot for the
+    // pin near (360, 1539)", on a stage with room to spare), and a marble dropped past the right
+    // wall came back to x = 779.99 (the search's 2 px rings), not against the wall at 780.
+    World w;
+    w.stage = {800.0, 600.0, true};
+    w.addMarble({100.0, 100.0}, 20.0);
+    w.addPin({400.0, 300.0});
+    SceneDocument doc;
+    doc.resetScene(w);
+    doc.beginHold(0);
+    QVERIFY(!doc.endHold({1150.0, 300.0}).isEmpty()); // a note: moved
+    QCOMPARE(doc.world().position[0].x, 780.0);
+    QCOMPARE(doc.world().position[0].y, 300.0);
+    doc.beginHold(0);
+    QVERIFY(!doc.endHold({-605.0, -202.0}).isEmpty());
+    QCOMPARE(doc.world().position[0].x, 20.0);
+    QCOMPARE(doc.world().position[0].y, 20.0);
+    doc.beginPinDrag(0);
+    doc.movePinDrag({360.0, 1539.0});
+    QCOMPARE(doc.endPinDrag({360.0, 1539.0}), QStringLiteral("The pin was moved to the nearest free spot."));
+    QCOMPARE(doc.world().pins[0].x, 360.0);
+    QCOMPARE(doc.world().pins[0].y, 600.0);
+    QCOMPARE(doc.undoStack()->count(), 3);
 }
 
 void TestSceneDocument::scriptedPushesMoveWithTheirMarble()
