@@ -563,6 +563,11 @@ void PlotDock::replayKeptFrames(const World &world, const World *compare, std::i
         }
     }
     appendFrame(world, compare);
+    // The masses the frames were taken with are those they had: rebuilt from the frames, two
+    // entries that differ only in a marble removed would have become one, and its undo could not
+    // give each its own mass back.
+    m_massesFrom = masses;
+    noteMasses(world);
     std::erase_if(marks, [this](const EditMark &m) { return m.frame <= m_frames.at(0) || m.frame > m_frames.last(); });
     m_editMarks = std::move(marks);
 }
@@ -695,18 +700,8 @@ void PlotDock::appendFrame(const World &world, const World *compare)
         rebuildTracks();
     }
     m_frameMs = world.params.frameMs;
-    // Samples from this frame on are taken again (stepped on after Step Back, or an edit there):
-    // their masses with them. Entries no sample needs any more go.
-    while (!m_massesFrom.empty() && m_massesFrom.back().frame >= world.frame)
-        m_massesFrom.pop_back();
-    if (m_massesFrom.empty() || m_massesFrom.back().mass != world.mass)
-        m_massesFrom.push_back({world.frame, world.mass});
     m_frames.push(world.frame);
-    const std::int64_t oldest = m_frames.at(0);
-    const auto stillNeeded = std::find_if(m_massesFrom.begin() + 1, m_massesFrom.end(),
-                                          [oldest](const MassesFrom &e) { return e.frame > oldest; });
-    if (stillNeeded - 1 != m_massesFrom.begin())
-        m_massesFrom.erase(m_massesFrom.begin(), stillNeeded - 1);
+    noteMasses(world);
     m_kinetic.push(world.kineticEnergy());
     const Vec2 p = world.momentum();
     m_momentum[0].push(p.x);
@@ -1834,6 +1829,20 @@ void PlotDock::addEditJumps(QList<QPointF> &points, const SampleValue &asStepped
     }
 }
 
+void PlotDock::noteMasses(const World &world)
+{
+    // Samples from this frame on are taken again (stepped on after Step Back, or an edit there):
+    // their masses with them. Entries no sample needs any more go.
+    while (!m_massesFrom.empty() && m_massesFrom.back().frame >= world.frame)
+        m_massesFrom.pop_back();
+    if (m_massesFrom.empty() || m_massesFrom.back().mass != world.mass)
+        m_massesFrom.push_back({world.frame, world.mass});
+    const std::int64_t oldest = m_frames.size() > 0 ? m_frames.at(0) : world.frame;
+    const auto stillNeeded = std::find_if(m_massesFrom.begin() + 1, m_massesFrom.end(),
+                                          [oldest](const MassesFrom &e) { return e.frame > oldest; });
+    m_massesFrom.erase(m_massesFrom.begin(), stillNeeded - 1);
+}
+
 const std::vector<double> *PlotDock::massesAt(const std::vector<MassesFrom> &eras, std::int64_t frame, int count) const
 {
     const auto after = std::upper_bound(eras.begin(), eras.end(), frame,
@@ -1848,10 +1857,14 @@ void PlotDock::marbleRemovedAt(int i, int countBefore)
 {
     for (EditMark &m : m_editMarks)
         m.asSteppedKnown = false;
+    std::vector<std::pair<std::int64_t, double>> removed;
     for (MassesFrom &e : m_massesFrom) {
-        if (static_cast<std::size_t>(i) < e.mass.size() && e.mass.size() == static_cast<std::size_t>(countBefore))
+        if (static_cast<std::size_t>(i) < e.mass.size() && e.mass.size() == static_cast<std::size_t>(countBefore)) {
+            removed.emplace_back(e.frame, e.mass[static_cast<std::size_t>(i)]);
             e.mass.erase(e.mass.begin() + i);
+        }
     }
+    m_removedMasses.emplace_back(i, std::move(removed));
     ensureColourOrder(countBefore);
     const auto at = static_cast<std::size_t>(i);
     if (at >= m_hues.size())
@@ -1864,9 +1877,22 @@ void PlotDock::marbleInsertedAt(int i, int countAfter, double mass)
 {
     for (EditMark &m : m_editMarks)
         m.asSteppedKnown = false;
+    // A delete undone: each entry gets the mass the marble had there (the latest from its
+    // frame or before); a marble added, its mass of now.
+    std::vector<std::pair<std::int64_t, double>> removed;
+    if (!m_removedMasses.empty() && m_removedMasses.back().first == i) {
+        removed = std::move(m_removedMasses.back().second);
+        m_removedMasses.pop_back();
+    }
     for (MassesFrom &e : m_massesFrom) {
-        if (i >= 0 && static_cast<std::size_t>(i) <= e.mass.size() && e.mass.size() + 1 == static_cast<std::size_t>(countAfter))
-            e.mass.insert(e.mass.begin() + i, mass);
+        if (i < 0 || static_cast<std::size_t>(i) > e.mass.size() || e.mass.size() + 1 != static_cast<std::size_t>(countAfter))
+            continue;
+        double had = mass;
+        for (const auto &[frame, m] : removed) {
+            if (frame <= e.frame)
+                had = m;
+        }
+        e.mass.insert(e.mass.begin() + i, had);
     }
     ensureColourOrder(countAfter - 1);
     if (i < 0 || i > static_cast<int>(m_hues.size()))
@@ -1888,6 +1914,7 @@ void PlotDock::forgetColourOrder()
 {
     m_hues.clear();
     m_removedHues.clear();
+    m_removedMasses.clear();
 }
 
 QString PlotDock::marbleLabel(int marble) const

@@ -364,6 +364,12 @@ private:
         std::vector<double> mass;
     };
     std::vector<MassesFrom> m_massesFrom;
+    /// The masses of the marbles removed, as (frame, mass) from each entry of m_massesFrom, with
+    /// their index then, newest last: a delete undone gives its marble its masses back (with
+    /// its mass of now, a mass changed mid-run was drawn from frame 0; a helper's finding).
+    std::vector<std::pair<int, std::vector<std::pair<std::int64_t, double>>>> m_removedMasses;
+    /// Keeps the masses `world` has from its frame on (appendFrame()).
+    void noteMasses(const World &world);
     /// The masses frame `frame` was taken with, where they are known for `count` marbles; else null.
     const std::vector<double> *massesAt(const std::vector<MassesFrom> &eras, std::int64_t frame, int count) const;
     VelocityLookup m_documentVelocities; ///< may be empty (no earlier speeds for new lines)
