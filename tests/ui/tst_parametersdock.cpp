@@ -13,6 +13,7 @@
 #include <QSpinBox>
 #include <QStandardItemModel>
 #include <QTest>
+#include <QWheelEvent>
 
 #include <cmath>
 
@@ -34,6 +35,7 @@ private slots:
     void focusedFieldIsScrolledIntoSight();
     void gravityTakesItsAltKey();
     void refusalIsExplainedUntilTheNextEdit();
+    void wheelChangesOnlyTheFieldBeingEdited();
     void frictionWarning_data();
     void frictionWarning();
     void typedFrictionWarns();
@@ -375,6 +377,37 @@ void TestParametersDock::gravityTakesItsAltKey()
     }
     QVERIFY(gravity);
     QCOMPARE(gravity->buddy(), dock.findChild<QDoubleSpinBox *>(QStringLiteral("gravityXEdit")));
+}
+
+void TestParametersDock::wheelChangesOnlyTheFieldBeingEdited()
+{
+    // A helper's finding: the wheel over a field not clicked into changed it (push scale 10 to
+    // 9, and in the Inspector a marble at rest got a velocity), as the dock scrolled under the
+    // pointer. It goes to the dock; a field being edited still takes it.
+    ParametersDock dock;
+    QVERIFY(showWithModel(dock, QStringLiteral("book")));
+    auto *push = dock.findChild<QDoubleSpinBox *>(QStringLiteral("pushScaleEdit"));
+    auto *friction = dock.findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit"));
+    QVERIFY(push && friction);
+    friction->setFocus();
+    QTRY_VERIFY(friction->hasFocus());
+    QCOMPARE(push->focusPolicy(), Qt::StrongFocus); // the wheel gives it no focus
+    const double before = push->value();
+    QSignalSpy spy(&dock, &ParametersDock::paramEdited);
+    const auto wheel = [](QWidget *target) {
+        const QPointF at(target->width() / 2.0, target->height() / 2.0);
+        QWheelEvent event(at, target->mapToGlobal(at), QPoint(), QPoint(0, -120), Qt::NoButton, Qt::NoModifier,
+                          Qt::NoScrollPhase, false);
+        QCoreApplication::sendEvent(target, &event);
+    };
+    wheel(push);
+    QCOMPARE(push->value(), before);
+    QCOMPARE(spy.count(), 0);
+    push->setFocus();
+    QTRY_VERIFY(push->hasFocus());
+    wheel(push);
+    QCOMPARE_LT(push->value(), before);
+    QCOMPARE(spy.count(), 1);
 }
 
 void TestParametersDock::refusalIsExplainedUntilTheNextEdit()
