@@ -56,15 +56,15 @@ Prompts::SaveFrame Prompts::askSaveFrame(QWidget *parent, const QString &fileNam
     // so only afterwards (a helper's finding): the run's start is offered first, and is the default.
     QMessageBox box(QMessageBox::Question, tr("Save at frame %1?").arg(frame),
                     unsavable.isEmpty()
-                        ? tr("The run is at frame %1. Save %2 as the scene is now (it opens at this frame, as frame "
-                             "0, without its start), or its start, frame %3, with every change?")
+                        ? tr("The run is at frame %1. Save %2 as its start, frame %3, with every change, or as the "
+                             "scene is now? Saved as it is now, it opens at this frame, as frame 0, and the run starts "
+                             "again here: Home comes back to this frame, and the plot starts again.")
                               .arg(frame)
                               .arg(fileName)
                               .arg(startFrame)
-                        : tr("The run is at frame %1, which cannot be saved: %2. Save the start of %3's run, frame "
-                             "%4, with every change?")
-                              .arg(frame)
-                              .arg(unsavable, fileName)
+                        : tr("%1 cannot be saved as the scene is now: %2. Save the start of its run, frame %3, with "
+                             "every change?")
+                              .arg(fileName, unsavable)
                               .arg(startFrame),
                     QMessageBox::Cancel, parent);
     QPushButton *start = box.addButton(tr("Save the &Start (Frame %1)").arg(startFrame), QMessageBox::AcceptRole);

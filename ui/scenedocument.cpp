@@ -112,6 +112,14 @@ bool SceneDocument::saveFile(const QString &path, QString *error, SavedFrame whi
     m_undoStack.setClean();
     setFileName(QFileInfo(path).absoluteFilePath());
     emitModification();
+    // The frame shown saved in the middle of the run: the file starts there, and so does the run,
+    // as when the file is opened. (Home went on to the run's old start, under the file's name and
+    // with nothing to save, and a save of the start then wrote it over the file; a helper's finding.)
+    if (which == SavedFrame::Shown && m_world.frame != m_history.startFrame()) {
+        m_history.reset(m_world);
+        Q_EMIT timelineReset();
+        Q_EMIT stepped();
+    }
     return true;
 }
 

@@ -45,6 +45,8 @@ public:
     /// Which frame of the run a save writes: the one shown, or the start of the run (worldAtStart()).
     enum class SavedFrame { Shown, Start };
     /// Writes the scene atomically (QSaveFile); on success the document is clean and named `path`.
+    /// The frame shown, saved in the middle of the run, starts the run again there (timelineReset()),
+    /// as the file opens there: Home comes back to it, and Step Back goes no further.
     bool saveFile(const QString &path, QString *error, SavedFrame which = SavedFrame::Shown);
     /// Why the scene cannot be saved as it is now ("at frame 812, marble 3's place or velocity is
     /// not a finite number, which a scene file cannot hold"), or empty when it can.

@@ -575,8 +575,14 @@ void TestMainWindow::saveThenOpenRoundTrips()
     QString readError;
     QVERIFY(SceneDocument::readSceneFile(path, reread, &readError));
     QCOMPARE(reread.velocity, doc->world().velocity);
+    // The run starts again there, as the file does: Home had gone on to the old start under the
+    // file's name, and a save of the start wrote that over the file (a helper's finding).
+    QCOMPARE(doc->startFrame(), std::int64_t(1));
+    QVERIFY(!doc->canStepBack());
+    QCOMPARE(sceneToJson(doc->worldAtStart()), sceneToJson(reread));
     // The run's start chosen: the scene as Home would give it, with every change; cancelled:
     // nothing written.
+    doc->advance(2);
     QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
     m_prompts->saveFrame = Prompts::SaveFrame::Cancel;
     m_window->findChild<QAction *>(QStringLiteral("actionSave"))->trigger();
@@ -586,9 +592,10 @@ void TestMainWindow::saveThenOpenRoundTrips()
     m_prompts->saveFrame = Prompts::SaveFrame::Start;
     m_window->findChild<QAction *>(QStringLiteral("actionSave"))->trigger();
     QVERIFY(!doc->isModified());
-    QCOMPARE(doc->world().frame, std::int64_t(1)); // the run stays where it is
+    QCOMPARE(doc->world().frame, std::int64_t(3)); // the run stays where it is
+    QCOMPARE(doc->startFrame(), std::int64_t(1));
     QCOMPARE(m_window->statusBar()->currentMessage(),
-             QStringLiteral("Saved %1 as at the start of its run, frame 0.")
+             QStringLiteral("Saved %1 as at the start of its run, frame 1.")
                  .arg(QDir::toNativeSeparators(QFileInfo(path).absoluteFilePath())));
     QVERIFY(SceneDocument::readSceneFile(path, reread, &readError));
     QCOMPARE(sceneToJson(reread), sceneToJson(doc->worldAtStart()));
