@@ -645,8 +645,15 @@ PlotDock::SceneSample PlotDock::newestSceneSample() const
     sample.kinetic = m_kinetic.last();
     sample.momentum = {m_momentum[0].last(), m_momentum[1].last()};
     for (const std::vector<Track> *tracks : {&m_tracks, &m_parked}) {
-        for (const Track &t : *tracks)
+        for (const Track &t : *tracks) {
             sample.speeds.emplace_back(t.marble, t.speed.last());
+            if (t.compareSpeed.size() > 0)
+                sample.compareSpeeds.emplace_back(t.marble, t.compareSpeed.last());
+        }
+    }
+    if (m_compareKinetic.size() > 0) {
+        sample.compareKinetic = m_compareKinetic.last();
+        sample.compareMomentum = {m_compareMomentum[0].last(), m_compareMomentum[1].last()};
     }
     return sample;
 }
@@ -909,16 +916,15 @@ void PlotDock::refreshChart()
         appendThinned(
             points, n, maxPoints, x, [&t, f](qsizetype i) { return t.speed.at(static_cast<std::size_t>(i)) * f; },
             speedMin, speedMax);
+        const auto speedIn = [&t, f](const std::vector<std::pair<int, double>> &speeds) -> std::optional<double> {
+            for (const auto &[marble, speed] : speeds) {
+                if (marble == t.marble)
+                    return speed * f;
+            }
+            return std::nullopt;
+        };
         addEditJumps(
-            points,
-            [&t, f](const SceneSample &s) -> std::optional<double> {
-                for (const auto &[marble, speed] : s.speeds) {
-                    if (marble == t.marble)
-                        return speed * f;
-                }
-                return std::nullopt;
-            },
-            speedMin, speedMax);
+            points, [&speedIn](const SceneSample &s) { return speedIn(s.speeds); }, false, speedMin, speedMax);
         t.series->replace(points);
         showPoints(t.series);
         if (t.compareSeries) {
@@ -926,6 +932,9 @@ void PlotDock::refreshChart()
             appendThinned(
                 comparePoints, n, maxPoints, x,
                 [&t, f](qsizetype i) { return t.compareSpeed.at(static_cast<std::size_t>(i)) * f; }, speedMin, speedMax);
+            addEditJumps(
+                comparePoints, [&speedIn](const SceneSample &s) { return speedIn(s.compareSpeeds); }, true, speedMin,
+                speedMax);
             t.compareSeries->replace(comparePoints);
         }
     }
@@ -934,31 +943,36 @@ void PlotDock::refreshChart()
         double min = std::numeric_limits<double>::infinity();
         double max = -std::numeric_limits<double>::infinity();
     } energy, momentum;
-    // asStepped: the scene's own lines' value as stepped, for their jumps at edits (none for the
-    // comparison's, which starts again at an edit and has marks of its own).
+    // asStepped: the line's value as stepped, for its jumps at edits; compared: a comparison's
+    // line, which jumps at its restarts too.
     auto refreshTotal = [&](QLineSeries *series, const RingBuffer<double> &values, bool shown, double scale,
-                            Extent &extent, const SampleValue &asStepped) {
+                            Extent &extent, const SampleValue &asStepped, bool compared) {
         QList<QPointF> points;
         if (shown) {
             appendThinned(
                 points, n, maxPoints, x,
                 [&values, scale](qsizetype i) { return values.at(static_cast<std::size_t>(i)) * scale; }, extent.min,
                 extent.max);
-            if (asStepped)
-                addEditJumps(points, asStepped, extent.min, extent.max);
+            addEditJumps(points, asStepped, compared, extent.min, extent.max);
         }
         series->replace(points);
         showPoints(series);
     };
     refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked(), f * f, energy,
-                 [f](const SceneSample &s) { return std::optional<double>(s.kinetic * f * f); });
+                 [f](const SceneSample &s) { return std::optional<double>(s.kinetic * f * f); }, false);
     if (m_compareKineticSeries)
-        refreshTotal(m_compareKineticSeries, m_compareKinetic, m_showKinetic->isChecked(), f * f, energy, {});
+        refreshTotal(m_compareKineticSeries, m_compareKinetic, m_showKinetic->isChecked(), f * f, energy,
+                     [f](const SceneSample &s) { return std::optional<double>(s.compareKinetic * f * f); }, true);
     for (int c : {0, 1}) {
         refreshTotal(m_momentumSeries[c], m_momentum[c], m_showMomentum->isChecked(), f, momentum,
-                     [c, f](const SceneSample &s) { return std::optional<double>((c == 0 ? s.momentum.x : s.momentum.y) * f); });
+                     [c, f](const SceneSample &s) { return std::optional<double>((c == 0 ? s.momentum.x : s.momentum.y) * f); },
+                     false);
         if (m_compareMomentumSeries[c])
-            refreshTotal(m_compareMomentumSeries[c], m_compareMomentum[c], m_showMomentum->isChecked(), f, momentum, {});
+            refreshTotal(m_compareMomentumSeries[c], m_compareMomentum[c], m_showMomentum->isChecked(), f, momentum,
+                         [c, f](const SceneSample &s) {
+                             return std::optional<double>((c == 0 ? s.compareMomentum.x : s.compareMomentum.y) * f);
+                         },
+                         true);
     }
 
     // Speeds and the energy are never negative: their axes start at zero. The momentum's
@@ -1810,7 +1824,8 @@ void PlotDock::ensureColourOrder(int count)
         m_hues.push_back(takeFreeHue(taken, next));
 }
 
-void PlotDock::addEditJumps(QList<QPointF> &points, const SampleValue &asStepped, double &yMin, double &yMax) const
+void PlotDock::addEditJumps(QList<QPointF> &points, const SampleValue &asStepped, bool compared, double &yMin,
+                            double &yMax) const
 {
     for (const EditMark &m : m_editMarks) {
         // The point of the mark's frame, where the line has one (a thinned line may not), after
@@ -1820,6 +1835,9 @@ void PlotDock::addEditJumps(QList<QPointF> &points, const SampleValue &asStepped
         if (at == points.begin() || at == points.end() || at->x() != x)
             continue;
         const std::optional<double> stepped = m.asSteppedKnown ? asStepped(m.asStepped) : std::nullopt;
+        // A comparison that was not running at the mark has no value there as stepped.
+        if (compared && stepped && !std::isfinite(*stepped))
+            continue;
         const double from = stepped ? *stepped : std::prev(at)->y();
         if (!std::isfinite(from) || from == at->y())
             continue;

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -414,6 +415,10 @@ private:
         double kinetic = 0.0;
         Vec2 momentum;
         std::vector<std::pair<int, double>> speeds; ///< (marble, speed) of every sampled marble
+        /// The comparison's, while comparing (NaN, none otherwise); not part of sameAs().
+        double compareKinetic = std::numeric_limits<double>::quiet_NaN();
+        Vec2 compareMomentum{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+        std::vector<std::pair<int, double>> compareSpeeds;
         /// The same bits, marble by marble where both have a marble's speed.
         bool sameAs(const SceneSample &other) const;
     };
@@ -428,11 +433,13 @@ private:
     };
     /// A value of a scene line in a sample as stepped, scaled as drawn; none where it has none.
     using SampleValue = std::function<std::optional<double>(const SceneSample &)>;
-    /// Where an edit made a scene line jump at frame F, the line goes straight up or down at F,
-    /// from the value F had as stepped (or, where marbles came or went since, the sample before
-    /// it): it sloped across the frame before, which read as a change during that frame (a
-    /// helper's finding). Widens [yMin, yMax] to cover the points added.
-    void addEditJumps(QList<QPointF> &points, const SampleValue &asStepped, double &yMin, double &yMax) const;
+    /// Where an edit made a line jump at frame F, the line goes straight up or down at F, from
+    /// the value F had as stepped (or, where marbles came or went since, the sample before it):
+    /// it sloped across the frame before, which read as a change during that frame (a helper's
+    /// finding). A comparison's line (`compared`) does so where it was running at the mark (it
+    /// starts again there). Widens [yMin, yMax] to cover the points added.
+    void addEditJumps(QList<QPointF> &points, const SampleValue &asStepped, bool compared, double &yMin,
+                      double &yMax) const;
     std::vector<EditMark> m_editMarks;
     QLineSeries *m_editMarkSeries = nullptr; ///< a dash-dot line at each edit mark
     QCheckBox *m_showKinetic = nullptr;

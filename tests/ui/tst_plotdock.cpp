@@ -69,6 +69,7 @@ private slots:
     void totalsStayOverTheSpeedLines();
     void editsThatMakeTheLinesJumpAreMarked();
     void editedLinesJumpAtTheirMark();
+    void comparedLinesJumpAtEditsAndRestarts();
     void shortChartKeepsItsLabelsWhole();
     void restartMarkedOnlyAfterADashedLine();
     void legendNamesEveryModelOfTheLines();
@@ -1484,6 +1485,69 @@ void TestPlotDock::editedLinesJumpAtTheirMark()
     dock.marbleRemovedAt(0, 3);
     dock.refreshChart();
     QVERIFY(same(atMark(dock.kineticSeries()), QList<qreal>{dock.sampleKineticEnergy(6), dock.sampleKineticEnergy(7)}));
+}
+
+void TestPlotDock::comparedLinesJumpAtEditsAndRestarts()
+{
+    // A helper's re-test of the jumps: the comparison's dashed lines still sloped across the
+    // frame before an edit (the comparison starts again there). They go straight up or down at
+    // an edit, from their value as stepped; a restart alone has no value as stepped to go from.
+    PlotDock dock;
+    for (const char *box : {"kineticCheck", "momentumCheck"})
+        dock.findChild<QCheckBox *>(QLatin1String(box))->setChecked(true);
+    World world = worldWith(2);
+    dock.reset(world);
+    dock.setCompareModel(QStringLiteral("exact"));
+    World compare = world;
+    const auto step = [&](int f, double scale) {
+        world.frame = f;
+        compare.frame = f;
+        for (int i = 0; i < world.marbleCount(); ++i) {
+            world.velocity[static_cast<std::size_t>(i)] = {0.01 * f, 1.0 + i};
+            compare.velocity[static_cast<std::size_t>(i)] = {scale * 0.01 * f, 2.0 + i};
+        }
+        dock.appendFrame(world, &compare);
+    };
+    for (int f = 1; f <= 8; ++f)
+        step(f, 1.0);
+    const World compareAt8 = compare;
+    // The mass scale changed at frame 8: the comparison starts again there, from the scene.
+    World edited = world;
+    edited.setMassScale(2.5);
+    World restarted = edited;
+    dock.resample(edited, &restarted);
+    dock.markCompareRestart(8);
+    world = edited;
+    compare = restarted;
+    for (int f = 9; f <= 11; ++f)
+        step(f, 1.0);
+    // A restart without an edit.
+    step(12, 3.0);
+    dock.markCompareRestart(12);
+    dock.refreshChart();
+    const auto at = [](QLineSeries *series, double frame) {
+        QList<qreal> ys;
+        for (const QPointF &p : series->points()) {
+            if (p.x() == frame)
+                ys << p.y();
+        }
+        return ys;
+    };
+    const auto near = [](const QList<qreal> &drawn, const QList<qreal> &expected) {
+        if (drawn.size() != expected.size())
+            return false;
+        for (qsizetype k = 0; k < drawn.size(); ++k) {
+            if (std::abs(drawn[k] - expected[k]) > 1e-12 * std::max(1.0, std::abs(expected[k])))
+                return false;
+        }
+        return true;
+    };
+    QVERIFY(near(at(dock.compareKineticSeries(), 8), {compareAt8.kineticEnergy(), restarted.kineticEnergy()}));
+    QVERIFY(near(at(dock.compareMomentumSeries(1), 8), {compareAt8.momentum().y, restarted.momentum().y}));
+    QVERIFY(near(at(dock.compareSeries(1), 8), {length(compareAt8.velocity[1]), length(restarted.velocity[1])}));
+    QCOMPARE(at(dock.compareKineticSeries(), 12).size(), 1);
+    QCOMPARE(at(dock.kineticSeries(), 8).size(), 2);
+    QCOMPARE(at(dock.kineticSeries(), 12).size(), 1);
 }
 
 void TestPlotDock::restartMarkedOnlyAfterADashedLine()
