@@ -213,10 +213,15 @@ AxisRange niceRange(QValueAxis *scratch, double lo, double hi, int ticks = kAxis
     // Qt Charts works out tick i as i * (max - min) / ticks, which overflows near the largest
     // double (the book's blow-up reaches 1e308 px/frame): its ticks read "inf". The axis stops
     // short of that; the last few frames of such a run go off its top.
+    // Likewise below zero: a momentum past -1.7e308 read "inf" at every tick (a helper's finding).
     constexpr double largest = std::numeric_limits<double>::max() / (4 * kAxisTicks);
-    if (hi > largest) {
-        hi = largest;
-        lo = std::min(lo, largest / 2);
+    if (hi > largest || lo < -largest) {
+        hi = std::min(hi, largest);
+        lo = std::max(lo, -largest);
+        if (hi > largest / 2)
+            lo = std::min(lo, largest / 2);
+        else
+            hi = std::max(hi, -largest / 2);
         return {lo, hi, kAxisTicks};
     }
     scratch->setTickCount(ticks);

@@ -878,6 +878,28 @@ void TestPlotDock::hugeSpeedsArePlotted()
     const QValueAxis *axis = valueAxisOf(line);
     QCOMPARE_GE(axis->max(), 1e306);
     QVERIFY(std::isfinite(axis->tickCount() * (axis->max() - axis->min())));
+
+    // A momentum as far below zero (the axis's 4 % of room beyond its lowest point had made
+    // it -inf, and every tick read "inf"; a helper's finding), and above.
+    dock.setMomentumShown(true);
+    dock.setKineticEnergyShown(true);
+    // Each tick, as Qt Charts works it out: min + k (max - min) / (ticks - 1).
+    const auto ticksFinite = [](const QValueAxis *a) {
+        for (int k = 0; k < a->tickCount(); ++k) {
+            if (!std::isfinite(a->min() + k * (a->max() - a->min()) / std::max(a->tickCount() - 1, 1)))
+                return false;
+        }
+        return a->min() < a->max();
+    };
+    for (const double v : {-7e307, -1.75e308, 1.75e308}) {
+        world.velocity[0] = {v, 0.0};
+        world.mass[0] = 1.0;
+        ++world.frame;
+        dock.appendFrame(world);
+        dock.refreshChart();
+        for (const QValueAxis *a : {valueAxisOf(dock.momentumSeries(0)), valueAxisOf(dock.kineticSeries()), valueAxisOf(line)})
+            QVERIFY2(ticksFinite(a), qPrintable(QStringLiteral("v %1: %2 to %3, %4 ticks").arg(v).arg(a->min()).arg(a->max()).arg(a->tickCount())));
+    }
 }
 
 void TestPlotDock::liveRefresh()
