@@ -1231,6 +1231,11 @@ QString PlotDock::exportCsv(const QString &path) const
     if (m_compareKineticSeries)
         text += ",kinetic_energy" + compareSuffix + energyUnit + ",momentum_x" + compareSuffix + momentumUnit + ",momentum_y"
                 + compareSuffix + momentumUnit;
+    // The plot's marks, 1 on their frame's row: a spreadsheet's line jumps there as the plot's
+    // does, and said nothing of why.
+    text += ",scene_edited";
+    if (m_compareKineticSeries)
+        text += ",comparison_restarted";
     text += '\n';
     for (std::size_t i = 0; i < m_frames.size(); ++i) {
         const std::int64_t f = m_frames.at(i);
@@ -1246,6 +1251,12 @@ QString PlotDock::exportCsv(const QString &path) const
         if (m_compareKineticSeries) {
             row += QLatin1Char(',') + csvNumber(m_compareKinetic.at(i)) + QLatin1Char(',')
                    + csvNumber(m_compareMomentum[0].at(i)) + QLatin1Char(',') + csvNumber(m_compareMomentum[1].at(i));
+        }
+        const bool edited = std::any_of(m_editMarks.begin(), m_editMarks.end(), [f](const EditMark &m) { return m.frame == f; });
+        row += edited ? QStringLiteral(",1") : QStringLiteral(",0");
+        if (m_compareKineticSeries) {
+            const bool restarted = std::find(m_compareRestarts.begin(), m_compareRestarts.end(), f) != m_compareRestarts.end();
+            row += restarted ? QStringLiteral(",1") : QStringLiteral(",0");
         }
         text += row.toLatin1() + '\n';
     }

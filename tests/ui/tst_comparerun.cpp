@@ -1183,17 +1183,26 @@ void TestCompareRun::plotExportsAndDescribesCompareLines()
                                       "kinetic_energy_mass_px2_per_frame2,momentum_x_mass_px_per_frame,momentum_y_mass_px_per_frame,"
                                       "speed_0_impulse_px_per_frame,speed_1_impulse_px_per_frame,"
                                       "kinetic_energy_impulse_mass_px2_per_frame2,momentum_x_impulse_mass_px_per_frame,"
-                                      "momentum_y_impulse_mass_px_per_frame"));
-    QVERIFY2(lines[1].startsWith(QStringLiteral("1,0.02,5,2,")) && lines[1].endsWith(QStringLiteral(",,,,,")),
+                                      "momentum_y_impulse_mass_px_per_frame,scene_edited,comparison_restarted"));
+    QVERIFY2(lines[1].startsWith(QStringLiteral("1,0.02,5,2,")) && lines[1].endsWith(QStringLiteral(",,,,,,0,0")),
              qPrintable(lines[1]));
     const QStringList second = lines[2].split(QLatin1Char(','));
-    QCOMPARE(second.size(), 12);
+    QCOMPARE(second.size(), 14);
     QCOMPARE(second.mid(7, 2), QStringList({QStringLiteral("0.5"), QStringLiteral("2.5")}));
     // Shortest round-trip text: the totals read back as the same doubles.
     QVERIFY(second[9].toDouble() == other.kineticEnergy());
     QVERIFY(second[10].toDouble() == other.momentum().x);
     QVERIFY(second[11].toDouble() == other.momentum().y);
-    QVERIFY2(lines[3].endsWith(QStringLiteral(",,,,,")), qPrintable(lines[3]));
+    QVERIFY2(lines[3].endsWith(QStringLiteral(",,,,,,0,0")), qPrintable(lines[3]));
+    // A restart of the comparison is marked on its frame's row, as on the plot.
+    plot.markCompareRestart(3);
+    QCOMPARE(plot.compareRestarts(), std::vector<std::int64_t>{3});
+    QCOMPARE(plot.exportCsv(path), QString());
+    QFile again(path);
+    QVERIFY(again.open(QIODevice::ReadOnly | QIODevice::Text));
+    const QStringList marked = QString::fromUtf8(again.readAll()).split(QLatin1Char('\n'));
+    QVERIFY2(marked.value(2).endsWith(QStringLiteral(",0,0")) && marked.value(3).endsWith(QStringLiteral(",0,1")),
+             qPrintable(marked.join(QLatin1Char('|'))));
 
     // The legend lists the marbles once and the two models once; the dashed line names its model.
     plot.refreshChart();

@@ -1905,6 +1905,12 @@ void TestPlotDock::exportCsv()
     world.frame = 3;
     world.velocity[1] = {-0.1, 0.0};
     dock.appendFrame(world);
+    // Marble 1's mass doubled at frame 4: the plot's mark is in the file too.
+    world.frame = 4;
+    dock.appendFrame(world);
+    world.mass[1] = 2.0;
+    dock.resample(world, nullptr);
+    QCOMPARE(dock.editMarks(), std::vector<std::int64_t>{4});
 
     QTemporaryDir dir;
     QVERIFY(dir.isValid());
@@ -1915,15 +1921,19 @@ void TestPlotDock::exportCsv()
     QVERIFY(file.open(QIODevice::ReadOnly | QIODevice::Text));
     const QStringList lines = QString::fromUtf8(file.readAll()).split(QLatin1Char('\n'));
     // KE = 2*25/2 + 1*36/2 = 43 and p = (6, 8) + (-6, 0) = (0, 8) at frames 1-2;
-    // KE = 25 + 0.005 and p = (5.9, 8) at frame 3.
+    // KE = 25 + 0.005 and p = (5.9, 8) at frame 3; with marble 1's mass 2, KE = 25 + 0.01 and
+    // p = (5.8, 8) at frame 4.
     const QStringList expected = {
         QStringLiteral("frame,time_s,speed_0_px_per_frame,speed_1_px_per_frame,kinetic_energy_mass_px2_per_frame2,"
-                       "momentum_x_mass_px_per_frame,momentum_y_mass_px_per_frame"),
-        QStringLiteral("1,0.02,5,,43,0,8"),
-        QStringLiteral("2,0.04,5,,43,0,8"),
-        QStringLiteral("3,0.06,5,0.1,%1,%2,8")
+                       "momentum_x_mass_px_per_frame,momentum_y_mass_px_per_frame,scene_edited"),
+        QStringLiteral("1,0.02,5,,43,0,8,0"),
+        QStringLiteral("2,0.04,5,,43,0,8,0"),
+        QStringLiteral("3,0.06,5,0.1,%1,%2,8,0")
             .arg(QString::number(25.0 + 0.5 * 0.1 * 0.1, 'g', QLocale::FloatingPointShortest),
                  QString::number(6.0 - 0.1, 'g', QLocale::FloatingPointShortest)),
+        QStringLiteral("4,0.08,5,0.1,%1,%2,8,1")
+            .arg(QString::number(25.0 + 0.5 * 2.0 * (0.1 * 0.1), 'g', QLocale::FloatingPointShortest),
+                 QString::number(6.0 - 2.0 * 0.1, 'g', QLocale::FloatingPointShortest)),
         QString(), // the file ends with a newline
     };
     QCOMPARE(lines.size(), expected.size());
