@@ -157,6 +157,29 @@ QValueAxis *valueAxisOf(QLineSeries *line)
     return qobject_cast<QValueAxis *>(line->attachedAxes().value(1));
 }
 
+/// The values of `line`'s points at x, in the order drawn (two at a jump).
+QList<qreal> valuesAt(QLineSeries *line, double x)
+{
+    QList<qreal> ys;
+    for (const QPointF &p : line->points()) {
+        if (p.x() == x)
+            ys << p.y();
+    }
+    return ys;
+}
+
+/// The values drawn are those expected, to a relative 1e-12.
+bool sameValues(const QList<qreal> &drawn, const QList<qreal> &expected)
+{
+    if (drawn.size() != expected.size())
+        return false;
+    for (qsizetype k = 0; k < drawn.size(); ++k) {
+        if (std::abs(drawn[k] - expected[k]) > 1e-12 * std::max(1.0, std::abs(expected[k])))
+            return false;
+    }
+    return true;
+}
+
 double maxY(const QLineSeries *series)
 {
     double m = -std::numeric_limits<double>::infinity();
@@ -1476,37 +1499,19 @@ void TestPlotDock::editedLinesJumpAtTheirMark()
     }
     dock.refreshChart();
     // The points at frame 8 (sample 7: the samples start at frame 1), in the order drawn.
-    const auto atMark = [](QLineSeries *series) {
-        QList<qreal> ys;
-        for (const QPointF &p : series->points()) {
-            if (p.x() == 8.0)
-                ys << p.y();
-        }
-        return ys;
-    };
-    // The values drawn, to a relative 1e-12 (the frame axis draws them unscaled).
-    const auto same = [](const QList<qreal> &drawn, const QList<qreal> &expected) {
-        if (drawn.size() != expected.size())
-            return false;
-        for (qsizetype k = 0; k < drawn.size(); ++k) {
-            if (std::abs(drawn[k] - expected[k]) > 1e-12 * std::max(1.0, std::abs(expected[k])))
-                return false;
-        }
-        return true;
-    };
-    QVERIFY(same(atMark(dock.kineticSeries()), QList<qreal>{at8.kineticEnergy(), dock.sampleKineticEnergy(7)}));
-    QVERIFY(same(atMark(dock.momentumSeries(1)), QList<qreal>{at8.momentum().y, dock.sampleMomentum(7).y}));
-    QVERIFY(same(atMark(dock.speedSeries(2)), QList<qreal>{length(at8.velocity[2]), 5.0}));
+    QVERIFY(sameValues(valuesAt(dock.kineticSeries(), 8), QList<qreal>{at8.kineticEnergy(), dock.sampleKineticEnergy(7)}));
+    QVERIFY(sameValues(valuesAt(dock.momentumSeries(1), 8), QList<qreal>{at8.momentum().y, dock.sampleMomentum(7).y}));
+    QVERIFY(sameValues(valuesAt(dock.speedSeries(2), 8), QList<qreal>{length(at8.velocity[2]), 5.0}));
     // Not where the line did not jump (marble 1's speed: the mass scale is no velocity), nor
     // anywhere else.
-    QCOMPARE(atMark(dock.speedSeries(1)).size(), 1);
+    QCOMPARE(valuesAt(dock.speedSeries(1), 8).size(), 1);
     QCOMPARE(dock.kineticSeries()->points().size(), 11); // frames 1 to 10, and the jump
 
     // Marbles came or went since: the totals as stepped had others in them. The jump is from
     // the frame before.
     dock.marbleRemovedAt(0, 3);
     dock.refreshChart();
-    QVERIFY(same(atMark(dock.kineticSeries()), QList<qreal>{dock.sampleKineticEnergy(6), dock.sampleKineticEnergy(7)}));
+    QVERIFY(sameValues(valuesAt(dock.kineticSeries(), 8), QList<qreal>{dock.sampleKineticEnergy(6), dock.sampleKineticEnergy(7)}));
 }
 
 void TestPlotDock::comparedLinesJumpAtEditsAndRestarts()
@@ -1547,29 +1552,12 @@ void TestPlotDock::comparedLinesJumpAtEditsAndRestarts()
     step(12, 3.0);
     dock.markCompareRestart(12);
     dock.refreshChart();
-    const auto at = [](QLineSeries *series, double frame) {
-        QList<qreal> ys;
-        for (const QPointF &p : series->points()) {
-            if (p.x() == frame)
-                ys << p.y();
-        }
-        return ys;
-    };
-    const auto near = [](const QList<qreal> &drawn, const QList<qreal> &expected) {
-        if (drawn.size() != expected.size())
-            return false;
-        for (qsizetype k = 0; k < drawn.size(); ++k) {
-            if (std::abs(drawn[k] - expected[k]) > 1e-12 * std::max(1.0, std::abs(expected[k])))
-                return false;
-        }
-        return true;
-    };
-    QVERIFY(near(at(dock.compareKineticSeries(), 8), {compareAt8.kineticEnergy(), restarted.kineticEnergy()}));
-    QVERIFY(near(at(dock.compareMomentumSeries(1), 8), {compareAt8.momentum().y, restarted.momentum().y}));
-    QVERIFY(near(at(dock.compareSeries(1), 8), {length(compareAt8.velocity[1]), length(restarted.velocity[1])}));
-    QCOMPARE(at(dock.compareKineticSeries(), 12).size(), 1);
-    QCOMPARE(at(dock.kineticSeries(), 8).size(), 2);
-    QCOMPARE(at(dock.kineticSeries(), 12).size(), 1);
+    QVERIFY(sameValues(valuesAt(dock.compareKineticSeries(), 8), {compareAt8.kineticEnergy(), restarted.kineticEnergy()}));
+    QVERIFY(sameValues(valuesAt(dock.compareMomentumSeries(1), 8), {compareAt8.momentum().y, restarted.momentum().y}));
+    QVERIFY(sameValues(valuesAt(dock.compareSeries(1), 8), {length(compareAt8.velocity[1]), length(restarted.velocity[1])}));
+    QCOMPARE(valuesAt(dock.compareKineticSeries(), 12).size(), 1);
+    QCOMPARE(valuesAt(dock.kineticSeries(), 8).size(), 2);
+    QCOMPARE(valuesAt(dock.kineticSeries(), 12).size(), 1);
 }
 
 void TestPlotDock::restartMarkedOnlyAfterADashedLine()
