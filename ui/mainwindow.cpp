@@ -1319,9 +1319,7 @@ bool MainWindow::saveFile(const QString &path, SceneDocument::SavedFrame which)
     addRecentFile(path);
     // A click's push waits for the next frame in the world; a file holds only scripted pushes.
     const World &world = m_document->world();
-    bool pushPending = false;
-    for (int i = 0; i < world.marbleCount() && !pushPending && which == SceneDocument::SavedFrame::Shown; ++i)
-        pushPending = world.pushPending(i);
+    const bool pushPending = which == SceneDocument::SavedFrame::Shown && m_document->pendingPushCount() > 0;
     // Saved mid-run, the file holds the scene as it is now, not the run's start: said, as a
     // teacher who saved at frame 36 reopened a different lesson without a word. (Short: a
     // 1600-px window's status bar had cut off its end.)
@@ -1531,8 +1529,15 @@ void MainWindow::stepForward()
 void MainWindow::stepBackward()
 {
     m_run->pause();
+    const bool pushWaiting = m_document->pendingPushCount() > 0;
     if (m_document->stepBack()) {
         hideBarMessage();
+        // The push clicked at the frame left is not the frame gone back to's (which has its own, if
+        // any): said, as it went without a word (a helper's finding).
+        if (pushWaiting)
+            showFrameStatus(tr("Back to frame %1, without the push that was waiting at frame %2.")
+                                .arg(m_document->world().frame)
+                                .arg(m_document->world().frame + 1));
         return;
     }
     // Where the keys go first, why after: a projector's narrow status bar cuts the end off.
@@ -1556,9 +1561,15 @@ void MainWindow::stepBackward()
 void MainWindow::rewindToStart()
 {
     m_run->pause();
+    const bool pushWaiting = m_document->pendingPushCount() > 0;
+    const std::int64_t left = m_document->world().frame;
     if (m_document->rewind()) {
         hideBarMessage();
-        showFrameStatus(tr("Back to frame %1.").arg(m_document->world().frame));
+        showFrameStatus(pushWaiting && left != m_document->world().frame
+                            ? tr("Back to frame %1, without the push that was waiting at frame %2.")
+                                  .arg(m_document->world().frame)
+                                  .arg(left)
+                            : tr("Back to frame %1.").arg(m_document->world().frame));
     }
 }
 

@@ -269,6 +269,14 @@ bool SceneDocument::goToFrame(std::int64_t frame)
     return m_world.frame == frame;
 }
 
+int SceneDocument::pendingPushCount() const
+{
+    int pending = 0;
+    for (int i = 0; i < m_world.marbleCount(); ++i)
+        pending += m_world.pushPending(i) ? 1 : 0;
+    return pending;
+}
+
 int SceneDocument::takeBackPushes()
 {
     // What is pending between frames is the clicks' pushes alone (a scene's scripted pushes are

@@ -110,6 +110,8 @@ public:
     /// Takes back the clicks' pushes still to act (a click on the wrong marble): they will not
     /// act. Returns how many marbles had one; a click is not an edit, so Ctrl+Z cannot.
     int takeBackPushes();
+    /// How many marbles have a click's push waiting for the next frame.
+    int pendingPushCount() const;
 
     /// The chapter's click: World::push on marble i at `at` (stage px); acts on the next frame.
     void pushMarble(int i, Vec2 at);
