@@ -408,6 +408,14 @@ void TestParametersDock::wheelChangesOnlyTheFieldBeingEdited()
     wheel(push);
     QCOMPARE_LT(push->value(), before);
     QCOMPARE(spy.count(), 1);
+    // And the Model box (the book model became the impulse one as the dock scrolled; a helper's
+    // re-test).
+    auto *model = dock.findChild<QComboBox *>(QStringLiteral("modelEdit"));
+    QVERIFY(model);
+    const int chosen = model->currentIndex();
+    wheel(model);
+    QCOMPARE(model->currentIndex(), chosen);
+    QCOMPARE(spy.count(), 1);
 }
 
 void TestParametersDock::refusalIsExplainedUntilTheNextEdit()
