@@ -58,7 +58,8 @@ Prompts::SaveFrame Prompts::askSaveFrame(QWidget *parent, const QString &fileNam
                     unsavable.isEmpty()
                         ? tr("The run is at frame %1. Save %2 as its start, frame %3, with every change, or as the "
                              "scene is now? Saved as it is now, it opens at this frame, as frame 0, and the run starts "
-                             "again here: Home comes back to this frame, and the plot starts again.")
+                             "again here: Home comes back to this frame, the plot starts again, and the edits made "
+                             "before it can no longer be undone.")
                               .arg(frame)
                               .arg(fileName)
                               .arg(startFrame)

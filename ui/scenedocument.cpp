@@ -108,14 +108,19 @@ bool SceneDocument::saveFile(const QString &path, QString *error, SavedFrame whi
             *error = tr("%1: %2").arg(name, failure);
         return false;
     }
+    // The frame shown saved in the middle of the run: the file starts there, and so does the run,
+    // as when the file is opened. (Home went on to the run's old start, under the file's name and
+    // with nothing to save, and a save of the start then wrote it over the file; a helper's
+    // finding.) The edits made before it go from the Undo History with the frames they belong to:
+    // undone there, a velocity set at frame 20 was put back on the marble at frame 50 (another's).
+    const bool restart = which == SavedFrame::Shown && m_world.frame != m_history.startFrame();
+    if (restart)
+        m_undoStack.clear();
     m_dirtyWithoutUndo = false;
     m_undoStack.setClean();
     setFileName(QFileInfo(path).absoluteFilePath());
     emitModification();
-    // The frame shown saved in the middle of the run: the file starts there, and so does the run,
-    // as when the file is opened. (Home went on to the run's old start, under the file's name and
-    // with nothing to save, and a save of the start then wrote it over the file; a helper's finding.)
-    if (which == SavedFrame::Shown && m_world.frame != m_history.startFrame()) {
+    if (restart) {
         m_history.reset(m_world);
         Q_EMIT timelineReset();
         Q_EMIT stepped();

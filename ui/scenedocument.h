@@ -46,7 +46,8 @@ public:
     enum class SavedFrame { Shown, Start };
     /// Writes the scene atomically (QSaveFile); on success the document is clean and named `path`.
     /// The frame shown, saved in the middle of the run, starts the run again there (timelineReset()),
-    /// as the file opens there: Home comes back to it, and Step Back goes no further.
+    /// as the file opens there: Home comes back to it, Step Back goes no further, and the edits
+    /// before it leave the undo stack.
     bool saveFile(const QString &path, QString *error, SavedFrame which = SavedFrame::Shown);
     /// Why the scene cannot be saved as it is now ("at frame 812, marble 3's place or velocity is
     /// not a finite number, which a scene file cannot hold"), or empty when it can.
