@@ -1330,7 +1330,7 @@ bool MainWindow::saveFile(const QString &path, SceneDocument::SavedFrame which)
     else if (world.frame > 0)
         text = tr("Saved %1 at frame %2, where it opens as frame 0").arg(name).arg(world.frame);
     if (pushPending)
-        text += tr(", without the push still to act (a click's push is not kept in the file)");
+        text += tr(" (not the click's push still to act)"); // short: at 1600 px, comparing, it was cut off
     showStatus(text + QLatin1Char('.'));
     return true;
 }
