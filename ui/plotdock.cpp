@@ -274,6 +274,22 @@ void alignZeros(std::initializer_list<AxisRange *> ranges, int maxTicks)
         *s.range = {-below * s.step, above * s.step, below + above + 1};
 }
 
+/// At most `maxTicks` ticks on `range` (Qt's nice numbers may add one or two to those asked for: four
+/// labels of "…" on a short chart, speeds alone shown): its spacing doubled until they fit, its
+/// minimum kept (zero, on a tick). Ranges with too few ticks to have a spacing are left alone.
+AxisRange atMostTicks(AxisRange range, int maxTicks)
+{
+    if (range.ticks < 2 || range.ticks <= maxTicks || maxTicks < 2)
+        return range;
+    double step = (range.max - range.min) / (range.ticks - 1);
+    int ticks = range.ticks;
+    while (ticks > maxTicks && std::isfinite(step * 2.0)) {
+        step *= 2.0;
+        ticks = static_cast<int>(std::ceil((range.max - range.min) / step - 1e-9)) + 1;
+    }
+    return {range.min, range.min + (ticks - 1) * step, ticks};
+}
+
 /// Frames are whole numbers: where the nice range would put ticks less than a frame apart (the
 /// first few frames of a run), the range is widened to whole frames with a tick at each.
 AxisRange wholeTicks(AxisRange range)
@@ -1003,8 +1019,10 @@ void PlotDock::refreshChart()
     const int valueTicks = plotHeight > 0.0 && lineHeight > 0
         ? std::clamp(static_cast<int>(plotHeight / (2.0 * lineHeight)) + 1, 2, kAxisTicks)
         : kAxisTicks;
-    AxisRange speedRange = niceRange(m_rangeScratch, 0.0, top(speedMax), valueTicks);
-    AxisRange energyRange = niceRange(m_rangeScratch, 0.0, top(energy.max), valueTicks);
+    // On a short chart, no more ticks than asked for (the nice numbers' extra ones read "…").
+    const int tickRoom = valueTicks == kAxisTicks ? std::numeric_limits<int>::max() : valueTicks;
+    AxisRange speedRange = atMostTicks(niceRange(m_rangeScratch, 0.0, top(speedMax), valueTicks), tickRoom);
+    AxisRange energyRange = atMostTicks(niceRange(m_rangeScratch, 0.0, top(energy.max), valueTicks), tickRoom);
     AxisRange momentumRange = niceRange(m_rangeScratch, bottom(momentum.min), top(momentum.max), valueTicks);
     // One zero line for every axis drawn.
     if (m_showMomentum->isChecked())

@@ -1363,6 +1363,31 @@ void TestPlotDock::shortChartKeepsItsLabelsWhole()
     QVERIFY(speed);
     QCOMPARE(speed->titleText(), QStringLiteral("speed (px/frame)"));
     QCOMPARE_GE(speed->categoriesLabels().size(), 4);
+
+    // The speeds alone, up to 4 px/frame (Qt's nice numbers gave 0 to 6 in steps of 2 for the
+    // three ticks asked for: four labels of "…" at 1280 x 720 x 1.5, seen under Xvfb).
+    dock.setKineticEnergyShown(false);
+    dock.setMomentumShown(false);
+    World slow = worldWith(2);
+    dock.reset(slow);
+    for (int f = 1; f <= 20; ++f) {
+        slow.frame = f;
+        slow.velocity[0] = {4.0, 0.0};
+        slow.velocity[1] = {-1.0, 0.0};
+        dock.appendFrame(slow, nullptr);
+    }
+    dock.resize(900, 200);
+    for (int k = 0; k < 3; ++k) {
+        dock.refreshChart();
+        QCoreApplication::processEvents();
+    }
+    speed = speedAxis();
+    QVERIFY(speed);
+    const double shortHeight = dock.chartView()->chart()->plotArea().height();
+    const qsizetype shortLabels = speed->categoriesLabels().size();
+    QVERIFY2(shortLabels >= 2 && (shortLabels - 1) * 1.5 * line <= shortHeight,
+             qPrintable(QStringLiteral("%1 labels in %2 px, a line %3 px").arg(shortLabels).arg(shortHeight).arg(line)));
+    QCOMPARE_GE(speed->max(), 4.0); // the line still under the top
 }
 
 void TestPlotDock::totalsStayOverTheSpeedLines()
