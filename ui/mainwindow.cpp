@@ -1176,7 +1176,11 @@ bool MainWindow::maybeSave()
 {
     if (!m_document->isModified())
         return true;
-    switch (m_prompts->askSaveChanges(this, sceneName(), m_document->world().frame, m_document->unsavableReason())) {
+    // At the run's start (frame 0, or where a save of the frame shown started it again) Save asks
+    // nothing more: no frame to name.
+    const std::int64_t frame = m_document->world().frame;
+    switch (m_prompts->askSaveChanges(this, sceneName(), frame != m_document->startFrame() ? frame : 0,
+                                      m_document->unsavableReason())) {
     case Prompts::SaveChoice::Save:
         return save();
     case Prompts::SaveChoice::Discard:

@@ -965,7 +965,7 @@ void PlotDock::refreshChart()
         double max = -std::numeric_limits<double>::infinity();
     } energy, momentum;
     // asStepped: the line's value as stepped, for its jumps at edits; compared: a comparison's
-    // line, which jumps at its restarts too.
+    // line (addEditJumps()).
     auto refreshTotal = [&](QLineSeries *series, const RingBuffer<double> &values, bool shown, double scale,
                             Extent &extent, const SampleValue &asStepped, bool compared) {
         QList<QPointF> points;
@@ -1895,7 +1895,7 @@ void PlotDock::noteMasses(const World &world)
     m_massesFrom.erase(m_massesFrom.begin(), stillNeeded - 1);
 }
 
-const std::vector<double> *PlotDock::massesAt(const std::vector<MassesFrom> &eras, std::int64_t frame, int count) const
+const std::vector<double> *PlotDock::massesAt(const std::vector<MassesFrom> &eras, std::int64_t frame, int count)
 {
     const auto after = std::upper_bound(eras.begin(), eras.end(), frame,
                                         [](std::int64_t f, const MassesFrom &e) { return f < e.frame; });

@@ -372,7 +372,7 @@ private:
     /// Keeps the masses `world` has from its frame on (appendFrame()).
     void noteMasses(const World &world);
     /// The masses frame `frame` was taken with, where they are known for `count` marbles; else null.
-    const std::vector<double> *massesAt(const std::vector<MassesFrom> &eras, std::int64_t frame, int count) const;
+    static const std::vector<double> *massesAt(const std::vector<MassesFrom> &eras, std::int64_t frame, int count);
     VelocityLookup m_documentVelocities; ///< may be empty (no earlier speeds for new lines)
     VelocityLookup m_compareVelocities;  ///< may be empty
 

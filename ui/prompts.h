@@ -21,7 +21,7 @@ public:
     virtual ~Prompts();
 
     /// Asks whether to save the changes to `documentName` before they are lost; `frame` is the
-    /// frame the scene would be saved at (after frame 0, the run's start is not what is saved).
+    /// frame the run is at, 0 at its start (elsewhere Save asks next which frame to save).
     /// Where the scene cannot be saved at that frame, `unsavable` says why (its start can be).
     virtual SaveChoice askSaveChanges(QWidget *parent, const QString &documentName, std::int64_t frame,
                                       const QString &unsavable);

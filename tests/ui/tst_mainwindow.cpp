@@ -597,6 +597,11 @@ void TestMainWindow::saveThenOpenRoundTrips()
     // set at frame 20, undone after a save at frame 50, was put back on the marble at frame 50; a
     // helper's finding).
     QCOMPARE(doc->undoStack()->count(), 0);
+    // At that start, the unsaved-changes question names no frame: Save would ask none.
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.27")).isEmpty());
+    m_prompts->saveChoice = Prompts::SaveChoice::Cancel;
+    QVERIFY(!m_window->openPreset(QStringLiteral("pins")));
+    QCOMPARE(m_prompts->savedAtFrame, std::int64_t(0));
     // The run's start chosen: the scene as Home would give it, with every change; cancelled:
     // nothing written.
     doc->advance(2);
