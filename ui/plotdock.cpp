@@ -945,7 +945,7 @@ void PlotDock::refreshChart()
             return std::nullopt;
         };
         addEditJumps(
-            points, [&speedIn](const SceneSample &s) { return speedIn(s.speeds); }, false, speedMin, speedMax);
+            points, [&speedIn](const SceneSample &s) { return speedIn(s.speeds); }, speedMin, speedMax);
         t.series->replace(points);
         showPoints(t.series);
         if (t.compareSeries) {
@@ -954,8 +954,7 @@ void PlotDock::refreshChart()
                 comparePoints, n, maxPoints, x,
                 [&t, f](qsizetype i) { return t.compareSpeed.at(static_cast<std::size_t>(i)) * f; }, speedMin, speedMax);
             addEditJumps(
-                comparePoints, [&speedIn](const SceneSample &s) { return speedIn(s.compareSpeeds); }, true, speedMin,
-                speedMax);
+                comparePoints, [&speedIn](const SceneSample &s) { return speedIn(s.compareSpeeds); }, speedMin, speedMax);
             t.compareSeries->replace(comparePoints);
         }
     }
@@ -964,36 +963,33 @@ void PlotDock::refreshChart()
         double min = std::numeric_limits<double>::infinity();
         double max = -std::numeric_limits<double>::infinity();
     } energy, momentum;
-    // asStepped: the line's value as stepped, for its jumps at edits; compared: a comparison's
-    // line (addEditJumps()).
+    // asStepped: the line's value as stepped, for its jumps at edits (addEditJumps()).
     auto refreshTotal = [&](QLineSeries *series, const RingBuffer<double> &values, bool shown, double scale,
-                            Extent &extent, const SampleValue &asStepped, bool compared) {
+                            Extent &extent, const SampleValue &asStepped) {
         QList<QPointF> points;
         if (shown) {
             appendThinned(
                 points, n, maxPoints, x,
                 [&values, scale](qsizetype i) { return values.at(static_cast<std::size_t>(i)) * scale; }, extent.min,
                 extent.max);
-            addEditJumps(points, asStepped, compared, extent.min, extent.max);
+            addEditJumps(points, asStepped, extent.min, extent.max);
         }
         series->replace(points);
         showPoints(series);
     };
     refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked(), f * f, energy,
-                 [f](const SceneSample &s) { return std::optional<double>(s.kinetic * f * f); }, false);
+                 [f](const SceneSample &s) { return std::optional<double>(s.kinetic * f * f); });
     if (m_compareKineticSeries)
         refreshTotal(m_compareKineticSeries, m_compareKinetic, m_showKinetic->isChecked(), f * f, energy,
-                     [f](const SceneSample &s) { return std::optional<double>(s.compareKinetic * f * f); }, true);
+                     [f](const SceneSample &s) { return std::optional<double>(s.compareKinetic * f * f); });
     for (int c : {0, 1}) {
         refreshTotal(m_momentumSeries[c], m_momentum[c], m_showMomentum->isChecked(), f, momentum,
-                     [c, f](const SceneSample &s) { return std::optional<double>((c == 0 ? s.momentum.x : s.momentum.y) * f); },
-                     false);
+                     [c, f](const SceneSample &s) { return std::optional<double>((c == 0 ? s.momentum.x : s.momentum.y) * f); });
         if (m_compareMomentumSeries[c])
             refreshTotal(m_compareMomentumSeries[c], m_compareMomentum[c], m_showMomentum->isChecked(), f, momentum,
                          [c, f](const SceneSample &s) {
                              return std::optional<double>((c == 0 ? s.compareMomentum.x : s.compareMomentum.y) * f);
-                         },
-                         true);
+                         });
     }
 
     // Speeds and the energy are never negative: their axes start at zero. The momentum's
@@ -1858,8 +1854,7 @@ void PlotDock::ensureColourOrder(int count)
         m_hues.push_back(takeFreeHue(taken, next));
 }
 
-void PlotDock::addEditJumps(QList<QPointF> &points, const SampleValue &asStepped, bool compared, double &yMin,
-                            double &yMax) const
+void PlotDock::addEditJumps(QList<QPointF> &points, const SampleValue &asStepped, double &yMin, double &yMax) const
 {
     for (const EditMark &m : m_editMarks) {
         // The point of the mark's frame, where the line has one (a thinned line may not), after
@@ -1868,10 +1863,9 @@ void PlotDock::addEditJumps(QList<QPointF> &points, const SampleValue &asStepped
         const auto at = std::find_if(points.begin(), points.end(), [x](const QPointF &p) { return p.x() >= x; });
         if (at == points.begin() || at == points.end() || at->x() != x)
             continue;
+        // From a value as stepped that is no number (a comparison not running at the mark has NaN),
+        // no jump.
         const std::optional<double> stepped = m.asSteppedKnown ? asStepped(m.asStepped) : std::nullopt;
-        // A comparison that was not running at the mark has no value there as stepped.
-        if (compared && stepped && !std::isfinite(*stepped))
-            continue;
         const double from = stepped ? *stepped : std::prev(at)->y();
         if (!std::isfinite(from) || from == at->y())
             continue;

@@ -436,10 +436,9 @@ private:
     /// Where an edit made a line jump at frame F, the line goes straight up or down at F, from
     /// the value F had as stepped (or, where marbles came or went since, the sample before it):
     /// it sloped across the frame before, which read as a change during that frame (a helper's
-    /// finding). A comparison's line (`compared`) does so where it was running at the mark (it
-    /// starts again there). Widens [yMin, yMax] to cover the points added.
-    void addEditJumps(QList<QPointF> &points, const SampleValue &asStepped, bool compared, double &yMin,
-                      double &yMax) const;
+    /// finding). A comparison's line does so where it was running at the mark (it starts again
+    /// there). Widens [yMin, yMax] to cover the points added.
+    void addEditJumps(QList<QPointF> &points, const SampleValue &asStepped, double &yMin, double &yMax) const;
     std::vector<EditMark> m_editMarks;
     QLineSeries *m_editMarkSeries = nullptr; ///< a dash-dot line at each edit mark
     QCheckBox *m_showKinetic = nullptr;
