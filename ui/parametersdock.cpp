@@ -2,6 +2,7 @@
 
 #include "core/sceneio.h"
 
+#include "ui/focusedwheel.h"
 #include "ui/quiettext.h"
 #include "ui/refusingspinbox.h"
 
@@ -20,7 +21,6 @@
 #include <QSpinBox>
 #include <QStandardItemModel>
 #include <QVBoxLayout>
-#include <QWheelEvent>
 
 #include <algorithm>
 #include <cmath>
@@ -107,24 +107,6 @@ const char *const kShortCircuitUnused = "Only the book model can stop testing a 
 const char *const kRestitutionUnusedShort = "Not used by the book model.";
 const char *const kSubstepsUnusedShort = "Used by the impulse model only.";
 const char *const kShortCircuitUnusedShort = "Used by the book model only.";
-
-/// A list box the wheel changes only once it has the focus, as the number fields (a helper's
-/// finding: scrolling the dock brought Model under the pointer, and the next tick made the
-/// lesson's book model the impulse one).
-class FocusedWheelComboBox : public QComboBox {
-public:
-    using QComboBox::QComboBox;
-
-protected:
-    void wheelEvent(QWheelEvent *event) override
-    {
-        if (!hasFocus()) {
-            event->ignore(); // to the dock, which scrolls
-            return;
-        }
-        QComboBox::wheelEvent(event);
-    }
-};
 
 } // namespace
 
@@ -248,7 +230,7 @@ void ParametersDock::buildUi()
                 "(t, the plot in seconds) counts every frame at this interval, those before a change too."));
 
     // The models and what only they use.
-    m_model = new FocusedWheelComboBox(page);
+    m_model = new FocusedWheel<QComboBox>(page); // as the number fields
     m_model->setObjectName(QStringLiteral("modelEdit"));
     m_model->addItem(tr("Book (the chapter's code)"), QStringLiteral("book"));
     m_model->addItem(tr("Impulse (what games do)"), QStringLiteral("impulse"));

@@ -1,5 +1,7 @@
 #pragma once
 
+#include "ui/focusedwheel.h"
+
 #include <QDoubleSpinBox>
 #include <QEvent>
 #include <QKeyEvent>
@@ -7,7 +9,6 @@
 #include <QSpinBox>
 #include <QString>
 #include <QValidator>
-#include <QWheelEvent>
 
 #include <algorithm>
 #include <cerrno>
@@ -61,16 +62,17 @@ protected:
 /// must stay below 1, and "5000" into "500"); ending the edit then refuses it, keeps the value
 /// and notes the number for the dock to explain. A lone minus may start such a number.
 template<typename Base>
-class RefusingSpinBox : public Base, public Refusing {
+class RefusingSpinBox : public FocusedWheel<Base>, public Refusing {
 public:
     explicit RefusingSpinBox(QWidget *parent = nullptr)
-        : Base(parent)
+        : FocusedWheel<Base>(parent)
     {
         // valueChanged only on Enter, focus loss, arrows or the wheel: typing "0.25" is one edit,
         // not three ("0", "0.2", "0.25").
         this->setKeyboardTracking(false);
         this->setAccelerated(true);
-        // The wheel changes a field only once it has been clicked or tabbed into (see wheelEvent()).
+        // The wheel changes a field only once it has been clicked or tabbed into (FocusedWheel),
+        // and gives it no focus.
         this->setFocusPolicy(Qt::StrongFocus);
     }
 
@@ -187,17 +189,6 @@ protected:
             }
         }
         return Base::event(event);
-    }
-    // The wheel over a field that does not have the focus scrolls the dock, as over the text
-    // beside it: one tick, with the pointer passing over the Inspector while the dock scrolled,
-    // had given a marble at rest a velocity of 1 px/frame (a helper's finding).
-    void wheelEvent(QWheelEvent *event) override
-    {
-        if (!this->hasFocus()) {
-            event->ignore();
-            return;
-        }
-        Base::wheelEvent(event);
     }
     void keyPressEvent(QKeyEvent *event) override
     {
