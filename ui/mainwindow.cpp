@@ -1530,18 +1530,22 @@ void MainWindow::stepForward()
     m_document->advance(1);
 }
 
+QString MainWindow::leftPushText(std::int64_t left) const
+{
+    // The push clicked at the frame left is not the frame gone back to's (which has its own, if
+    // any): said, as it went without a word (a helper's finding).
+    return tr("Back to frame %1, without the push that was waiting at frame %2.").arg(m_document->world().frame).arg(left);
+}
+
 void MainWindow::stepBackward()
 {
     m_run->pause();
     const bool pushWaiting = m_document->pendingPushCount() > 0;
+    const std::int64_t left = m_document->world().frame;
     if (m_document->stepBack()) {
         hideBarMessage();
-        // The push clicked at the frame left is not the frame gone back to's (which has its own, if
-        // any): said, as it went without a word (a helper's finding).
         if (pushWaiting)
-            showFrameStatus(tr("Back to frame %1, without the push that was waiting at frame %2.")
-                                .arg(m_document->world().frame)
-                                .arg(m_document->world().frame + 1));
+            showFrameStatus(leftPushText(left));
         return;
     }
     // Where the keys go first, why after: a projector's narrow status bar cuts the end off.
@@ -1569,11 +1573,8 @@ void MainWindow::rewindToStart()
     const std::int64_t left = m_document->world().frame;
     if (m_document->rewind()) {
         hideBarMessage();
-        showFrameStatus(pushWaiting && left != m_document->world().frame
-                            ? tr("Back to frame %1, without the push that was waiting at frame %2.")
-                                  .arg(m_document->world().frame)
-                                  .arg(left)
-                            : tr("Back to frame %1.").arg(m_document->world().frame));
+        showFrameStatus(pushWaiting && left != m_document->world().frame ? leftPushText(left)
+                                                                          : tr("Back to frame %1.").arg(m_document->world().frame));
     }
 }
 

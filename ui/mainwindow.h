@@ -171,6 +171,8 @@ private:
     /// Shows a status message about the current frame, cleared when another frame is shown
     /// ("Back to frame 0" or a push still to act would read as the state of a later frame).
     void showFrameStatus(const QString &text);
+    /// "Back to frame F, without the push that was waiting at frame `left`." (Step Back, Home).
+    QString leftPushText(std::int64_t left) const;
     /// Clears a showFrameStatus() message once the frame is not the one it was about.
     void expireFrameStatus();
     /// The open scene's name, as the title bar and the save prompt show it.
