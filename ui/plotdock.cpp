@@ -316,10 +316,16 @@ void applyRange(QValueAxis *axis, const AxisRange &range)
         axis->setLabelFormat(format);
 }
 
-/// Gives a quantity that is never negative (a speed, an energy) `range`, as applyRange() does,
-/// with a label at each tick from zero up and none below: aligned with the momentum's zero line
-/// (alignZeros()) its axis reaches below zero, where "speed -2" read as a speed there could be.
-void applyNonNegativeRange(QCategoryAxis *axis, const AxisRange &range)
+/// Which ticks of a labelled axis have a label.
+enum class Labels { All, NotBelowZero };
+
+/// Gives `axis` `range`, as applyRange() does, with labels of our own at its ticks, a tick within
+/// rounding of zero reading "0": Qt Charts works its ticks out as min + k (max - min) / (ticks - 1),
+/// and the momentum's axis of a blow-up (-1e108 to 1.5e108) read "1.3037e+92" on its zero line.
+/// A quantity that is never negative (a speed, an energy) gets no label below zero (Labels::
+/// NotBelowZero): aligned with the momentum's zero line (alignZeros()) its axis reaches below
+/// zero, where "speed -2" read as a speed there could be.
+void applyLabelledRange(QCategoryAxis *axis, const AxisRange &range, Labels which)
 {
     applyRange(axis, range);
     QStringList labels;
@@ -332,7 +338,7 @@ void applyNonNegativeRange(QCategoryAxis *axis, const AxisRange &range)
         if (std::abs(at) <= 1e-9 * step)
             at = 0.0;
         QString label;
-        if (at < 0.0) {
+        if (at < 0.0 && which == Labels::NotBelowZero) {
             blank += QLatin1Char(' '); // category labels must differ: " ", "  ", ...
             label = blank;
         } else {
@@ -431,8 +437,9 @@ PlotDock::PlotDock(QWidget *parent)
     // crowd the energy's 1e7 made the momentum a flat line at 0 on a shared axis).
     m_axisTotals = new QCategoryAxis(m_chart);
     m_axisTotals->setLabelsPosition(QCategoryAxis::AxisLabelsPositionOnValue);
-    m_axisMomentum = new QValueAxis(m_chart);
-    for (QValueAxis *axis : {static_cast<QValueAxis *>(m_axisTotals), m_axisMomentum}) {
+    m_axisMomentum = new QCategoryAxis(m_chart);
+    m_axisMomentum->setLabelsPosition(QCategoryAxis::AxisLabelsPositionOnValue);
+    for (QCategoryAxis *axis : {m_axisTotals, m_axisMomentum}) {
         axis->setLabelFormat(QStringLiteral("%g"));
         // Its ticks fall elsewhere than the speed axis's: two sets of grid lines read as a double grid.
         axis->setGridLineVisible(false);
@@ -445,7 +452,10 @@ PlotDock::PlotDock(QWidget *parent)
     // axis read as that value (a momentum of 100 beside an energy of 200 at the same height).
     m_axisMomentum->setLabelsColor(kMomentumColour);
     m_axisMomentum->setTitleBrush(kMomentumColour);
-    updateTotalsAxis(); // and the chart's margins
+    // A category axis leaves no room above the chart for its top label, which a value axis does:
+    // each axis's top label would run off the chart by half its height.
+    m_chart->setMargins(QMargins(2, 2 + QFontMetrics(m_axisSpeed->labelsFont()).height() / 2, 2, 2));
+    updateTotalsAxis();
 
     remakeOverlays(); // the totals, hidden until their boxes are ticked
 
@@ -1026,9 +1036,9 @@ void PlotDock::refreshChart()
                                               : std::initializer_list<AxisRange *>{&speedRange, &momentumRange},
                    // one more than asked where there is room (the nice numbers' own), none on a short chart
                    valueTicks == kAxisTicks ? kAxisTicks + 1 : valueTicks);
-    applyNonNegativeRange(m_axisSpeed, speedRange);
-    applyNonNegativeRange(m_axisTotals, energyRange);
-    applyRange(m_axisMomentum, momentumRange);
+    applyLabelledRange(m_axisSpeed, speedRange, Labels::NotBelowZero);
+    applyLabelledRange(m_axisTotals, energyRange, Labels::NotBelowZero);
+    applyLabelledRange(m_axisMomentum, momentumRange, Labels::All);
     // A dotted line, down and up, at each comparison restart, and a dash-dot one at each edit
     // that made the lines jump (from the frames the plot still holds): the joins along the time
     // axis vanish.
@@ -1990,10 +2000,6 @@ void PlotDock::updateTotalsAxis()
     // Each total's axis is shown with it (the legend gives the colours).
     m_axisTotals->setVisible(m_showKinetic->isChecked());
     m_axisMomentum->setVisible(m_showMomentum->isChecked());
-    // A category axis leaves no room above the chart for its top label, which a value axis does:
-    // without the momentum's, the speed axis's top label ran off the chart by half its height.
-    const int room = m_showMomentum->isChecked() ? 0 : QFontMetrics(m_axisSpeed->labelsFont()).height() / 2;
-    m_chart->setMargins(QMargins(2, 2 + room, 2, 2));
 }
 
 void PlotDock::updateAxisTitles()

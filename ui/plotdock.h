@@ -400,7 +400,7 @@ private:
     // such ticks only to share the momentum's zero line), so they are category axes.
     QCategoryAxis *m_axisSpeed = nullptr;
     QCategoryAxis *m_axisTotals = nullptr; // kinetic energy, on the right
-    QValueAxis *m_axisMomentum = nullptr; // momentum x and y, on the right beside it: its own scale
+    QCategoryAxis *m_axisMomentum = nullptr; // momentum x and y, on the right beside it: its own scale
     QValueAxis *m_rangeScratch = nullptr; ///< works out nice ranges away from the chart
     QLineSeries *m_kineticSeries = nullptr;
     std::array<QLineSeries *, 2> m_momentumSeries{}; ///< x and y

@@ -57,6 +57,8 @@ private slots:
     void lineColours();
     void chartGetsSamples();
     void hugeSpeedsArePlotted();
+    void momentumAxisReadsZeroAtZero();
+    void topLabelsStayOnTheChart();
     void liveRefresh();
     void refreshMovesAxesOnlyWhenTheirRangeChanges();
     void thinningKeepsSpikes();
@@ -922,6 +924,73 @@ void TestPlotDock::hugeSpeedsArePlotted()
         dock.refreshChart();
         for (const QValueAxis *a : {valueAxisOf(dock.momentumSeries(0)), valueAxisOf(dock.kineticSeries()), valueAxisOf(line)})
             QVERIFY2(ticksFinite(a), qPrintable(QStringLiteral("v %1: %2 to %3, %4 ticks").arg(v).arg(a->min()).arg(a->max()).arg(a->tickCount())));
+    }
+}
+
+void TestPlotDock::momentumAxisReadsZeroAtZero()
+{
+    // Seen under Xvfb during the book's blow-up (friction 2.5): the momentum's axis, -1e108 to
+    // 1.5e108, read "1.3037e+92" on the zero line, where Qt Charts' min + k (max - min) /
+    // (ticks - 1) missed zero by a rounding. Its labels are the axis's own now: each tick's
+    // value, zero as "0".
+    PlotDock dock;
+    dock.setMomentumShown(true);
+    World world = worldWith(1);
+    world.mass[0] = 1.0;
+    dock.reset(world);
+    // Every power of ten up to 1e300 (1e24 missed zero so, among others).
+    for (int e = 0; e <= 300; ++e) {
+        const double scale = std::pow(10.0, e);
+        for (const double v : {1.44 * scale, -0.96 * scale}) {
+            world.velocity[0] = {v, 0.5 * v};
+            ++world.frame;
+            dock.appendFrame(world);
+        }
+        dock.refreshChart();
+        auto *axis = qobject_cast<QCategoryAxis *>(valueAxisOf(dock.momentumSeries(0)));
+        QVERIFY(axis);
+        const QStringList labels = axis->categoriesLabels();
+        QCOMPARE(labels.size(), axis->tickCount());
+        QVERIFY2(axis->min() < 0.0 && axis->max() > 0.0, qPrintable(QString::number(axis->max())));
+        const double step = (axis->max() - axis->min()) / (axis->tickCount() - 1);
+        QVERIFY2(labels.contains(QStringLiteral("0")), qPrintable(labels.join(QLatin1Char('|'))));
+        for (qsizetype k = 0; k < labels.size(); ++k) {
+            // Each label is its tick's value, to the six digits of "%g" (a huge tick's label may
+            // carry a space to differ from its neighbour's).
+            bool ok = false;
+            const double value = labels[k].trimmed().toDouble(&ok);
+            const double tick = axis->min() + static_cast<double>(k) * step;
+            QVERIFY2(ok, qPrintable(labels[k]));
+            QVERIFY2(std::abs(value - tick) <= 1e-5 * step,
+                     qPrintable(QStringLiteral("scale %1: label %2 at tick %3").arg(scale).arg(labels[k]).arg(tick)));
+            QVERIFY2(value == 0.0 || std::abs(value) >= 0.5 * step, qPrintable(labels[k]));
+        }
+    }
+}
+
+void TestPlotDock::topLabelsStayOnTheChart()
+{
+    // Every value axis labels its own ticks (category axes), and Qt Charts leaves no room above
+    // the plot for a category axis's top label, centred on the top tick: with the momentum's axis
+    // one too, "6e+93" at the top of the speed and momentum axes was cut in half (seen under Xvfb).
+    PlotDock dock;
+    World world = worldWith(2);
+    dock.reset(world);
+    runFrames(dock, world, 30);
+    dock.resize(900, 400);
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    for (const bool momentum : {false, true}) {
+        dock.setMomentumShown(momentum);
+        dock.setKineticEnergyShown(momentum);
+        for (int k = 0; k < 3; ++k) {
+            dock.refreshChart();
+            QCoreApplication::processEvents();
+        }
+        QChart *chart = dock.chartView()->chart();
+        const double halfLine = QFontMetrics(qobject_cast<QCategoryAxis *>(valueAxisOf(dock.speedSeries(0)))->labelsFont()).height() / 2.0;
+        QVERIFY2(chart->plotArea().top() >= halfLine,
+                 qPrintable(QStringLiteral("momentum %1: plot from %2 px, half a label %3 px").arg(momentum).arg(chart->plotArea().top()).arg(halfLine)));
     }
 }
 
