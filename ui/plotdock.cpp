@@ -135,47 +135,51 @@ QString csvNumber(double value)
     return QString::number(value, 'g', QLocale::FloatingPointShortest);
 }
 
-/// Appends the finite points (x(i), y(i)), i in [0, n), thinned to at most maxPoints: within
-/// each bucket the lowest and the highest point are kept, in sample order.
-/// Widens [yMin, yMax] to cover what was appended.
+/// The finite points (x(i), y(i)), i in [0, n), thinned to at most maxPoints in all (within
+/// each bucket the lowest and the highest point are kept, in sample order), as the runs the
+/// samples that are no number leave between them, oldest first. Widens [yMin, yMax] to cover them.
 /// A line has no value for the frames its model did not keep (a marble selected after a long
 /// run of a large scene: Step Back's history holds its last few hundred frames; a comparison
-/// started mid-run): it is drawn from the last gap on, as a line across the gap (from frame 0's
-/// value to the first kept one) would show a change that was never seen.
+/// started mid-run, or paused by an edit it cannot follow): each run is drawn apart
+/// (PlotDock::drawRuns()), as a line across the gap (from frame 0's value to the first kept one)
+/// would show a change that was never seen.
 template<typename XFn, typename YFn>
-void appendThinned(QList<QPointF> &out, qsizetype n, qsizetype maxPoints, XFn x, YFn y, double &yMin, double &yMax)
+std::vector<QList<QPointF>> thinnedRuns(qsizetype n, qsizetype maxPoints, XFn x, YFn y, double &yMin, double &yMax)
 {
-    qsizetype from = n;
-    while (from > 0 && !std::isfinite(y(from - 1)))
-        --from; // a run that stopped on a blow-up ends with a frame that is no number
-    while (from > 0 && std::isfinite(y(from - 1)))
-        --from;
-    const qsizetype first = from;
+    std::vector<QList<QPointF>> runs;
+    qsizetype first = 0;
+    while (first < n && !std::isfinite(y(first)))
+        ++first;
+    if (first == n)
+        return runs;
     const qsizetype bucket = n - first <= maxPoints ? 1 : (2 * (n - first) + maxPoints - 1) / maxPoints;
-    out.reserve(bucket == 1 ? n - first : 2 * ((n - first) / bucket + 1));
-    for (qsizetype start = first; start < n; start += bucket) {
-        const qsizetype end = std::min(n, start + bucket);
-        qsizetype lo = -1;
-        qsizetype hi = -1;
-        for (qsizetype i = start; i < end; ++i) {
-            const double v = y(i);
-            if (!std::isfinite(v))
-                continue;
-            if (lo < 0 || v < y(lo))
-                lo = i;
-            if (hi < 0 || v > y(hi))
-                hi = i;
+    for (qsizetype begin = first; begin < n;) {
+        qsizetype end = begin;
+        while (end < n && std::isfinite(y(end)))
+            ++end;
+        QList<QPointF> &out = runs.emplace_back();
+        out.reserve(bucket == 1 ? end - begin : 2 * ((end - begin) / bucket + 1));
+        for (qsizetype start = begin; start < end; start += bucket) {
+            qsizetype lo = start;
+            qsizetype hi = start;
+            for (qsizetype i = start + 1; i < std::min(end, start + bucket); ++i) {
+                const double v = y(i);
+                if (v < y(lo))
+                    lo = i;
+                if (v > y(hi))
+                    hi = i;
+            }
+            yMin = std::min(yMin, y(lo));
+            yMax = std::max(yMax, y(hi));
+            out.append(QPointF(x(std::min(lo, hi)), y(std::min(lo, hi))));
+            if (lo != hi)
+                out.append(QPointF(x(std::max(lo, hi)), y(std::max(lo, hi))));
         }
-        if (lo < 0)
-            continue;
-        yMin = std::min(yMin, y(lo));
-        yMax = std::max(yMax, y(hi));
-        const qsizetype first = std::min(lo, hi);
-        const qsizetype second = std::max(lo, hi);
-        out.append(QPointF(x(first), y(first)));
-        if (second != first)
-            out.append(QPointF(x(second), y(second)));
+        begin = end;
+        while (begin < n && !std::isfinite(y(begin)))
+            ++begin; // a run that stopped on a blow-up ends with a frame that is no number
     }
+    return runs;
 }
 
 /// A speed or a momentum as plotted: the book's sqrt(x^2 + y^2) (the same bits as the models'
@@ -934,19 +938,15 @@ void PlotDock::refreshChart()
 
     double speedMin = std::numeric_limits<double>::infinity();
     double speedMax = -std::numeric_limits<double>::infinity();
-    // A line of one sample (the frame a run starts from) is no line at all: its point is drawn.
-    const auto showPoints = [n](QLineSeries *series) {
-        if (series->pointsVisible() != (n == 1))
-            series->setPointsVisible(n == 1);
-    };
     // Held in px/frame; drawn per second when the time axis is in seconds (speed x f, momentum
     // x f, energy x f^2), so that a line's slope and its axis are in the same time unit.
     const double f = perSecond();
+    // Lines in runs: the earlier runs are lines of their own, added to the chart after the rest.
+    const qsizetype linesBefore = m_chart->series().size();
     for (Track &t : m_tracks) {
-        QList<QPointF> points;
-        appendThinned(
-            points, n, maxPoints, x, [&t, f](qsizetype i) { return t.speed.at(static_cast<std::size_t>(i)) * f; },
-            speedMin, speedMax);
+        std::vector<QList<QPointF>> runs = thinnedRuns(
+            n, maxPoints, x, [&t, f](qsizetype i) { return t.speed.at(static_cast<std::size_t>(i)) * f; }, speedMin,
+            speedMax);
         const auto speedIn = [&t, f](const std::vector<std::pair<int, double>> &speeds) -> std::optional<double> {
             for (const auto &[marble, speed] : speeds) {
                 if (marble == t.marble)
@@ -954,20 +954,21 @@ void PlotDock::refreshChart()
             }
             return std::nullopt;
         };
-        addEditJumps(
-            points, [&speedIn](const SceneSample &s) { return speedIn(s.speeds); }, speedMin, speedMax);
-        t.series->replace(points);
-        showPoints(t.series);
+        drawRuns(
+            t.series, std::move(runs), [&speedIn](const SceneSample &s) { return speedIn(s.speeds); }, speedMin,
+            speedMax);
         if (t.compareSeries) {
-            QList<QPointF> comparePoints;
-            appendThinned(
-                comparePoints, n, maxPoints, x,
-                [&t, f](qsizetype i) { return t.compareSpeed.at(static_cast<std::size_t>(i)) * f; }, speedMin, speedMax);
-            addEditJumps(
-                comparePoints, [&speedIn](const SceneSample &s) { return speedIn(s.compareSpeeds); }, speedMin, speedMax);
-            t.compareSeries->replace(comparePoints);
+            drawRuns(t.compareSeries,
+                     thinnedRuns(
+                         n, maxPoints, x,
+                         [&t, f](qsizetype i) { return t.compareSpeed.at(static_cast<std::size_t>(i)) * f; },
+                         speedMin, speedMax),
+                     [&speedIn](const SceneSample &s) { return speedIn(s.compareSpeeds); }, speedMin, speedMax);
         }
     }
+    // The totals and the marks are drawn over the speed lines: after them on the chart.
+    if (m_chart->series().size() > linesBefore)
+        remakeOverlays();
 
     struct Extent {
         double min = std::numeric_limits<double>::infinity();
@@ -976,16 +977,14 @@ void PlotDock::refreshChart()
     // asStepped: the line's value as stepped, for its jumps at edits (addEditJumps()).
     auto refreshTotal = [&](QLineSeries *series, const RingBuffer<double> &values, bool shown, double scale,
                             Extent &extent, const SampleValue &asStepped) {
-        QList<QPointF> points;
+        std::vector<QList<QPointF>> runs;
         if (shown) {
-            appendThinned(
-                points, n, maxPoints, x,
+            runs = thinnedRuns(
+                n, maxPoints, x,
                 [&values, scale](qsizetype i) { return values.at(static_cast<std::size_t>(i)) * scale; }, extent.min,
                 extent.max);
-            addEditJumps(points, asStepped, extent.min, extent.max);
         }
-        series->replace(points);
-        showPoints(series);
+        drawRuns(series, std::move(runs), asStepped, extent.min, extent.max);
     };
     refreshTotal(m_kineticSeries, m_kinetic, m_showKinetic->isChecked(), f * f, energy,
                  [f](const SceneSample &s) { return std::optional<double>(s.kinetic * f * f); });
@@ -1521,10 +1520,74 @@ void PlotDock::removeCompareTrack(Track &t)
     deleteSeries(t.compareSeries);
 }
 
+void PlotDock::drawRuns(QLineSeries *line, std::vector<QList<QPointF>> runs, const SampleValue &asStepped,
+                        double &yMin, double &yMax)
+{
+    for (QList<QPointF> &run : runs)
+        addEditJumps(run, asStepped, yMin, yMax);
+    // A run of one sample (the frame a run starts from) is no line at all: its point is drawn.
+    const auto give = [](QLineSeries *series, const QList<QPointF> &points) {
+        series->replace(points);
+        if (series->pointsVisible() != (points.size() == 1))
+            series->setPointsVisible(points.size() == 1);
+    };
+    give(line, runs.empty() ? QList<QPointF>() : runs.back());
+    if (!runs.empty())
+        runs.pop_back();
+    if (runs.empty() && !m_earlierRuns.contains(line))
+        return;
+    std::vector<QLineSeries *> &earlier = m_earlierRuns[line];
+    while (earlier.size() > runs.size()) {
+        m_chart->removeSeries(earlier.back());
+        delete earlier.back();
+        earlier.pop_back();
+    }
+    while (earlier.size() < runs.size()) {
+        auto *series = new QLineSeries;
+        m_chart->addSeries(series);
+        for (QAbstractAxis *axis : line->attachedAxes())
+            series->attachAxis(axis);
+        for (QLegendMarker *marker : m_chart->legend()->markers(series))
+            marker->setVisible(false); // the line's own entry stands for it
+        earlier.push_back(series);
+    }
+    for (std::size_t k = 0; k < runs.size(); ++k)
+        give(earlier[k], runs[k]);
+    followLine(line);
+    if (earlier.empty())
+        m_earlierRuns.erase(line);
+}
+
+void PlotDock::followLine(const QLineSeries *line)
+{
+    const auto it = m_earlierRuns.find(line);
+    if (it == m_earlierRuns.end())
+        return;
+    for (QLineSeries *series : it->second) {
+        if (series->pen() != line->pen())
+            series->setPen(line->pen());
+        if (series->isVisible() != line->isVisible())
+            series->setVisible(line->isVisible());
+    }
+}
+
+QList<QLineSeries *> PlotDock::earlierRuns(const QLineSeries *line) const
+{
+    const auto it = m_earlierRuns.find(line);
+    return it == m_earlierRuns.end() ? QList<QLineSeries *>() : QList<QLineSeries *>(it->second.begin(), it->second.end());
+}
+
 void PlotDock::deleteSeries(QLineSeries *&series)
 {
     if (!series)
         return;
+    if (const auto it = m_earlierRuns.find(series); it != m_earlierRuns.end()) {
+        for (QLineSeries *run : it->second) {
+            m_chart->removeSeries(run);
+            delete run;
+        }
+        m_earlierRuns.erase(it);
+    }
     m_chart->removeSeries(series);
     delete series;
     series = nullptr;
@@ -1626,6 +1689,7 @@ void PlotDock::showTotal(QLineSeries *series, bool shown)
     if (!series)
         return;
     series->setVisible(shown);
+    followLine(series);
     // The comparison model's totals stay out of the legend: its "(dashed)" entry stands for them.
     const std::array<QLineSeries *, 3> listed = sceneTotals();
     const bool isListed = std::find(listed.begin(), listed.end(), series) != listed.end();

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -152,6 +153,9 @@ public:
     double sampleCompareSpeed(qsizetype i, int marble) const;
     /// The dashed comparison line of `marble`, or nullptr when it is not plotted or nothing is compared.
     QLineSeries *compareSeries(int marble) const;
+    /// The lines that draw the runs of `line` before its last gap (its samples that are no
+    /// number: a comparison paused, frames not kept), oldest first; `line` draws the last run.
+    QList<QLineSeries *> earlierRuns(const QLineSeries *line) const;
     /// Total kinetic energy in the comparison model at sample `i`; NaN when there was no
     /// comparison sample then (or nothing is compared).
     double sampleCompareKineticEnergy(qsizetype i) const;
@@ -290,8 +294,11 @@ private:
     void addCompareTrack(Track &t);
     void removeCompareTrack(Track &t);
     QLineSeries *addTotalSeries(QColor colour, QValueAxis *axis);
-    /// Takes `series` off the chart and deletes it (nothing when null); leaves it null.
+    /// Takes `series` off the chart and deletes it (nothing when null), the lines of its earlier
+    /// runs with it; leaves it null.
     void deleteSeries(QLineSeries *&series);
+    /// The lines of the earlier runs of `line` take its pen and its visibility.
+    void followLine(const QLineSeries *line);
     /// A grey legend entry for the scene's model (solid) or the comparison's (dashed).
     QLineSeries *addKeySeries(bool dashed);
     /// Makes the lines drawn over the speed lines anew, after them (see the .cpp).
@@ -410,6 +417,8 @@ private:
     QLineSeries *m_compareKey = nullptr; ///< legend entry only, while comparing: "exact (dashed)"
     QLineSeries *m_restartMarks = nullptr; ///< while comparing: a dotted line at each restart
     std::vector<std::int64_t> m_compareRestarts;
+    /// Per line with a gap, the lines of its runs before the last gap (drawRuns()).
+    std::map<const QLineSeries *, std::vector<QLineSeries *>> m_earlierRuns;
     /// The scene's values at one sample: what a jump in its lines is seen in.
     struct SceneSample {
         double kinetic = 0.0;
@@ -439,6 +448,10 @@ private:
     /// finding). A comparison's line does so where it was running at the mark (it starts again
     /// there). Widens [yMin, yMax] to cover the points added.
     void addEditJumps(QList<QPointF> &points, const SampleValue &asStepped, double &yMin, double &yMax) const;
+    /// Gives `line` the last of `runs` (thinnedRuns()) and the earlier ones to lines of their own
+    /// (made or deleted as their count changes), each with its jumps at edits (addEditJumps()).
+    void drawRuns(QLineSeries *line, std::vector<QList<QPointF>> runs, const SampleValue &asStepped, double &yMin,
+                  double &yMax);
     std::vector<EditMark> m_editMarks;
     QLineSeries *m_editMarkSeries = nullptr; ///< a dash-dot line at each edit mark
     QCheckBox *m_showKinetic = nullptr;

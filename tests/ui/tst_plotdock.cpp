@@ -59,6 +59,7 @@ private slots:
     void hugeSpeedsArePlotted();
     void momentumAxisReadsZeroAtZero();
     void topLabelsStayOnTheChart();
+    void pausedComparisonKeepsItsEarlierLines();
     void liveRefresh();
     void refreshMovesAxesOnlyWhenTheirRangeChanges();
     void thinningKeepsSpikes();
@@ -992,6 +993,73 @@ void TestPlotDock::topLabelsStayOnTheChart()
         QVERIFY2(chart->plotArea().top() >= halfLine,
                  qPrintable(QStringLiteral("momentum %1: plot from %2 px, half a label %3 px").arg(momentum).arg(chart->plotArea().top()).arg(halfLine)));
     }
+}
+
+void TestPlotDock::pausedComparisonKeepsItsEarlierLines()
+{
+    // A helper's finding: compared with exact, friction set to 1.5 at frame 10 (which the exact
+    // model cannot follow: the comparison pauses, its samples are no number) and back to 0.05 at
+    // frame 13 (it starts again there): the dashed line of frames 0 to 9 vanished, the chart
+    // drawing a line from its last gap on. Each run is drawn, the earlier ones as lines of their
+    // own in the line's pen, out of the legend, under the totals.
+    PlotDock dock;
+    dock.setKineticEnergyShown(true);
+    World world = worldWith(2);
+    dock.reset(world);
+    dock.setCompareModel(QStringLiteral("exact"));
+    const qsizetype linesBefore = dock.chartView()->chart()->series().size();
+    World compare = world;
+    for (int f = 1; f <= 20; ++f) {
+        world.frame = f;
+        compare.frame = f;
+        world.velocity[0] = {0.1 * f, 0.0};
+        compare.velocity[0] = {0.2 * f, 0.0};
+        const bool paused = f >= 6 && f <= 8;
+        dock.appendFrame(world, paused ? nullptr : &compare);
+    }
+    dock.refreshChart();
+    QLineSeries *dashed = dock.compareSeries(0);
+    QVERIFY(dashed);
+    // The last run, frames 9 to 20, on the line itself.
+    QCOMPARE(dashed->count(), 12);
+    QCOMPARE(dashed->at(0), QPointF(9.0, 0.2 * 9));
+    const QList<QLineSeries *> earlier = dock.earlierRuns(dashed);
+    QCOMPARE(earlier.size(), 1);
+    QLineSeries *run = earlier.front();
+    QCOMPARE(run->count(), 5); // frames 1 to 5
+    QCOMPARE(run->at(0), QPointF(1.0, 0.2));
+    QCOMPARE(run->at(4), QPointF(5.0, 0.2 * 5));
+    QCOMPARE(run->pen(), dashed->pen());
+    QVERIFY(run->isVisible());
+    QChart *chart = dock.chartView()->chart();
+    for (QLegendMarker *marker : chart->legend()->markers(run))
+        QVERIFY(!marker->isVisible());
+    // The comparison's energy likewise, and every total over the speed lines (drawn after them).
+    QLineSeries *energy = dock.compareKineticSeries();
+    QVERIFY(energy);
+    QCOMPARE(energy->count(), 12);
+    QCOMPARE(dock.earlierRuns(energy).size(), 1);
+    const QList<QAbstractSeries *> order = chart->series();
+    QVERIFY(order.indexOf(run) < order.indexOf(dock.kineticSeries()));
+    QVERIFY(order.indexOf(run) < order.indexOf(energy));
+    // The scene's own lines have no gap: nothing apart.
+    QVERIFY(dock.earlierRuns(dock.speedSeries(0)).isEmpty());
+    QCOMPARE(dock.speedSeries(0)->count(), 20);
+
+    // Hidden with the energy, shown with it.
+    dock.setKineticEnergyShown(false);
+    dock.refreshChart();
+    QVERIFY(dock.earlierRuns(dock.compareKineticSeries()).isEmpty());
+    dock.setKineticEnergyShown(true);
+    dock.refreshChart();
+    QCOMPARE(dock.earlierRuns(dock.compareKineticSeries()).size(), 1);
+    QVERIFY(dock.earlierRuns(dock.compareKineticSeries()).front()->isVisible());
+
+    // A new run: no gap, no lines apart left on the chart.
+    dock.reset(world);
+    dock.refreshChart();
+    QVERIFY(!dock.compareSeries(0) || dock.earlierRuns(dock.compareSeries(0)).isEmpty());
+    QCOMPARE(dock.chartView()->chart()->series().size(), linesBefore);
 }
 
 void TestPlotDock::liveRefresh()
