@@ -261,7 +261,9 @@ QList<QKeySequence> eachOnce(const QList<QKeySequence> &keys)
 QList<QKeySequence> MainWindow::redoShortcuts(const QList<QKeySequence> &platformRedo)
 {
     // (On X11 the platform's Redo is Ctrl+Shift+Z itself: listed twice, the keys did nothing.)
-    return eachOnce(QList<QKeySequence>{QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z)} + platformRedo);
+    // Ctrl+Y on every platform: a helper used to Windows pressed it on Linux, and nothing was redone.
+    return eachOnce(QList<QKeySequence>{QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z), QKeySequence(Qt::CTRL | Qt::Key_Y)}
+                    + platformRedo);
 }
 
 QList<QKeySequence> MainWindow::zoomInShortcuts(const QList<QKeySequence> &platformZoomIn)

@@ -51,8 +51,8 @@ public:
     /// Sets the stage's and the plot's smallest heights for a screen `availableHeight` px tall
     /// (done at start for the window's screen): smaller below kSmallScreenHeight.
     void fitScreenHeight(int availableHeight);
-    /// Redo's keys: Ctrl+Shift+Z, then the platform's own Redo keys (`platformRedo`, Ctrl+Y on
-    /// Windows) that are not already there. A key listed twice would be an ambiguous shortcut,
+    /// Redo's keys: Ctrl+Shift+Z and Ctrl+Y, then the platform's own Redo keys (`platformRedo`)
+    /// that are not already there. A key listed twice would be an ambiguous shortcut,
     /// which Qt ignores.
     static QList<QKeySequence> redoShortcuts(const QList<QKeySequence> &platformRedo);
     /// Zoom In's keys: the platform's (`platformZoomIn`, Ctrl++), then Ctrl+= unless listed: on
