@@ -197,7 +197,7 @@ void ParametersDock::buildUi()
 
     m_friction = makeSpin("frictionEdit", 0.0, kBookFrictionMax, 0.01, QString());
     addField(tr("Fr&iction"), m_friction,
-             tr("book: a += \u2212v \u00d7 k\nexact, impulse: the velocity falls by (1 \u2212 k) a frame, smoothly over the frame"),
+             tr("book: a += \u2212v \u00d7 k\nexact, impulse: the velocity is multiplied by (1 \u2212 k) each frame (smoothly over the frame in exact)"),
              tr("Fraction of its speed a marble loses to air each frame. The book model takes up to 3, "
                 "to show where its arithmetic breaks (above 1 a marble swings back and forth)."));
     // A warning line under a field, shown while what it says holds (updateWarnings()).
