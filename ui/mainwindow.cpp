@@ -1575,8 +1575,29 @@ void MainWindow::rewindToStart()
     const std::int64_t left = m_document->world().frame;
     if (m_document->rewind()) {
         hideBarMessage();
-        showFrameStatus(pushWaiting && left != m_document->world().frame ? leftPushText(left)
-                                                                          : tr("Back to frame %1.").arg(m_document->world().frame));
+        QString text = pushWaiting && left != m_document->world().frame ? leftPushText(left)
+                                                                         : tr("Back to frame %1.").arg(m_document->world().frame);
+        // Those that acted went without a word: played again, the run went on without them (a
+        // helper's finding).
+        const std::vector<std::int64_t> &acted = m_document->pushesLeftByRewind();
+        if (!acted.empty()) {
+            // "0", "0 and 2", "0, 2 and 5", "0, 2, 5 …"
+            QString frames;
+            const std::size_t listed = std::min<std::size_t>(acted.size(), 3);
+            for (std::size_t k = 0; k < listed; ++k) {
+                if (k > 0)
+                    frames += k + 1 == listed && acted.size() <= 3 ? tr(" and ") : QStringLiteral(", ");
+                frames += QString::number(acted[k]);
+            }
+            if (acted.size() > 3)
+                frames += QStringLiteral(" …");
+            text += QLatin1Char(' ')
+                + (acted.size() == 1
+                       ? tr("The run goes on without the push clicked at frame %1: a click is not part of the scene.")
+                       : tr("The run goes on without the pushes clicked at frames %1: clicks are not part of the scene."))
+                      .arg(frames);
+        }
+        showFrameStatus(text);
     }
 }
 

@@ -14,7 +14,9 @@
 #include <optional>
 #include <QFileInfo>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <utility>
 
@@ -42,6 +44,7 @@ void SceneDocument::resetScene(const World &world, const QString &fileName)
     m_draggedPin = -1;
     m_world = world;
     m_history.reset(m_world);
+    m_pushFrames.clear();
     m_physicsMsPerFrame = 0.0; // the last scene's figure is not this one's
     m_undoStack.clear();
     m_undoStack.setClean();
@@ -185,6 +188,8 @@ StepResult SceneDocument::step()
 {
     applyHold();
     m_history.record(m_world);
+    if (pendingPushCount() > 0) // a scene's scripted pushes are added by the step itself
+        m_pushFrames.push_back(m_world.frame);
     // The model's own time for the frame (recording it for stepping back is not physics).
     QElapsedTimer clock;
     clock.start();
@@ -241,12 +246,18 @@ bool SceneDocument::rewind()
 {
     if (!m_history.rewind(m_world))
         return false;
+    // Its first frame has the pushes of the scene only: every click's push since is left.
+    m_pushesLeftByRewind.clear();
+    std::copy_if(m_pushFrames.begin(), m_pushFrames.end(), std::back_inserter(m_pushesLeftByRewind),
+                 [this](std::int64_t f) { return f >= m_world.frame; });
     announceRewound();
     return true;
 }
 
 void SceneDocument::announceRewound()
 {
+    // A push of a frame from here on acts again only if it is pending here (Step Back's frame).
+    std::erase_if(m_pushFrames, [this](std::int64_t f) { return f >= m_world.frame; });
     ++m_frameMoves;
     applyHold();
     Q_EMIT timelineRewound(m_world.frame);

@@ -73,7 +73,13 @@ public:
     bool stepBack();
     /// Restores the first frame of the timeline (frame 0 unless marbles were added or removed
     /// since), with the edits made while it was shown; an edit at a later frame does not change it.
+    /// The clicks' pushes that acted since are not part of it (pushesLeftByRewind()).
     bool rewind();
+    /// The frames at which a click's push acted (the step from that frame took it) between the
+    /// frame the last rewind() went back to and the frame it left, oldest first: run on from there,
+    /// the scene goes without them (a click is not an edit). Step Back keeps a push clicked at the
+    /// frame it goes back to, and leaves the one waiting at the frame it left (pendingPushCount()).
+    const std::vector<std::int64_t> &pushesLeftByRewind() const { return m_pushesLeftByRewind; }
     /// Takes the scene to `frame`: back through the kept frames, as Step Back does, or on by
     /// simulating, as Step does (the same bits, the physics being deterministic); true when the
     /// scene is at `frame` now, false (nothing changed) when it cannot get there: a frame no
@@ -262,6 +268,10 @@ private:
 
     double m_physicsMsPerFrame = 0.0;
     std::uint64_t m_frameMoves = 0;
+    /// The frames of this run at which a click's push acted, oldest first (dropped from a frame on
+    /// when the scene goes back to it, where a push clicked is pending again or gone).
+    std::vector<std::int64_t> m_pushFrames;
+    std::vector<std::int64_t> m_pushesLeftByRewind;
     std::uint64_t m_editSerials = 0;
     EditCause m_currentEdit;
 };
