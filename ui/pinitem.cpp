@@ -1,6 +1,7 @@
 #include "ui/pinitem.h"
 
 #include "ui/marbleitem.h"
+#include "ui/worldedit.h"
 
 #include <QPainter>
 
@@ -8,8 +9,7 @@ namespace marbles {
 
 namespace {
 
-/// Drawn radius of a pin's dot, stage px.
-constexpr double kDotRadius = 4.0;
+constexpr double kDotRadius = kPinDotRadiusPx;
 
 } // namespace
 

@@ -89,11 +89,12 @@ bool isFreeSpot(const World &world, Vec2 p, double r, BodyKind kind, int ignoreM
         if (kind == BodyKind::Marble ? d < r + world.radius[i] : d <= world.radius[i])
             return false;
     }
-    if (kind == BodyKind::Marble) {
-        for (int j = 0; j < static_cast<int>(world.pins.size()); ++j) {
-            if (j != ignorePin && distance(world.pins[j], p) <= r)
-                return false;
-        }
+    // A marble keeps clear of the pins' centres, a pin of their dots.
+    const double pinReach = kind == BodyKind::Marble ? r : 2.0 * kPinDotRadiusPx;
+    for (int j = 0; j < static_cast<int>(world.pins.size()); ++j) {
+        if (j != ignorePin && (kind == BodyKind::Marble ? distance(world.pins[j], p) <= pinReach
+                                                        : distance(world.pins[j], p) < pinReach))
+            return false;
     }
     return true;
 }

@@ -33,9 +33,14 @@ int pinAt(const World &world, Vec2 p, double tolerancePx);
 /// What a spot must keep clear of.
 enum class BodyKind { Marble, Pin };
 
+/// Drawn radius of a pin's dot (PinItem), stage px.
+constexpr double kPinDotRadiusPx = 4.0;
+
 /// True when a marble of radius `r` (or a pin, for BodyKind::Pin) at `p` lies on the stage and
 /// overlaps nothing, with the physics' own tests: marbles overlap when their distance is below the
-/// sum of radii, a pin is inside a marble when its distance is at most the radius.
+/// sum of radii, a pin is inside a marble when its distance is at most the radius. A pin also
+/// keeps its dot clear of the other pins' (two dots apart): the physics would take two pins at
+/// one place, but the class would see one (a helper's pin dropped on another stayed 0.5 px off it).
 /// Marble `ignoreMarble` and pin `ignorePin` (the body being placed) are not tested.
 bool isFreeSpot(const World &world, Vec2 p, double r, BodyKind kind, int ignoreMarble = -1, int ignorePin = -1);
 

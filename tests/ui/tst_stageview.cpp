@@ -366,6 +366,7 @@ void TestStageView::addToolsPlaceOnFreeSpots_data()
     QTest::addRow("marble, open space") << true << -1;
     QTest::addRow("marble, on a pin") << true << 5;
     QTest::addRow("pin, open space") << false << -1;
+    QTest::addRow("pin, on a pin") << false << 5;
     QTest::addRow("marble, between pixels") << true << -2;
     QTest::addRow("pin, between pixels") << false << -2;
 }
@@ -394,6 +395,9 @@ void TestStageView::addToolsPlaceOnFreeSpots()
     } else {
         QCOMPARE(w.pins.size(), pins + 1);
         QVERIFY(isFreeSpot(w, w.pins.back(), 0.0, BodyKind::Pin, -1, static_cast<int>(pins)));
+        // Its dot clear of every other pin's (one on a pin had been put on it, then 0.5 px off it).
+        for (std::size_t j = 0; j < pins; ++j)
+            QCOMPARE_GE(distance(w.pins.back(), w.pins[j]), 2.0 * kPinDotRadiusPx);
     }
     QCOMPARE(m_document->undoStack()->count(), 1);
 }
