@@ -234,8 +234,13 @@ RemoveMarbleCommand::RemoveMarbleCommand(SceneDocument *document, int marble)
 {
     // With its name where it has one: after a delete the later marbles are renumbered, and two
     // deletes in a row could both read "Delete marble 3".
+    // Without a name, with where it was, as an add says.
     const std::string &name = document->world().info[static_cast<std::size_t>(marble)].name;
-    setName(name.empty() ? QCoreApplication::translate("marbles", "Delete marble %1").arg(marble)
+    const Vec2 at = document->world().position[static_cast<std::size_t>(marble)];
+    setName(name.empty() ? QCoreApplication::translate("marbles", "Delete marble %1 at (%2, %3)")
+                               .arg(marble)
+                               .arg(at.x, 0, 'f', 0)
+                               .arg(at.y, 0, 'f', 0)
                          : QCoreApplication::translate("marbles", "Delete marble %1 (%2)")
                                .arg(marble)
                                .arg(QString::fromStdString(name)));

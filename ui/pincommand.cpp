@@ -50,7 +50,13 @@ RemovePinCommand::RemovePinCommand(SceneDocument *document, int pin)
     : FramedCommand(document)
     , m_index(pin)
 {
-    setName(QCoreApplication::translate("marbles", "Delete pin %1").arg(pin));
+    // With where it was, as an add says: pins are renumbered as others go, and "Delete pin 30"
+    // did not tell which (a helper's finding).
+    const Vec2 at = document->world().pins[static_cast<std::size_t>(pin)];
+    setName(QCoreApplication::translate("marbles", "Delete pin %1 at (%2, %3)")
+                .arg(pin)
+                .arg(at.x, 0, 'f', 0)
+                .arg(at.y, 0, 'f', 0));
 }
 
 void RemovePinCommand::redo()

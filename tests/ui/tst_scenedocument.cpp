@@ -1015,7 +1015,7 @@ void TestSceneDocument::pinEditUndoneLaterGoesBackToItsFrame()
     QCOMPARE(doc.advance(3), 3);
     const World beforeDelete = doc.world();
     doc.removePin(0);
-    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete pin 0 at frame 5"));
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete pin 0 at (160, 300) at frame 5"));
     QCOMPARE(doc.advance(25), 25);
     QCOMPARE(doc.world().velocity[0], Vec2(5.0, 0.0)); // no pin to bounce off
     doc.undoStack()->undo();
@@ -1238,14 +1238,15 @@ void TestSceneDocument::structureEditsAreNamed()
     QVERIFY(doc.endPinDrag({60.0, 540.0}).isEmpty());
     QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Move pin 0 to (60, 540)"));
     doc.removePin(0);
-    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete pin 0"));
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete pin 0 at (60, 540)"));
     doc.removeMarble(2);
     // Named by its name too: after a delete the later marbles are renumbered, and two deletes
     // in a row both read "Delete marble 1".
     QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete marble 2 (largest)"));
     QVERIFY(doc.setMarbleName(1, QString()).isEmpty());
     doc.removeMarble(1);
-    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete marble 1")); // no name: its number alone
+    // No name: its number and where it was (pins and marbles are renumbered as others go).
+    QCOMPARE(doc.undoStack()->undoText(), QStringLiteral("Delete marble 1 at (285, 305)"));
 }
 
 void TestSceneDocument::radiusGrownIntoAnotherIsRefused()
