@@ -133,16 +133,24 @@ void runFrames(PlotDock &dock, World &world, int n, const World *compare = nullp
     }
 }
 
+/// Gives `dock` the scene `world` (compared with `compareModel`, unless empty), `frames` frames of
+/// it, and shows it at `size`; false if the window never showed.
+bool showRun(PlotDock &dock, World &world, int frames, QSize size, const QString &compareModel = {})
+{
+    dock.reset(world);
+    if (!compareModel.isEmpty())
+        dock.setCompareModel(compareModel);
+    runFrames(dock, world, frames);
+    dock.resize(size);
+    dock.show();
+    return QTest::qWaitForWindowExposed(&dock);
+}
+
 /// Gives `dock` the scene `world` compared with the exact model, `frames` frames of it, and shows
 /// it `width` px wide, its chart refreshed; false if the window never showed.
 bool showComparing(PlotDock &dock, World &world, int frames, int width)
 {
-    dock.reset(world);
-    dock.setCompareModel(QStringLiteral("exact"));
-    runFrames(dock, world, frames);
-    dock.resize(width, 350);
-    dock.show();
-    if (!QTest::qWaitForWindowExposed(&dock))
+    if (!showRun(dock, world, frames, QSize(width, 350), QStringLiteral("exact")))
         return false;
     dock.refreshChart();
     return true;
@@ -976,11 +984,7 @@ void TestPlotDock::topLabelsStayOnTheChart()
     // one too, "6e+93" at the top of the speed and momentum axes was cut in half (seen under Xvfb).
     PlotDock dock;
     World world = worldWith(2);
-    dock.reset(world);
-    runFrames(dock, world, 30);
-    dock.resize(900, 400);
-    dock.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    QVERIFY(showRun(dock, world, 30, QSize(900, 400)));
     for (const bool momentum : {false, true}) {
         dock.setMomentumShown(momentum);
         dock.setKineticEnergyShown(momentum);
@@ -1360,11 +1364,7 @@ void TestPlotDock::editsThatMakeTheLinesJumpAreMarked()
     // again and the scene's lines jump, the frame is marked; undone there, the mark goes.
     PlotDock dock;
     World world = worldWith(3);
-    dock.reset(world);
-    runFrames(dock, world, 10);
-    dock.resize(1400, 350);
-    dock.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    QVERIFY(showRun(dock, world, 10, QSize(1400, 350)));
     const auto marks = [&dock] {
         dock.refreshChart();
         QList<qreal> xs;
