@@ -218,15 +218,23 @@ AxisRange niceRange(QValueAxis *scratch, double lo, double hi, int ticks = kAxis
     // double (the book's blow-up reaches 1e308 px/frame): its ticks read "inf". The axis stops
     // short of that; the last few frames of such a run go off its top.
     // Likewise below zero: a momentum past -1.7e308 read "inf" at every tick (a helper's finding).
+    // Its ticks are round numbers 2e306 apart with zero on one, up to 8e306 either way (below
+    // the largest double / 20): the axes read "8.98847e+306", and their zero lines, off every
+    // tick, could not be aligned (alignZeros()).
     constexpr double largest = std::numeric_limits<double>::max() / (4 * kAxisTicks);
     if (hi > largest || lo < -largest) {
-        hi = std::min(hi, largest);
-        lo = std::max(lo, -largest);
-        if (hi > largest / 2)
-            lo = std::min(lo, largest / 2);
-        else
-            hi = std::max(hi, -largest / 2);
-        return {lo, hi, kAxisTicks};
+        constexpr double step = 2e306;
+        constexpr double most = 4.0;
+        static_assert(most * step <= largest);
+        double below = std::clamp(std::floor(lo / step), -most, most);
+        double above = std::clamp(std::ceil(hi / step), -most, most);
+        if (above <= below) { // all of it beyond one end: the step inside that end
+            if (above >= most)
+                below = most - 1.0;
+            else
+                above = below + 1.0;
+        }
+        return {below * step, above * step, static_cast<int>(above - below) + 1};
     }
     scratch->setTickCount(ticks);
     scratch->setRange(lo, hi);
