@@ -476,6 +476,18 @@ void ParametersDock::updateWarnings()
                       .arg(moved, 0, 'g', 3);
         }
     }
+    // A click at a marble's rim changes its velocity by pushScale / massScale (a = (p - c)
+    // pushScale / m, |p - c| = r, m = massScale r), a click nearer its centre by less: with a
+    // threshold at least that, every click's push was zeroed in its frame, and nothing said why
+    // a marble clicked did not move.
+    const double clickMost = std::abs(params.pushScale) / params.massScale;
+    if (validateParams(params).empty() && clickMost > 0.0 && clickMost <= params.zeroThreshold) {
+        if (!held.isEmpty())
+            held += QLatin1Char('\n');
+        held += tr("\u26a0 A click gives a marble at most %1 px/frame (push scale / mass scale): this threshold "
+                   "zeroes it at once.")
+                    .arg(clickMost, 0, 'g', 3);
+    }
     show(m_thresholdWarning, held, orange);
     fitPageHeight();
 }

@@ -543,11 +543,24 @@ void TestParametersDock::thresholdAboveGravityWarns()
     QVERIFY(label->isVisible());
     typeInto(threshold, QStringLiteral("0.1"));
     QVERIFY(!label->isVisible());
-    // Without gravity nothing is held up: no warning, whatever the threshold.
+    // Without gravity nothing is held up: no warning, below what a click gives.
     p.gravity = {0.0, 0.0};
     p.zeroThreshold = 5.0;
     dock.setParams(p);
     QVERIFY(!label->isVisible());
+    // A threshold at least what a click gives (push scale 10 / mass scale 1.25 = 8 px/frame at a
+    // marble's rim) zeroes every click: said (at 100 a clicked marble never moved, without a word).
+    for (const double z : {8.0, 100.0}) {
+        p.zeroThreshold = z;
+        dock.setParams(p);
+        QVERIFY(label->isVisible());
+        QVERIFY2(label->text().contains(QStringLiteral("A click gives a marble at most 8 px/frame")), qPrintable(label->text()));
+    }
+    p.pushScale = 200.0; // 160 px/frame at the rim
+    dock.setParams(p);
+    QVERIFY(!label->isVisible());
+    p.pushScale = 10.0;
+    p.zeroThreshold = 5.0;
     p.gravity = {-3.0, 0.0}; // sideways too
     dock.setParams(p);
     QVERIFY(label->isVisible());
