@@ -1574,8 +1574,13 @@ void PlotDock::followLine(const QLineSeries *line)
     for (QLineSeries *series : it->second) {
         if (series->pen() != line->pen())
             series->setPen(line->pen());
-        if (series->isVisible() != line->isVisible())
+        if (series->isVisible() != line->isVisible()) {
             series->setVisible(line->isVisible());
+            // Qt Charts shows a line's legend entry again with the line (a helper's blank
+            // entries, the energy ticked off and on between two refreshes).
+            for (QLegendMarker *marker : m_chart->legend()->markers(series))
+                marker->setVisible(false);
+        }
     }
 }
 
