@@ -950,7 +950,7 @@ void PlotDock::refreshChart()
     // x f, energy x f^2), so that a line's slope and its axis are in the same time unit.
     const double f = perSecond();
     // Lines in runs: the earlier runs are lines of their own, added to the chart after the rest.
-    const qsizetype linesBefore = m_chart->series().size();
+    bool runsAdded = false;
     for (Track &t : m_tracks) {
         std::vector<QList<QPointF>> runs = thinnedRuns(
             n, maxPoints, x, [&t, f](qsizetype i) { return t.speed.at(static_cast<std::size_t>(i)) * f; }, speedMin,
@@ -962,11 +962,11 @@ void PlotDock::refreshChart()
             }
             return std::nullopt;
         };
-        drawRuns(
+        runsAdded |= drawRuns(
             t.series, std::move(runs), [&speedIn](const SceneSample &s) { return speedIn(s.speeds); }, speedMin,
             speedMax);
         if (t.compareSeries) {
-            drawRuns(t.compareSeries,
+            runsAdded |= drawRuns(t.compareSeries,
                      thinnedRuns(
                          n, maxPoints, x,
                          [&t, f](qsizetype i) { return t.compareSpeed.at(static_cast<std::size_t>(i)) * f; },
@@ -975,7 +975,7 @@ void PlotDock::refreshChart()
         }
     }
     // The totals and the marks are drawn over the speed lines: after them on the chart.
-    if (m_chart->series().size() > linesBefore)
+    if (runsAdded)
         remakeOverlays();
 
     struct Extent {
@@ -1528,7 +1528,7 @@ void PlotDock::removeCompareTrack(Track &t)
     deleteSeries(t.compareSeries);
 }
 
-void PlotDock::drawRuns(QLineSeries *line, std::vector<QList<QPointF>> runs, const SampleValue &asStepped,
+bool PlotDock::drawRuns(QLineSeries *line, std::vector<QList<QPointF>> runs, const SampleValue &asStepped,
                         double &yMin, double &yMax)
 {
     for (QList<QPointF> &run : runs)
@@ -1543,13 +1543,13 @@ void PlotDock::drawRuns(QLineSeries *line, std::vector<QList<QPointF>> runs, con
     if (!runs.empty())
         runs.pop_back();
     if (runs.empty() && !m_earlierRuns.contains(line))
-        return;
+        return false;
     std::vector<QLineSeries *> &earlier = m_earlierRuns[line];
     while (earlier.size() > runs.size()) {
-        m_chart->removeSeries(earlier.back());
-        delete earlier.back();
+        deleteSeries(earlier.back());
         earlier.pop_back();
     }
+    const bool added = earlier.size() < runs.size();
     while (earlier.size() < runs.size()) {
         auto *series = new QLineSeries;
         m_chart->addSeries(series);
@@ -1564,6 +1564,7 @@ void PlotDock::drawRuns(QLineSeries *line, std::vector<QList<QPointF>> runs, con
     followLine(line);
     if (earlier.empty())
         m_earlierRuns.erase(line);
+    return added;
 }
 
 void PlotDock::followLine(const QLineSeries *line)
@@ -1595,10 +1596,8 @@ void PlotDock::deleteSeries(QLineSeries *&series)
     if (!series)
         return;
     if (const auto it = m_earlierRuns.find(series); it != m_earlierRuns.end()) {
-        for (QLineSeries *run : it->second) {
-            m_chart->removeSeries(run);
-            delete run;
-        }
+        for (QLineSeries *&run : it->second)
+            deleteSeries(run); // a line of its own, with no earlier runs
         m_earlierRuns.erase(it);
     }
     m_chart->removeSeries(series);

@@ -450,7 +450,8 @@ private:
     void addEditJumps(QList<QPointF> &points, const SampleValue &asStepped, double &yMin, double &yMax) const;
     /// Gives `line` the last of `runs` (thinnedRuns()) and the earlier ones to lines of their own
     /// (made or deleted as their count changes), each with its jumps at edits (addEditJumps()).
-    void drawRuns(QLineSeries *line, std::vector<QList<QPointF>> runs, const SampleValue &asStepped, double &yMin,
+    /// True when it made a line (drawn over the lines made before it).
+    bool drawRuns(QLineSeries *line, std::vector<QList<QPointF>> runs, const SampleValue &asStepped, double &yMin,
                   double &yMax);
     std::vector<EditMark> m_editMarks;
     QLineSeries *m_editMarkSeries = nullptr; ///< a dash-dot line at each edit mark
