@@ -30,6 +30,7 @@ private slots:
     void setParamsEmitsNothing();
     void decimalsShown_data();
     void decimalsShown();
+    void sceneValuesBelowTheFieldsAreShown();
     void invalidValuesRefused_data();
     void invalidValuesRefused();
     void focusedFieldIsScrolledIntoSight();
@@ -259,6 +260,22 @@ void TestParametersDock::decimalsShown()
     QVERIFY(spin);
     spin->setValue(value);
     QCOMPARE(spin->text(), text);
+}
+
+void TestParametersDock::sceneValuesBelowTheFieldsAreShown()
+{
+    // A helper's finding: a scene file's frame interval of 0.05 ms (valid: the rule is > 0) read
+    // "0.1 ms", the field's lowest, while the plot and the status bar ran at 0.05, so every figure
+    // per second was twice what the field said, and 0.1 typed changed nothing. The lowest a field
+    // takes widens to a scene's value where the rule allows it; the rule's own stays.
+    ParametersDock dock;
+    Params p;
+    p.frameMs = 0.05;
+    dock.setParams(p);
+    QCOMPARE_LE(std::abs(dock.shownParams().frameMs - 0.05), 1e-12);
+    auto *frameMs = dock.findChild<QDoubleSpinBox *>(QStringLiteral("frameMsEdit"));
+    QVERIFY(frameMs);
+    QCOMPARE(frameMs->text(), QStringLiteral("0.05 ms"));
 }
 
 void TestParametersDock::invalidValuesRefused_data()
