@@ -46,12 +46,19 @@ bool RunController::isFallingBehind() const
     return isRunning() && m_achievedSpeed > 0.0 && m_achievedSpeed < 0.95 * m_speed;
 }
 
-int RunController::framesForTick(int owed, double workMsPerFrame, double budgetMs)
+int RunController::framesForTick(int owed, double workMsPerFrame, double budgetMs, int maxFrames)
 {
-    int frames = std::min(owed, kMaxFramesPerTick);
+    int frames = std::min(owed, maxFrames);
     if (workMsPerFrame > 0.0 && frames * workMsPerFrame > budgetMs)
         frames = static_cast<int>(std::clamp(std::floor(budgetMs / workMsPerFrame), 1.0, static_cast<double>(frames)));
     return std::max(frames, 0);
+}
+
+int RunController::maxFramesForTick(double tickMs, double speed, double frameMs)
+{
+    const double due = 2.0 * tickMs * speed / frameMs;
+    return std::isfinite(due) && due > kMaxFramesPerTick ? static_cast<int>(std::min(std::ceil(due), 1.0e6))
+                                                         : kMaxFramesPerTick;
 }
 
 void RunController::updateInterval()
@@ -102,7 +109,8 @@ void RunController::tick()
     m_clock.restart();
     const double ms = frameMs();
     const int owed = static_cast<int>(std::min(std::floor(m_accumulatedMs / ms), 1.0e6));
-    const int frames = framesForTick(owed, m_workMsPerFrame, m_tickBudgetMs);
+    const int frames =
+        framesForTick(owed, m_workMsPerFrame, m_tickBudgetMs, maxFramesForTick(m_timer.interval(), m_speed, ms));
     if (frames < owed)
         m_accumulatedMs = 0.0;
     else

@@ -29,9 +29,13 @@ public:
     static constexpr qint64 kSpeedWindowMs = 1000;
 
     /// Frames a tick runs when `owed` are due and each recently took `workMsPerFrame` of wall
-    /// clock (0: not measured yet): all of them up to kMaxFramesPerTick, but only as many as
-    /// fit in `budgetMs`, and always at least one.
-    static int framesForTick(int owed, double workMsPerFrame, double budgetMs);
+    /// clock (0: not measured yet): all of them up to `maxFrames`, but only as many as fit in
+    /// `budgetMs`, and always at least one.
+    static int framesForTick(int owed, double workMsPerFrame, double budgetMs, int maxFrames = kMaxFramesPerTick);
+    /// Most frames a tick of `tickMs` runs at `speed` with frames of `frameMs`: kMaxFramesPerTick,
+    /// or twice the frames such a tick is due where that is more (short frames at a high speed:
+    /// 1 ms frames at 4x are 64 a 16-ms tick, which 16 a tick held to a quarter of it).
+    static int maxFramesForTick(double tickMs, double speed, double frameMs);
 
     /// Runs `document` (which must outlive this).
     explicit RunController(SceneDocument *document, QObject *parent = nullptr);
