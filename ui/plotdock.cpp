@@ -1317,11 +1317,13 @@ QString PlotDock::exportCaption() const
     if (!m_frames.isEmpty()) {
         const std::int64_t first = m_frames.at(0);
         const std::int64_t last = m_frames.last();
-        parts << tr("frames %1 to %2, %3 to %4 s")
-                     .arg(first)
-                     .arg(last)
-                     .arg(secondsAt(first), 0, 'f', 2)
-                     .arg(secondsAt(last), 0, 'f', 2);
+        // Two decimals, or three digits where the run is shorter than a tenth of a second (frames
+        // of 0.05 ms read "0.00 to 0.00 s").
+        const bool brief = std::abs(secondsAt(last) - secondsAt(first)) < 0.1;
+        const auto seconds = [brief](double t) {
+            return brief ? QString::number(t, 'g', 3) : QString::number(t, 'f', 2);
+        };
+        parts << tr("frames %1 to %2, %3 to %4 s").arg(first).arg(last).arg(seconds(secondsAt(first)), seconds(secondsAt(last)));
     }
     return parts.join(QStringLiteral(" \u2014 "));
 }
@@ -1339,9 +1341,18 @@ QString PlotDock::exportPng(const QString &path)
     font.setPointSizeF(font.pointSizeF() * 1.1);
     const int strip = QFontMetrics(font).height() + 12;
     const QSize chartSize(size.width(), size.height() - strip);
+    // The totals' axes with their units, which the window gives in the status bar and the
+    // tooltips alone: a picture in seconds did not say mass·px²/s² from mass·px²/frame² (a
+    // helper's finding). The picture is tall enough for them.
+    const QString energyTitle = m_axisTotals->titleText();
+    const QString momentumTitle = m_axisMomentum->titleText();
+    m_axisTotals->setTitleText(tr("kinetic energy (%1)").arg(energyUnit()));
+    m_axisMomentum->setTitleText(tr("momentum (%1)").arg(momentumUnit()));
     m_chartView->resize(chartSize);
     const QPixmap chart = m_chartView->grab();
     m_chartView->resize(onScreen);
+    m_axisTotals->setTitleText(energyTitle);
+    m_axisMomentum->setTitleText(momentumTitle);
     if (chart.isNull())
         return tr("%1: the chart could not be drawn").arg(path);
     QPixmap image(size * chart.devicePixelRatio());

@@ -156,6 +156,15 @@ bool showComparing(PlotDock &dock, World &world, int frames, int width)
     return true;
 }
 
+/// The titles of `dock`'s chart's axes, in the chart's order.
+QStringList axisTitles(PlotDock &dock)
+{
+    QStringList titles;
+    for (QAbstractAxis *axis : dock.chartView()->chart()->axes())
+        titles << axis->titleText();
+    return titles;
+}
+
 /// The horizontal (time) axis of `line`.
 QValueAxis *timeAxisOf(QLineSeries *line)
 {
@@ -2223,6 +2232,18 @@ void TestPlotDock::exportPng()
     // raised, read as the preset's (a teacher's finding).
     dock.setSceneEdited(true);
     QVERIFY(dock.exportCaption().startsWith(QStringLiteral("Preset: Pachinko board \u2014 edited \u2014 model: book")));
+    // Frames of 0.05 ms: the times in three digits (they read "0.00 to 0.00 s", a helper's finding).
+    World brief = worldWith(1);
+    brief.params.frameMs = 0.05;
+    dock.reset(brief);
+    runFrames(dock, brief, 2);
+    QVERIFY2(dock.exportCaption().endsWith(QStringLiteral("frames 1 to 2, 5e-05 to 0.0001 s")), qPrintable(dock.exportCaption()));
+    // The picture's totals axes carry their units (the window gives them in its status bar and
+    // tooltips); the dock's own titles stay as they were.
+    dock.setKineticEnergyShown(true);
+    const QStringList before = axisTitles(dock);
+    QCOMPARE(dock.exportPng(path), QString());
+    QCOMPARE(axisTitles(dock), before);
 }
 
 void TestPlotDock::exportsAreOfferedByTheScenesName()
