@@ -112,10 +112,10 @@ std::string printableText(std::string_view text, std::size_t maxBytes)
             ++i;
         } else {
             const std::string_view character = text.substr(i, n);
-            const bool lineBreak = character == "\xC2\x85" || character == "\xE2\x80\xA8" || character == "\xE2\x80\xA9";
-            if (lineBreak) {
+            const char32_t code = codePointOf(character);
+            if (code == 0x85 || code == 0x2028 || code == 0x2029) { // NEL, LINE and PARAGRAPH SEPARATOR
                 out += '?';
-            } else if (const char32_t code = codePointOf(character); invisibleFormat(code)) {
+            } else if (invisibleFormat(code)) {
                 char hex[16];
                 std::snprintf(hex, sizeof hex, "<U+%04X>", static_cast<unsigned>(code));
                 out += hex;

@@ -461,7 +461,8 @@ void ParametersDock::updateWarnings()
     // frame gives below |g|.
     QString held;
     const Params params = shownParams();
-    if ((params.gravity.x != 0.0 || params.gravity.y != 0.0) && validateParams(params).empty()) {
+    const bool valid = validateParams(params).empty();
+    if ((params.gravity.x != 0.0 || params.gravity.y != 0.0) && valid) {
         World probe;
         probe.stage = {1e9, 1e9, false};
         probe.params = params;
@@ -483,7 +484,7 @@ void ParametersDock::updateWarnings()
     // threshold at least that, every click's push was zeroed in its frame, and nothing said why
     // a marble clicked did not move.
     const double clickMost = std::abs(params.pushScale) / params.massScale;
-    if (validateParams(params).empty() && clickMost > 0.0 && clickMost <= params.zeroThreshold) {
+    if (valid && clickMost > 0.0 && clickMost <= params.zeroThreshold) {
         if (!held.isEmpty())
             held += QLatin1Char('\n');
         held += tr("\u26a0 A click gives a marble at most %1 px/frame (push scale / mass scale): this threshold "

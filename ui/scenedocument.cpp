@@ -10,14 +10,13 @@
 
 #include <QDir>
 #include <QFile>
-
-#include <optional>
 #include <QFileInfo>
 
 #include <algorithm>
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <utility>
 
 namespace marbles {
