@@ -169,6 +169,20 @@ Vec2 World::pushAcceleration(int i, Vec2 at) const
     return {((p.x - at.x) * params.pushScale) / mass[k], ((p.y - at.y) * params.pushScale) / mass[k]};
 }
 
+Vec2 World::rescaledPush(Vec2 a, double massWas, double pushScaleWas, double mass, double pushScale)
+{
+    // A push scale of 0 leaves nothing waiting to work out again.
+    if ((massWas == mass && pushScaleWas == pushScale) || pushScaleWas == 0.0)
+        return a;
+    const auto one = [&](double x) {
+        double force = x * massWas; // (p - c) * pushScaleWas
+        if (pushScale != pushScaleWas)
+            force = force / pushScaleWas * pushScale;
+        return force / mass;
+    };
+    return {one(a.x), one(a.y)};
+}
+
 void World::applyScriptedPushes()
 {
     for (const Push &p : pushes) {

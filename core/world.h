@@ -188,6 +188,11 @@ public:
     /// pending acceleration, so it acts on the next update. Exact and impulse models apply it
     /// as an instant velocity change at the start of that update.
     void push(int i, Vec2 at);
+    /// A push waiting in an acceleration `a`, worked out again for a new mass or push scale.
+    /// PHYSICS.md's push reads m_i and pushScale just before the update it acts on, so a click's
+    /// push waiting for the next frame follows an edit of either, as a scripted push does: from
+    /// a = (p - c) * pushScaleWas / massWas it gives (p - c) * pushScale / mass, to rounding.
+    static Vec2 rescaledPush(Vec2 a, double massWas, double pushScaleWas, double mass, double pushScale);
     /// Whether marble i has a push still to act (its pending acceleration is not zero).
     bool pushPending(int i) const
     {

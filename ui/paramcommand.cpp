@@ -5,6 +5,8 @@
 
 #include <QCoreApplication>
 
+#include <algorithm>
+
 #include <utility>
 
 namespace marbles {
@@ -22,7 +24,52 @@ void ParamState::applyTo(World &world) const
         world.mass = mass;
 }
 
+WaitingPushes WaitingPushes::of(const World &world)
+{
+    WaitingPushes waiting;
+    for (int i = 0; i < world.marbleCount(); ++i) {
+        if (world.pushPending(i))
+            waiting.pushes.emplace_back(i, world.acceleration[static_cast<std::size_t>(i)]);
+    }
+    return waiting;
+}
+
+WaitingPushes WaitingPushes::rescaled(const World &world, const ParamState &to) const
+{
+    // As ParamState::applyTo() sets the masses.
+    const bool massesTo = to.mass.size() == world.mass.size();
+    WaitingPushes result;
+    for (const auto &[i, a] : pushes) {
+        const auto k = static_cast<std::size_t>(i);
+        const double mass = massesTo ? to.mass[k] : world.mass[k];
+        const Vec2 b = World::rescaledPush(a, world.mass[k], world.params.pushScale, mass, to.params.pushScale);
+        result.pushes.emplace_back(i, b);
+    }
+    return result;
+}
+
+void WaitingPushes::writeTo(World &world) const
+{
+    for (const auto &[i, a] : pushes) {
+        if (i < world.marbleCount())
+            world.acceleration[static_cast<std::size_t>(i)] = a;
+    }
+}
+
+bool WaitingPushes::sameAs(const WaitingPushes &other) const
+{
+    return std::equal(pushes.begin(), pushes.end(), other.pushes.begin(), other.pushes.end(),
+                      [](const auto &a, const auto &b) { return a.first == b.first && sameBits(a.second, b.second); });
+}
+
 namespace {
+
+// The pushes as World::pushPending() tells them: one rescaled to zero (a push scale of 0) waits no longer.
+WaitingPushes stillWaiting(WaitingPushes waiting)
+{
+    std::erase_if(waiting.pushes, [](const auto &push) { return push.second.x == 0.0 && push.second.y == 0.0; });
+    return waiting;
+}
 
 // A parameter as the Parameters dock names it ("zero threshold", not the file's zeroThreshold).
 QString paramLabel(const QString &key)
@@ -79,24 +126,36 @@ SetParamCommand::SetParamCommand(SceneDocument *document, const QString &key, co
     , m_key(key)
     , m_before(before)
     , m_after(after)
+    , m_pushesBefore(WaitingPushes::of(document->world()))
+    , m_pushesAfter(m_pushesBefore.rescaled(document->world(), after))
     , m_frameMoves(document->frameMoves())
     , m_serial(document->newEditSerial())
 {
     setText(describe(key, value));
 }
 
+void SetParamCommand::apply(const ParamState &state, const WaitingPushes &pushesFrom, const WaitingPushes &pushesTo,
+                            bool undo)
+{
+    World &world = m_document->editableWorld();
+    const bool changed = !(ParamState::of(world) == state);
+    // The pushes waiting when the edit was made get their own bits back; others (clicked since,
+    // or at another frame) are worked out for the new values.
+    const WaitingPushes waiting = WaitingPushes::of(world);
+    const WaitingPushes pushes = waiting.sameAs(stillWaiting(pushesFrom)) ? pushesTo : waiting.rescaled(world, state);
+    state.applyTo(world);
+    pushes.writeTo(world);
+    m_document->applyChange(SceneDocument::Change::Params, {m_serial, undo, !changed});
+}
+
 void SetParamCommand::redo()
 {
-    const bool changed = !(ParamState::of(m_document->world()) == m_after);
-    m_after.applyTo(m_document->editableWorld());
-    m_document->applyChange(SceneDocument::Change::Params, {m_serial, false, !changed});
+    apply(m_after, m_pushesBefore, m_pushesAfter, false);
 }
 
 void SetParamCommand::undo()
 {
-    const bool changed = !(ParamState::of(m_document->world()) == m_before);
-    m_before.applyTo(m_document->editableWorld());
-    m_document->applyChange(SceneDocument::Change::Params, {m_serial, true, !changed});
+    apply(m_before, m_pushesAfter, m_pushesBefore, true);
 }
 
 int SetParamCommand::id() const
@@ -110,13 +169,15 @@ bool SetParamCommand::mergeWith(const QUndoCommand *other)
     // 273 and friction 0.3 set there had become one "Set friction to 0.3", undone straight to
     // the friction before 0.5.
     const auto *next = static_cast<const SetParamCommand *>(other);
-    if (next->m_key != m_key || next->m_frameMoves != m_frameMoves)
+    // Nor across a click between them, whose push an undo of both would take away.
+    if (next->m_key != m_key || next->m_frameMoves != m_frameMoves || !next->m_pushesBefore.sameAs(stillWaiting(m_pushesAfter)))
         return false;
     m_after = next->m_after;
+    m_pushesAfter = next->m_pushesAfter;
     setText(next->text()); // the value the edits ended on
     // Edits that came back to where they started (friction 0, 0.01, 0 again) change nothing: the
     // stack drops them, instead of keeping an Undo that does nothing ("Set friction to 0").
-    setObsolete(m_after == m_before);
+    setObsolete(m_after == m_before && m_pushesAfter.sameAs(m_pushesBefore));
     return true;
 }
 

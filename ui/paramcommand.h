@@ -5,6 +5,7 @@
 #include <QString>
 #include <QUndoCommand>
 
+#include <utility>
 #include <vector>
 
 namespace marbles {
@@ -25,6 +26,21 @@ struct ParamState {
     friend bool operator==(const ParamState &, const ParamState &) = default;
 };
 
+/// The clicks' pushes waiting for the next frame (World::pushPending), by marble.
+struct WaitingPushes {
+    std::vector<std::pair<int, Vec2>> pushes; ///< marble, pending acceleration (not zero)
+
+    static WaitingPushes of(const World &world);
+    /// The same pushes for `to`'s masses and push scale, from `world`'s (World::rescaledPush):
+    /// a mass scale, a mass or a push scale set while a push waits changes what it adds.
+    WaitingPushes rescaled(const World &world, const ParamState &to) const;
+    /// Sets the marbles' pending accelerations to these (the same marbles as waited in `world`).
+    void writeTo(World &world) const;
+
+    /// The same bits (a push of -0 is not one of +0 to the models).
+    bool sameAs(const WaitingPushes &other) const;
+};
+
 /// Sets one parameter (a Parameters dock edit). Consecutive edits of the same key merge (a spin
 /// box scrubbed), unless the frame shown changed between them.
 class SetParamCommand : public QUndoCommand {
@@ -38,10 +54,14 @@ public:
     bool mergeWith(const QUndoCommand *other) override;
 
 private:
+    void apply(const ParamState &state, const WaitingPushes &pushesFrom, const WaitingPushes &pushesTo, bool undo);
+
     SceneDocument *m_document;
     QString m_key;
     ParamState m_before;
     ParamState m_after;
+    WaitingPushes m_pushesBefore;
+    WaitingPushes m_pushesAfter;
     std::uint64_t m_frameMoves; // the document's frameMoves() when the edit was made
     std::uint64_t m_serial; // the document's newEditSerial() for it (CompareRun keeps what its undo gives back)
 };

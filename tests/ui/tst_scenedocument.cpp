@@ -109,6 +109,8 @@ private Q_SLOTS:
     void dropWithNoRoomIsRefused();
     void radiusGrownIntoAnotherIsRefused();
     void structureEditsAreNamed();
+    void waitingPushMeetsTheMassOfItsFrame_data();
+    void waitingPushMeetsTheMassOfItsFrame();
     void undoLaterInTheRunGoesBackToTheEdit();
     void pinEditUndoneLaterGoesBackToItsFrame();
     void stepBackGoesPastADeletedMarble();
@@ -1217,6 +1219,91 @@ void TestSceneDocument::homeForgetsAClickAfterAnEdit()
     QCOMPARE(doc.takeBackPushes(), 0);
     QCOMPARE(doc.advance(1), 1);
     QCOMPARE(doc.world().velocity[1], Vec2{});
+}
+
+void TestSceneDocument::waitingPushMeetsTheMassOfItsFrame_data()
+{
+    QTest::addColumn<QString>("model");
+    QTest::newRow("book") << QStringLiteral("book");
+    QTest::newRow("impulse") << QStringLiteral("impulse");
+    QTest::newRow("exact") << QStringLiteral("exact");
+}
+
+void TestSceneDocument::waitingPushMeetsTheMassOfItsFrame()
+{
+    // PHYSICS.md's push adds (p - c) * pushScale / m_i "just before" the update it acts on. A
+    // helper's finding: a click's push kept the mass and push scale of the moment of the click,
+    // so a teacher who clicked, then raised the mass scale to show that a heavier marble gains
+    // less, saw the same push (while a scripted push, worked out at its frame, did follow).
+    QFETCH(QString, model);
+    World w;
+    w.params.friction = 0.0;
+    w.addMarble({200.0, 300.0}, 20.0);
+    w.addMarble({600.0, 300.0}, 40.0);
+    QVERIFY(setParam(w, "model", model.toStdString()).empty());
+    const Vec2 click{190.0, 296.0};
+    // What the contract gives: the same push scripted at frame 0, with the values it meets.
+    const auto scripted = [&](double massScale, double pushScale, double radius, double mass) {
+        World s = w;
+        s.params.pushScale = pushScale;
+        s.radius[0] = radius;
+        s.setMassScale(massScale);
+        if (mass > 0.0)
+            s.setExplicitMass(0, mass);
+        s.pushes.push_back({0, 0, click});
+        s.step();
+        return s.velocity[0];
+    };
+    const auto velocityAfterAStep = [](SceneDocument &doc) {
+        const Vec2 v = (doc.advance(1), doc.world().velocity[0]);
+        doc.stepBack();
+        return v;
+    };
+    const auto near = [](Vec2 a, Vec2 b) {
+        const double scale = std::max(std::hypot(b.x, b.y), 1e-300);
+        return std::hypot(a.x - b.x, a.y - b.y) <= 1e-14 * scale;
+    };
+
+    SceneDocument doc;
+    doc.resetScene(w);
+    doc.pushMarble(0, click);
+    const Vec2 clicked = doc.world().acceleration[0];
+    QVERIFY(near(velocityAfterAStep(doc), scripted(1.25, 10.0, 20.0, 0.0)));
+
+    // A heavier marble, then a harder push: the push waiting follows each.
+    QVERIFY(doc.setParam(QStringLiteral("massScale"), QStringLiteral("5")).isEmpty());
+    QVERIFY(near(doc.world().acceleration[0], {clicked.x / 4.0, clicked.y / 4.0}));
+    QVERIFY(near(velocityAfterAStep(doc), scripted(5.0, 10.0, 20.0, 0.0)));
+    QVERIFY(doc.setParam(QStringLiteral("pushScale"), QStringLiteral("30")).isEmpty());
+    QVERIFY(near(velocityAfterAStep(doc), scripted(5.0, 30.0, 20.0, 0.0)));
+    // The marble's own radius and mass, in the Inspector.
+    QVERIFY(doc.setMarbleRadius(0, 10.0).isEmpty());
+    QVERIFY(near(velocityAfterAStep(doc), scripted(5.0, 30.0, 10.0, 0.0)));
+    QVERIFY(doc.setMarbleMass(0, 7.0).isEmpty());
+    QVERIFY(near(velocityAfterAStep(doc), scripted(5.0, 30.0, 10.0, 7.0)));
+    // The other marble had no push waiting and has none.
+    QVERIFY(!doc.world().pushPending(1));
+
+    // Undone, the click's push comes back to its bits.
+    for (int i = 0; i < 4; ++i)
+        doc.undoStack()->undo();
+    QVERIFY(sameBits(doc.world().acceleration[0], clicked));
+    // Also from a push scale of 0, which leaves nothing waiting.
+    QVERIFY(doc.setParam(QStringLiteral("pushScale"), QStringLiteral("0")).isEmpty());
+    QVERIFY(!doc.world().pushPending(0));
+    doc.undoStack()->undo();
+    QVERIFY(sameBits(doc.world().acceleration[0], clicked));
+
+    // A click between two edits of the field keeps them apart: undoing both took the click too.
+    QVERIFY(doc.takeBackPushes() == 1);
+    QVERIFY(doc.setParam(QStringLiteral("massScale"), QStringLiteral("2")).isEmpty());
+    doc.pushMarble(0, click);
+    const Vec2 second = doc.world().acceleration[0];
+    QVERIFY(doc.setParam(QStringLiteral("massScale"), QStringLiteral("4")).isEmpty());
+    QVERIFY(near(doc.world().acceleration[0], {second.x / 2.0, second.y / 2.0}));
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().params.massScale, 2.0);
+    QVERIFY(sameBits(doc.world().acceleration[0], second));
 }
 
 void TestSceneDocument::structureEditsAreNamed()
