@@ -1,5 +1,6 @@
 #include "ui/inspectordock.h"
 
+#include "ui/dockpage.h"
 #include "ui/numbertext.h"
 #include "ui/refusingspinbox.h"
 #include "ui/scenedocument.h"
@@ -120,7 +121,10 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     m_error->setAlignment(Qt::AlignLeft | Qt::AlignTop);
     layout->addWidget(m_error);
     layout->addStretch(1);
-    setWidget(body);
+    // Filled in for a marble, the page is taller than a projector's dock has room for: it grew
+    // the window past the screen's edge (the status bar below it) and moved the stage between
+    // the press and the release of the click that selected the marble.
+    m_scrollToFocus = putInScrollArea(this, body);
 
     for (QDoubleSpinBox *box : {m_radius, m_mass, m_x, m_y, m_vx, m_vy}) {
         connect(box, &QAbstractSpinBox::editingFinished, this, [this, box] {
@@ -159,6 +163,7 @@ InspectorDock::~InspectorDock()
 {
     // QWidget's destructor takes the focus from a field, which ends its edit: the fields' slots
     // here must not run on a dock already half destroyed (UBSan saw it).
+    disconnect(m_scrollToFocus);
     for (QDoubleSpinBox *box : {m_radius, m_mass, m_x, m_y, m_vx, m_vy})
         disconnect(box, nullptr, this, nullptr);
 }

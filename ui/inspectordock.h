@@ -86,6 +86,7 @@ private:
     std::function<const World *()> m_comparison;
     std::function<QString()> m_comparisonModel;
     QWidget *m_form = nullptr;
+    QMetaObject::Connection m_scrollToFocus; // a focused field scrolled into sight
 };
 
 } // namespace marbles

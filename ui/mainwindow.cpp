@@ -955,11 +955,31 @@ void MainWindow::fitScreenHeight(int availableHeight)
     // Below 500 px (a 1280 x 720 projector at a scale of 1.5 is 480 px tall) the window still
     // came out 497 px tall, its status bar below the edge: there the plot goes down to 160 px,
     // where it has fewer ticks and its side titles in short (refreshChart()).
-    const bool small = availableHeight < kSmallScreenHeight;
-    const bool smaller = availableHeight < 600;
-    const bool smallest = availableHeight < 500;
-    m_view->setMinimumHeight(smaller ? 120 : small ? 170 : StageView::kMinimumHeight);
-    m_plotDock->chartView()->setMinimumHeight(smallest ? 160 : small ? 190 : PlotDock::kMinimumChartHeight);
+    // The toolbars' rows count too: a 1024 x 768 projector at a scale of 1.5 is 683 x 512, where
+    // they take three, and the window came out 536 px tall. So the sizes step down further while
+    // the window's smallest layout is still taller than the screen.
+    struct Heights {
+        int stage;
+        int plot;
+    };
+    static constexpr Heights steps[] = {
+        {StageView::kMinimumHeight, PlotDock::kMinimumChartHeight}, {170, 190}, {120, 190}, {120, 160}, {90, 160}};
+    m_fitHeight = availableHeight;
+    std::size_t step = availableHeight < 500 ? 3 : availableHeight < 600 ? 2 : availableHeight < kSmallScreenHeight ? 1 : 0;
+    for (;; ++step) {
+        m_view->setMinimumHeight(steps[step].stage);
+        m_plotDock->chartView()->setMinimumHeight(steps[step].plot);
+        // Before the first show the toolbars' rows are not known yet (showEvent() fits again),
+        // and laying the window out would size it.
+        if (step + 1 == std::size(steps) || !isVisible())
+            break;
+        // The docks take their contents' new sizes in through posted layout requests.
+        for (int round = 0; round < 3; ++round)
+            QCoreApplication::sendPostedEvents(nullptr, QEvent::LayoutRequest);
+        layout()->activate();
+        if (minimumSizeHint().height() <= availableHeight)
+            break;
+    }
 }
 
 void MainWindow::readSettings()
@@ -1426,6 +1446,13 @@ void MainWindow::showEvent(QShowEvent *event)
         m_firstLayout = true;
     updateFrameLabelsShown();
     fitToolBars();
+    if (m_fitHeight > 0) {
+        fitScreenHeight(m_fitHeight); // with the toolbars in their rows
+        // Maximized, and made taller than the screen by the sizes before (an X server without a
+        // window manager keeps what the layout asked for), it comes back within it.
+        if (isMaximized() && height() > m_fitHeight)
+            resize(width(), std::max(m_fitHeight, minimumSizeHint().height()));
+    }
     if (!m_firstLayout) {
         // A kept layout: a Parameters dock narrower than its fields (kept from a narrower window,
         // its fields cut off behind a sideways scroll bar) gets the width they need, as far as

@@ -215,6 +215,7 @@ private:
     QTimer *m_settingsTimer = nullptr; ///< single shot: scheduleSettingsWrite()'s delay
     QString m_compareBoxToolTip; ///< the Compare box's tooltip while its comparison can run
     int m_toolBarsFitWidth = -1; ///< the width fitToolBars() last laid the toolbars out for
+    int m_fitHeight = 0;         ///< the screen height fitScreenHeight() last fitted the window to
     QByteArray m_stateToRestore; // the kept layout, restored when the window is first shown
     bool m_warnedNoAutosave = false;
     /// A toggle a preset set for its lesson (PresetView): the teacher's own setting before it,

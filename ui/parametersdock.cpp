@@ -2,6 +2,7 @@
 
 #include "core/sceneio.h"
 
+#include "ui/dockpage.h"
 #include "ui/focusedwheel.h"
 #include "ui/quiettext.h"
 #include "ui/refusingspinbox.h"
@@ -282,21 +283,10 @@ void ParametersDock::buildUi()
                        static_cast<QWidget *>(m_shortCircuit)})
         w->setProperty("formulaToolTip", w->toolTip());
 
-    auto *scroll = new QScrollArea(this);
-    scroll->setWidgetResizable(true);
-    scroll->setFrameShape(QFrame::NoFrame);
-    scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAsNeeded);
-    scroll->setWidget(page);
-    // Not a stop of its own for Tab (it showed no focus, and the arrow keys then scrolled it);
-    // and a field that takes the focus is scrolled into sight, by Alt and its letter too (a
-    // projector's small dock changed a model it did not show).
-    scroll->setFocusPolicy(Qt::NoFocus);
-    m_scrollToFocus = connect(qApp, &QApplication::focusChanged, scroll, [scroll, page](QWidget *, QWidget *now) {
-        if (now && page->isAncestorOf(now))
-            scroll->ensureWidgetVisible(now);
-    });
+    // A projector's small dock scrolls, and changed a model it did not show before the focused
+    // field was scrolled into sight.
+    m_scrollToFocus = putInScrollArea(this, page);
     page->installEventFilter(this);
-    setWidget(scroll);
 
     connect(m_massScale, &QDoubleSpinBox::valueChanged, this,
             [this](double v) { onDoubleEdited(QStringLiteral("massScale"), v); });

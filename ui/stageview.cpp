@@ -659,7 +659,9 @@ void StageView::mousePressEvent(QMouseEvent *event)
     }
     setFocus(Qt::MouseFocusReason);
     const Vec2 p = stagePoint(event->position());
+    m_pressGlobal = viewport()->mapToGlobal(event->position());
     m_pressPos = event->position();
+    m_pressToStage = viewportTransform().inverted();
     m_gesture = Gesture::None;
     switch (m_tool) {
     case Tool::AddMarble:
@@ -693,7 +695,7 @@ void StageView::mouseMoveEvent(QMouseEvent *event)
         QGraphicsView::mouseMoveEvent(event);
         return;
     }
-    const QPointF moved = event->position() - m_pressPos;
+    const QPointF moved = viewport()->mapToGlobal(event->position()) - m_pressGlobal;
     const bool beyondClick = std::abs(moved.x()) + std::abs(moved.y()) > kClickTolerancePx;
     const Vec2 p = stagePoint(event->position());
     const Vec2 target{p.x + m_grabOffset.x, p.y + m_grabOffset.y};
@@ -726,10 +728,14 @@ void StageView::mouseReleaseEvent(QMouseEvent *event)
         // The chapter's hitMarble runs on release, with the mouse position at release. The push
         // acts on the next frame; until then an arrow shows it (a click while paused would
         // otherwise change nothing on screen, and a second click add to it unseen).
+        // Measured as the stage lay at the press (the selection it makes fills the Inspector: on
+        // a projector at a scale of 1.5 that grew the window and re-fitted the stage, and a click
+        // on a marble's left edge pushed it down and to the left at 29.5 px/frame).
         const int i = m_gestureIndex;
         if (i >= m_document->world().marbleCount())
             break; // gone since the press (an undo by key, say)
-        pushAt(i, p, false);
+        const QPointF at = m_pressToStage.map(m_pressPos + (viewport()->mapToGlobal(event->position()) - m_pressGlobal));
+        pushAt(i, {at.x(), at.y()}, false);
         break;
     }
     case Gesture::DragMarble:

@@ -7,6 +7,7 @@
 #include <QList>
 #include <QPoint>
 #include <QStringList>
+#include <QTransform>
 
 #include <vector>
 
@@ -222,7 +223,12 @@ private:
     enum class Gesture { None, PressMarble, DragMarble, PressPin, DragPin };
     Gesture m_gesture = Gesture::None;
     int m_gestureIndex = -1;
+    // The press, where it was on the screen and on the stage: a click's push is measured from the
+    // press's stage by the mouse's travel on the screen, so a stage that moved or re-fitted under
+    // a still mouse (the selection filling the docks) does not make one.
+    QPointF m_pressGlobal;
     QPointF m_pressPos;
+    QTransform m_pressToStage;
     Vec2 m_grabOffset;
 
     Vec2 m_contextPoint;

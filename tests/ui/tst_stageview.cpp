@@ -62,6 +62,7 @@ private Q_SLOTS:
     void shortMoveIsStillAClick_data();
     void shortMoveIsStillAClick();
     void pushIsShownUntilItActs();
+    void clickIsMeasuredAsTheStageLayAtThePress();
     void scriptedPushIsShownWhenDue();
     void pushLabelKeepsOffMarbles();
     void latestClickIsLast();
@@ -478,6 +479,28 @@ void TestStageView::shortMoveIsStillAClick()
         QCOMPARE(w.acceleration[marble], Vec2{});
         QCOMPARE(m_document->undoStack()->count(), 1);
     }
+}
+
+void TestStageView::clickIsMeasuredAsTheStageLayAtThePress()
+{
+    // A helper's finding: on a projector at a scale of 1.5 the press that selected a marble
+    // filled the Inspector, which grew the window and re-fitted the stage under the still mouse;
+    // the release, read on the stage as it lay then, pushed a marble clicked on its left edge
+    // down and to the left at 29.5 px/frame. The click is where the press was on the stage, and
+    // the mouse's travel on the screen from there.
+    const World &w = m_document->world();
+    const int marble = 0;
+    const QPoint press = m_view->viewportPoint(w.position[marble]) + QPoint(-8, 0);
+    QTest::mouseClick(viewport(), Qt::LeftButton, {}, press);
+    const Vec2 clicked = w.acceleration[marble];
+    QVERIFY(clicked.x > 0.0);
+    QCOMPARE(m_document->takeBackPushes(), 1);
+
+    QTest::mousePress(viewport(), Qt::LeftButton, {}, press);
+    m_view->scale(1.5, 1.5); // the stage re-fitted, the mouse still
+    QVERIFY(m_view->viewportPoint(w.position[marble]) != press + QPoint(8, 0));
+    QTest::mouseRelease(viewport(), Qt::LeftButton, {}, press);
+    QVERIFY(sameBits(w.acceleration[marble], clicked));
 }
 
 void TestStageView::pushIsShownUntilItActs()
