@@ -5,8 +5,10 @@
 #include "ui/wholefile.h"
 
 #include <QCoreApplication>
+#include <QDateTime>
 #include <QDir>
 #include <QFile>
+#include <QFileInfo>
 #include <QLockFile>
 #include <QStandardPaths>
 
@@ -151,8 +153,9 @@ bool AutoSaver::recover(QString *error)
         return false;
     }
     const QByteArray text = file.readAll();
+    // Named by its whole path: a damaged autosave is set aside, and the teacher may want it.
     const SceneLoad load = parseScene(std::string_view(text.constData(), static_cast<std::size_t>(text.size())),
-                                      "autosave.marbles.json");
+                                      QDir::toNativeSeparators(scenePath()).toStdString());
     if (!load.ok) {
         if (error)
             *error = QString::fromStdString(load.error);
@@ -161,6 +164,24 @@ bool AutoSaver::recover(QString *error)
     m_document->resetScene(load.world, recoverySource());
     m_document->markModified();
     return true;
+}
+
+QString AutoSaver::setAside()
+{
+    if (!m_active)
+        return {};
+    waitForBackgroundSave();
+    const QFileInfo scene(scenePath());
+    const QString stamp = QDateTime::currentDateTime().toString(QStringLiteral("yyyyMMdd-HHmmss"));
+    QString kept;
+    for (int n = 1; kept.isEmpty() || QFileInfo::exists(kept); ++n) {
+        kept = scene.dir().filePath(QStringLiteral("autosave-unrecovered-%1%2.marbles.json")
+                                        .arg(stamp, n == 1 ? QString() : QStringLiteral("-%1").arg(n)));
+    }
+    if (!QFile::rename(scene.filePath(), kept))
+        return {};
+    QFile::remove(sourcePath());
+    return kept;
 }
 
 void AutoSaver::discard()

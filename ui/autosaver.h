@@ -56,6 +56,11 @@ public:
     QString recoveryPresetTitle() const;
     /// Loads the autosave into the document (modified, named after its source); false with `error` on failure.
     bool recover(QString *error);
+    /// Moves an autosave that could not be recovered out of the way, beside it as
+    /// autosave-unrecovered-<date>-<time>.marbles.json, so that nothing the teacher had is
+    /// deleted and the next start does not ask again. Returns its new path ("" if it could not
+    /// be moved: then it stays where it is).
+    QString setAside();
     /// Deletes the autosave (a clean exit, or the user declined recovery), after waiting for a
     /// background save, which would otherwise write it again.
     void discard();

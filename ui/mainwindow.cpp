@@ -1380,7 +1380,12 @@ QString MainWindow::offerRecovery()
             showStatus(tr("Recovered the autosaved scene. Save it to keep it."));
             return m_document->fileName();
         }
+        // Recover was chosen, not Discard: the autosave is kept, out of the way (it was deleted).
+        const QString kept = m_autoSaver->setAside();
+        if (!kept.isEmpty())
+            error += QLatin1String("\n\n") + tr("The autosave is kept as %1.").arg(QDir::toNativeSeparators(kept));
         m_prompts->showError(this, tr("Cannot recover the scene"), error);
+        return QString();
     }
     m_autoSaver->discard();
     return QString();

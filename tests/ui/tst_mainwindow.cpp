@@ -189,6 +189,7 @@ private Q_SLOTS:
     void shortFramesAreNotHeldToSixteenATick();
     void runThatCannotKeepUpSlowsDownAndSaysSo();
     void autosaveIsRecoveredAfterCrash();
+    void damagedAutosaveIsKept();
     void failedAutosaveIsSaid();
     void secondWindowSaysItIsNotAutosaved();
     void autosaveWritesInTheBackground();
@@ -2384,6 +2385,44 @@ void TestMainWindow::autosaveIsRecoveredAfterCrash()
     makeWindow();
     m_window->offerRecovery();
     QCOMPARE(m_prompts->recoverQuestions, 0);
+}
+
+void TestMainWindow::damagedAutosaveIsKept()
+{
+    // A helper's finding: an autosave that could not be recovered (cut short) was deleted after
+    // the error, though Recover had been chosen and the question says only Discard deletes it.
+    QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("0.25")).isEmpty());
+    QVERIFY(m_window->autoSaver()->saveNow());
+    const QString path = m_window->autoSaver()->scenePath();
+    m_window.reset(); // a crash
+    QFile file(path);
+    QVERIFY(file.open(QIODevice::ReadWrite));
+    const QByteArray damaged = file.readAll().left(200);
+    QVERIFY(file.resize(200));
+    file.close();
+
+    makeWindow();
+    m_prompts->recoverAnswer = true;
+    m_window->offerRecovery();
+    QCOMPARE(m_prompts->errors.size(), 1);
+    const QString error = m_prompts->errors.first();
+    // One message: what is wrong and where, and where the autosave is now.
+    QVERIFY2(error.startsWith(QDir::toNativeSeparators(path) + QStringLiteral(": line ")), qPrintable(error));
+    const qsizetype at = error.indexOf(QStringLiteral("The autosave is kept as "));
+    QVERIFY2(at > 0 && error.endsWith(QLatin1Char('.')), qPrintable(error));
+    const QString kept = error.mid(at + 24).chopped(1);
+    QVERIFY2(kept.contains(QStringLiteral("autosave-unrecovered-")), qPrintable(kept));
+    QFile keptFile(kept);
+    QVERIFY(keptFile.open(QIODevice::ReadOnly));
+    QCOMPARE(keptFile.readAll(), damaged);
+    keptFile.close();
+    // Out of the way: the next start does not ask again.
+    QVERIFY(!QFile::exists(path));
+    m_window.reset();
+    makeWindow();
+    m_window->offerRecovery();
+    QCOMPARE(m_prompts->recoverQuestions, 0);
+    QVERIFY(QFile::remove(kept));
 }
 
 void TestMainWindow::failedAutosaveIsSaid()
