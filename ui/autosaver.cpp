@@ -23,10 +23,21 @@ AutoSaver::AutoSaver(SceneDocument *document, const QString &directory, QObject 
     , m_directory(directory.isEmpty() ? QStandardPaths::writableLocation(QStandardPaths::AppDataLocation)
                                       : directory)
 {
-    QDir().mkpath(m_directory);
     m_lock = std::make_unique<QLockFile>(QDir(m_directory).filePath(QStringLiteral("autosave.lock")));
-    m_active = m_lock->tryLock(0);
+    takeLock();
     connect(&m_timer, &QTimer::timeout, this, &AutoSaver::saveInBackground);
+}
+
+bool AutoSaver::takeLock()
+{
+    // A helper's finding: with the disk full at start the lock could not be written, and the
+    // window said another one kept the autosave, and never autosaved, space freed or not.
+    if (m_active || m_heldElsewhere)
+        return m_active;
+    QDir().mkpath(m_directory);
+    m_active = m_lock->tryLock(0);
+    m_heldElsewhere = !m_active && m_lock->error() == QLockFile::LockFailedError;
+    return m_active;
 }
 
 AutoSaver::~AutoSaver()
@@ -46,7 +57,7 @@ QString AutoSaver::sourcePath() const
 
 void AutoSaver::start(int intervalMs)
 {
-    if (!m_active)
+    if (m_heldElsewhere)
         return;
     m_timer.start(intervalMs);
 }
@@ -82,8 +93,11 @@ QStringList AutoSaver::readSourceRecord() const
 
 bool AutoSaver::saveNow()
 {
-    if (!m_active)
+    if (!takeLock()) {
+        if (!m_heldElsewhere && m_document->isModified())
+            Q_EMIT failed();
         return false;
+    }
     waitForBackgroundSave();
     if (!m_document->isModified()) {
         discard();
@@ -97,8 +111,11 @@ bool AutoSaver::saveNow()
 
 bool AutoSaver::saveInBackground()
 {
-    if (!m_active)
+    if (!takeLock()) {
+        if (!m_heldElsewhere && m_document->isModified())
+            Q_EMIT failed();
         return false;
+    }
     if (m_background.valid() && m_background.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
         return false; // still writing the last one: the next tick tries again
     waitForBackgroundSave();

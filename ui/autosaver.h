@@ -34,8 +34,12 @@ public:
     explicit AutoSaver(SceneDocument *document, const QString &directory = {}, QObject *parent = nullptr);
     ~AutoSaver() override;
 
-    /// False when another instance owns the autosave (this one then never writes or recovers).
+    /// True once this instance holds the autosave's lock (it then writes and recovers).
     bool isActive() const { return m_active; }
+    /// True when another instance holds the lock: this one then never writes or recovers. A lock
+    /// that could not be written (a full disk, a folder that cannot be made) is tried again at
+    /// each save, which says it failed until it can be taken.
+    bool heldElsewhere() const { return m_heldElsewhere; }
     /// Starts the timer.
     void start(int intervalMs = kDefaultIntervalMs);
     /// Writes the scene now if it has unsaved edits (or deletes the autosave if it has none).
@@ -72,6 +76,8 @@ Q_SIGNALS:
     void failed();
 
 private:
+    /// Takes the lock if no other instance holds it; whether this instance holds it.
+    bool takeLock();
     QString sourcePath() const;
     /// What the source file holds: the scene's file name, then a NUL (which no path holds) and
     /// the preset title (an autosave of an older version has the file name alone).
@@ -87,6 +93,7 @@ private:
     QTimer m_timer;
     std::unique_ptr<QLockFile> m_lock;
     bool m_active = false;
+    bool m_heldElsewhere = false;
     QString m_presetTitle;
     std::future<bool> m_background; // the background save in flight, if any
 };

@@ -181,8 +181,9 @@ MainWindow::MainWindow(QWidget *parent)
         showStatus(tr("The autosave could not be written (is the disk full?): save your changes with Ctrl+S."));
     });
     // A second window cannot keep an autosave (the first one holds it): its first unsaved change
-    // says so, rather than a crash losing it unannounced.
-    if (!m_autoSaver->isActive()) {
+    // says so, rather than a crash losing it unannounced. (A lock that could not be written is
+    // said by failed(), at each save that tries it again.)
+    if (m_autoSaver->heldElsewhere()) {
         connect(m_document, &SceneDocument::modificationChanged, this, [this](bool modified) {
             if (modified && !m_warnedNoAutosave) {
                 m_warnedNoAutosave = true;

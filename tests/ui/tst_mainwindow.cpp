@@ -46,6 +46,7 @@
 #include <QMenuBar>
 #include <QScreen>
 #include <QSettings>
+#include <QSignalSpy>
 #include <QStandardPaths>
 #include <QStandardItemModel>
 #include <QStatusBar>
@@ -191,6 +192,7 @@ private Q_SLOTS:
     void autosaveIsRecoveredAfterCrash();
     void damagedAutosaveIsKept();
     void failedAutosaveIsSaid();
+    void autosaveFolderUnwritableAtStartIsTriedAgain();
     void secondWindowSaysItIsNotAutosaved();
     void autosaveWritesInTheBackground();
     void layoutIsRestored();
@@ -2440,6 +2442,35 @@ void TestMainWindow::failedAutosaveIsSaid()
     m_window->document()->undoStack()->undo();
 }
 
+void TestMainWindow::autosaveFolderUnwritableAtStartIsTriedAgain()
+{
+    // A helper's finding: with the disk full at start the autosave's lock could not be written;
+    // the window said another Marbles window kept the autosave, and never autosaved, even once
+    // there was room again. Here the folder cannot be made (a file has its name), then can.
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    const QString folder = dir.filePath(QStringLiteral("data"));
+    QFile blocker(folder);
+    QVERIFY(blocker.open(QIODevice::WriteOnly));
+    blocker.close();
+    World scene;
+    QVERIFY(makePreset("four-marbles", scene));
+    SceneDocument doc;
+    doc.resetScene(scene);
+    AutoSaver saver(&doc, folder);
+    QVERIFY(!saver.isActive());
+    QVERIFY(!saver.heldElsewhere());
+    QSignalSpy failures(&saver, &AutoSaver::failed);
+    QVERIFY(doc.setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
+    QVERIFY(!saver.saveNow());
+    QCOMPARE(failures.count(), 1); // said as a save that failed, not as another window's
+    QVERIFY(QFile::remove(folder));
+    QVERIFY(saver.saveNow());
+    QVERIFY(saver.isActive());
+    QVERIFY(QFile::exists(saver.scenePath()));
+    saver.discard();
+}
+
 void TestMainWindow::secondWindowSaysItIsNotAutosaved()
 {
     // The first window holds the autosave; a second one cannot keep one, and says so at its
@@ -2447,6 +2478,7 @@ void TestMainWindow::secondWindowSaysItIsNotAutosaved()
     QVERIFY(m_window->autoSaver()->isActive());
     MainWindow second;
     QVERIFY(!second.autoSaver()->isActive());
+    QVERIFY(second.autoSaver()->heldElsewhere());
     QVERIFY(second.document()->setParam(QStringLiteral("friction"), QStringLiteral("0.6")).isEmpty());
     QVERIFY2(second.statusBar()->currentMessage().startsWith(QStringLiteral("Changes in this window are not autosaved")),
              qPrintable(second.statusBar()->currentMessage()));
