@@ -1071,13 +1071,9 @@ void PlotDock::refreshChart()
     // went.
     const auto showKeys = [this] {
         bool changed = false;
-        for (QLineSeries *series : {m_restartMarks, m_editMarkSeries}) {
-            const bool shown = series && series->count() > 0 && !m_markKeysHidden;
-            for (QLegendMarker *marker : series ? m_chart->legend()->markers(series) : QList<QLegendMarker *>{}) {
-                changed = changed || marker->isVisible() != shown;
-                marker->setVisible(shown);
-            }
-        }
+        const auto show = [&](QLineSeries *series, bool shown) { changed = showKey(series, shown) || changed; };
+        for (QLineSeries *series : {m_restartMarks, m_editMarkSeries})
+            show(series, series && series->count() > 0 && !m_markKeysHidden);
         return changed;
     };
     if (showKeys()) {
@@ -1769,6 +1765,11 @@ void PlotDock::updateLegendLabels()
     // "he…", "ex…", "re…", "e…"): the marks' keys give their room to the lines', whose names a
     // class needs to tell the lines apart; the marks are still drawn.
     m_markKeysHidden = m_compactLegend && !legendFits(true);
+    // Still too long (a crowd's twelve marbles with both totals at 1024 x 768 were swatches
+    // without a word, the totals' "KE", "p x" and "p y" gone too; a helper's finding): the
+    // unnamed marbles' keys go, so that the totals and the named marbles keep theirs. Hovering
+    // a line names its marble.
+    m_marbleKeysHidden = m_markKeysHidden && !legendFits(true, false);
     for (Track &t : m_tracks)
         t.series->setName(m_compactLegend ? compactMarbleLabel(t.marble) : marbleLabel(t.marble));
     // The totals too: "momentum x" and "momentum y" were both cut to "mome…".
@@ -1787,6 +1788,24 @@ void PlotDock::updateLegendLabels()
         m_restartMarks->setName(keyName(Key::Restart, m_compactLegend));
     if (m_editMarkSeries)
         m_editMarkSeries->setName(keyName(Key::Edit, m_compactLegend));
+    bool keysChanged = false;
+    for (const Track &t : m_tracks)
+        keysChanged = showKey(t.series, !(m_marbleKeysHidden && !isNamed(t.marble))) || keysChanged;
+    if (keysChanged) {
+        // Laid out again, or a marker shown afterwards is drawn over its neighbour (refreshChart()).
+        m_chart->legend()->hide();
+        m_chart->legend()->show();
+    }
+}
+
+bool PlotDock::showKey(QLineSeries *series, bool shown)
+{
+    bool changed = false;
+    for (QLegendMarker *marker : series ? m_chart->legend()->markers(series) : QList<QLegendMarker *>{}) {
+        changed = changed || marker->isVisible() != shown;
+        marker->setVisible(shown);
+    }
+    return changed;
 }
 
 QString PlotDock::keyName(Key key, bool compact) const
@@ -1827,7 +1846,13 @@ QString PlotDock::compactMarbleLabel(int marble) const
     return i < m_names.size() && !m_names[i].isEmpty() ? m_names[i] : tr("#%1").arg(marble);
 }
 
-bool PlotDock::legendFits(bool compact) const
+bool PlotDock::isNamed(int marble) const
+{
+    const auto i = static_cast<std::size_t>(marble);
+    return i < m_names.size() && !m_names[i].isEmpty();
+}
+
+bool PlotDock::legendFits(bool compact, bool markKeys) const
 {
     const QFontMetrics metrics(m_chart->legend()->font());
     int needed = 0;
@@ -1844,10 +1869,11 @@ bool PlotDock::legendFits(bool compact) const
         entry(keyName(Key::Compare, compact));
     }
     // The restarts' key while there is one (with it the legend's labels were cut: "compari…",
-    // "kinetic e…", "moment…"; a teacher's finding).
-    if (m_restartMarks && !m_compareRestarts.empty())
+    // "kinetic e…", "moment…"; a teacher's finding). The first to go where even short labels do
+    // not fit.
+    if (markKeys && m_restartMarks && !m_compareRestarts.empty())
         entry(keyName(Key::Restart, compact));
-    if (m_editMarkSeries && !m_editMarks.empty())
+    if (markKeys && m_editMarkSeries && !m_editMarks.empty())
         entry(keyName(Key::Edit, compact));
     const std::array<QLineSeries *, 3> totals = sceneTotals();
     for (std::size_t k = 0; k < totals.size(); ++k) {

@@ -308,7 +308,11 @@ private:
     void updateLegendLabels();
     /// Whether the legend's entries, the marks' keys among them, fit its one row: with their
     /// short labels or in full.
-    bool legendFits(bool compact) const;
+    bool legendFits(bool compact, bool markKeys = true) const;
+    /// Shows or hides `series`'s legend entry; whether that changed anything.
+    bool showKey(QLineSeries *series, bool shown);
+    /// Whether marble `marble` has a name of its own (its key tells it by name, not "#3").
+    bool isNamed(int marble) const;
     /// A marble's short label: its name, or "#3".
     QString compactMarbleLabel(int marble) const;
     QList<int> wantedMarbles() const;
@@ -402,6 +406,7 @@ private:
     QChartView *m_chartView = nullptr;
     bool m_compactLegend = false; // the marbles' legend labels are the short ones
     bool m_markKeysHidden = false; // even short, the legend has no room for the marks' keys
+    bool m_marbleKeysHidden = false; // nor for the unnamed marbles' ("#3": hovering a line names it)
     QValueAxis *m_axisX = nullptr;
     // Speeds and energies are never negative: their axes label no tick below zero (they have
     // such ticks only to share the momentum's zero line), so they are category axes.

@@ -20,6 +20,7 @@
 #include <QRadioButton>
 #include <QSignalSpy>
 #include <QTemporaryDir>
+#include <QSet>
 #include <QTest>
 #include <QToolTip>
 #include <QCategoryAxis>
@@ -1374,6 +1375,26 @@ void TestPlotDock::legendLabelsFitTheRow()
     dock.refreshChart();
     QTRY_VERIFY2(endsWith(labels(), QStringList{QStringLiteral("comparison restarted"), QStringLiteral("scene edited")}),
                  qPrintable(labels().join(u'|')));
+
+    // Narrower still, with both totals (a crowd's twelve marbles, kinetic energy and momentum at
+    // 1024 x 768 were swatches without a word, the totals' names gone too: a helper's finding):
+    // the unnamed marbles' keys go, and the models' and the totals' stay, named. Hovering a
+    // line still names its marble.
+    dock.setKineticEnergyShown(true);
+    dock.resize(480, 350);
+    dock.refreshChart();
+    const QStringList keys{QStringLiteral("book"), QStringLiteral("exact"), QStringLiteral("KE"), QStringLiteral("p x"),
+                           QStringLiteral("p y")};
+    const auto labelSet = [&labels] {
+        const QStringList all = labels();
+        return QSet<QString>(all.begin(), all.end());
+    };
+    QTRY_VERIFY2(labelSet() == QSet<QString>(keys.begin(), keys.end()), qPrintable(labels().join(u'|')));
+    QVERIFY(dock.describePoint(dock.speedSeries(3), QPointF(2.0, 0.0)).contains(QStringLiteral("marble 3, speed")));
+    // Wide again, they come back.
+    dock.resize(3000, 350);
+    dock.refreshChart();
+    QTRY_VERIFY2(labels().contains(QStringLiteral("marble 3")), qPrintable(labels().join(u'|')));
 }
 
 void TestPlotDock::legendListsMarblesInOrder()
