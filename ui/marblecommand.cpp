@@ -109,9 +109,16 @@ bool SetMarbleCommand::applyAtItsFrame(std::int64_t frame, const MarbleState &st
     const std::int64_t now = world.frame;
     const bool there = now == frame || ((now > frame || mayRunOn) && m_document->goToFrame(frame));
     const MarbleState was = MarbleState::of(world, m_marble);
-    if (there)
+    if (there) {
         state.applyTo(world, m_marble);
-    else
+        // A radius or a mass: a click's push waiting there is the one the edit left, which gets
+        // its own bits back, or one clicked since, which stays, worked out for the mass it now
+        // meets (an undo of a radius gave back the push taken back with Esc before, and dropped
+        // the click made since; a helper's finding). (A drag's hold zeroes the push it keeps.)
+        if (!sameBits(state.mass, other.mass) && !sameBits(was.acceleration, other.acceleration))
+            world.acceleration[m_marble] = World::rescaledPush(was.acceleration, was.mass, world.params.pushScale,
+                                                               state.mass, world.params.pushScale);
+    } else
         state.applyChangesTo(world, m_marble, other, now > frame);
     const bool changed = !sameState(MarbleState::of(world, m_marble), was) || !(world.pushes == pushes);
     world.pushes = pushes;

@@ -1294,6 +1294,26 @@ void TestSceneDocument::waitingPushMeetsTheMassOfItsFrame()
     doc.undoStack()->undo();
     QVERIFY(sameBits(doc.world().acceleration[0], clicked));
 
+    // An Inspector edit undone after the push it saw was taken back and another clicked: the
+    // click stays, for the mass it meets again (the undo gave back the push taken back, and
+    // dropped the click; a helper's finding).
+    QVERIFY(doc.setMarbleRadius(0, 10.0).isEmpty());
+    QCOMPARE(doc.takeBackPushes(), 1);
+    const Vec2 nearer{195.0, 298.0};
+    doc.pushMarble(0, nearer);
+    doc.undoStack()->undo();
+    QCOMPARE(doc.world().radius[0], 20.0);
+    QVERIFY(near(velocityAfterAStep(doc), [&] {
+        World s = w;
+        s.pushes.push_back({0, 0, nearer});
+        s.step();
+        return s.velocity[0];
+    }()));
+    doc.undoStack()->redo(); // the radius again, the click following it
+    QCOMPARE(doc.world().radius[0], 10.0);
+    QVERIFY(doc.world().pushPending(0));
+    doc.undoStack()->undo();
+
     // A click between two edits of the field keeps them apart: undoing both took the click too.
     QVERIFY(doc.takeBackPushes() == 1);
     QVERIFY(doc.setParam(QStringLiteral("massScale"), QStringLiteral("2")).isEmpty());
