@@ -1019,9 +1019,11 @@ std::string parseInto(std::string_view text, World &world)
         const std::string &token = builder.lastToken();
         const std::size_t start = builder.position() >= token.size() ? builder.position() - token.size() : 0;
         const auto digit = [](char c) { return c >= '0' && c <= '9'; };
-        // A text cut short after a zero ("x": 0.0087 cut there) ends too soon: that is said below.
-        const bool cutShort = builder.what().find("unexpected end of input") != std::string::npos;
-        if (!cutShort && !token.empty() && digit(token.front()) && start >= 1 && start <= text.size() && text[start - 1] == '0'
+        // Only where the parser met a number right after the zero: a text cut short after one
+        // ("x": 0.0087, 0. or 0.5e- cut there) ends too soon, or in a number without its digits,
+        // as said below (a helper's finding).
+        const bool numberAfterNumber = builder.what().find("unexpected number literal") != std::string::npos;
+        if (numberAfterNumber && !token.empty() && digit(token.front()) && start >= 1 && start <= text.size() && text[start - 1] == '0'
             && (start < 2 || !(digit(text[start - 2]) || text[start - 2] == '.' || text[start - 2] == 'e' || text[start - 2] == 'E'))) {
             // The number as written: from its sign or zero to where number characters end.
             const std::size_t from = start >= 2 && text[start - 2] == '-' ? start - 2 : start - 1;

@@ -510,6 +510,12 @@ void TestSceneIo::placeOfSyntaxError_data()
     QTest::addRow("cut short after a zero")
         << QByteArray("{\"marbles\": [{\"x\": 0.0087")
         << R"(demo.marbles.json: line 1, column 26: not valid JSON: the text ends too soon (a '}' or ']' missing?))";
+    QTest::addRow("cut short after a zero and its point")
+        << QByteArray("{\"marbles\": [{\"x\": 0.")
+        << R"(demo.marbles.json: line 1, column 22: not valid JSON: invalid number; expected digit after '.'; last read: '0.')";
+    QTest::addRow("cut short in an exponent")
+        << QByteArray("{\"marbles\": [{\"x\": 0.5e-")
+        << R"(demo.marbles.json: line 1, column 25: not valid JSON: invalid number; expected digit after exponent sign; last read: '0.5e-')";
     QTest::addRow("a zero then a number")
         << QByteArray("[0 1]") << R"(demo.marbles.json: line 1, column 4: not valid JSON: a number where a ',' or the ']' should come (a comma missing?))";
     // The invisible second mark had been quoted as it was ("last read: '\uFEFF?'").
