@@ -10,6 +10,8 @@
 #include <QFormLayout>
 #include <QLabel>
 #include <QLineEdit>
+#include <QScreen>
+#include <QScrollArea>
 #include <QSignalBlocker>
 #include <QStringList>
 #include <QVBoxLayout>
@@ -185,6 +187,19 @@ void InspectorDock::setMarble(int i)
     refresh();
 }
 
+void InspectorDock::fitToPage()
+{
+    // Room for the whole page where the screen has it, at most two fifths of its height: in a
+    // scroll area the page asked for none, and at 1600 x 1000 the fields came out under a
+    // scroll bar, vy cut off (a helper's finding). On a projector's small screen the page
+    // scrolls instead of making the window taller than the screen.
+    auto *scroll = qobject_cast<QScrollArea *>(widget());
+    if (!scroll || !scroll->widget())
+        return;
+    const int screenHeight = screen() ? screen()->availableGeometry().height() : 0;
+    scroll->setMinimumHeight(std::min(scroll->widget()->sizeHint().height(), screenHeight * 2 / 5));
+}
+
 void InspectorDock::showMarble(bool overTyping)
 {
     const World &world = m_document->world();
@@ -196,6 +211,7 @@ void InspectorDock::showMarble(bool overTyping)
         m_form->setEnabled(false);
         m_form->setVisible(false);
         m_beyond->setVisible(false);
+        fitToPage();
         return;
     }
     const QString name = QString::fromStdString(world.info[m_marble].name);
@@ -243,6 +259,7 @@ void InspectorDock::showMarble(bool overTyping)
     m_beyond->setText(beyond.join(QLatin1Char('\n')));
     m_beyond->setVisible(!beyond.isEmpty());
     showCompared();
+    fitToPage();
 }
 
 void InspectorDock::setComparison(std::function<const World *()> world, std::function<QString()> model)

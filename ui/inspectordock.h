@@ -57,6 +57,8 @@ private:
     /// Shows the selected marble's numbers; a field being typed in keeps its text unless
     /// `overTyping` (after an edit was refused: the field goes back to the marble's number).
     void showMarble(bool overTyping);
+    /// Gives the page's scroll area the height the page asks for, as far as the screen has room.
+    void fitToPage();
     /// Shows (or hides) the marble's place and velocity in the comparison's world.
     void showCompared();
     void onRadius(double value);

@@ -6,7 +6,6 @@
 #include <QCoreApplication>
 
 #include <algorithm>
-
 #include <utility>
 
 namespace marbles {
