@@ -117,6 +117,8 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
         if (change == SceneDocument::Change::Marbles)
             resetTrail();
         rebuild();
+        if (change == SceneDocument::Change::Params || change == SceneDocument::Change::Marbles)
+            sayPushRescaled();
     });
     rebuild();
 }
@@ -163,8 +165,28 @@ void StageView::pushAt(int i, Vec2 p, bool byKey)
     if (scripted.x != 0.0 || scripted.y != 0.0)
         text += tr(", with the scene's scripted push (%1, %2)").arg(scripted.x, 0, 'f', 2).arg(scripted.y, 0, 'f', 2);
     text += tr("; Esc takes the click back"); // a click is not an edit: Ctrl+Z cannot
+    m_saidPush = {i, after};
     Q_EMIT frameMessage(text);
     viewport()->update();
+}
+
+void StageView::sayPushRescaled()
+{
+    // The push the status bar gave, worked out again for a new mass or push scale (PHYSICS.md
+    // works it out just before its frame): the status bar had kept the old size beside the
+    // arrow's new one (a re-tester's finding).
+    const World &world = m_document->world();
+    const auto [i, said] = m_saidPush;
+    if (i < 0 || i >= world.marbleCount() || !m_pushed.contains(i))
+        return;
+    const Vec2 a = world.acceleration[static_cast<std::size_t>(i)];
+    if (sameBits(a, said) || !world.pushPending(i))
+        return;
+    m_saidPush = {i, a};
+    Q_EMIT frameMessage(tr("Marble %1's push waiting is now (%2, %3) px/frame, for the mass and push scale it meets")
+                            .arg(i)
+                            .arg(a.x, 0, 'f', 2)
+                            .arg(a.y, 0, 'f', 2));
 }
 
 void StageView::selectNextMarble(int step)

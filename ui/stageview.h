@@ -9,6 +9,7 @@
 #include <QStringList>
 #include <QTransform>
 
+#include <utility>
 #include <vector>
 
 class QAction;
@@ -188,6 +189,8 @@ private:
     void updateHighlights();
     void pickAt(Vec2 p);
     void findPendingPushes();
+    /// Says the push the status bar gave again where an edit worked it out anew.
+    void sayPushRescaled();
     void report(const QString &text);
     void noteLater(const QString &text);
     /// The stage, and the marbles and pins beside it up to twice its size beyond each edge.
@@ -233,6 +236,7 @@ private:
 
     Vec2 m_contextPoint;
     QList<int> m_pushed; // marbles clicked since the last frame (pendingPushes() filters them)
+    std::pair<int, Vec2> m_saidPush{-1, {}}; // the marble and push the status bar last gave
     bool m_arrowsShown = false; // the last paint drew push arrows
     QStringList m_pushLabels;   // the labels the last paint wrote at the arrows' heads
     QList<QAction *> m_contextActions;

@@ -501,6 +501,22 @@ void TestStageView::clickIsMeasuredAsTheStageLayAtThePress()
     QVERIFY(m_view->viewportPoint(w.position[marble]) != press + QPoint(8, 0));
     QTest::mouseRelease(viewport(), Qt::LeftButton, {}, press);
     QVERIFY(sameBits(w.acceleration[marble], clicked));
+
+    // A heavier marble gains less: the status bar gives the push as worked out again, beside
+    // the arrow's (it kept the size of the moment of the click; a re-tester's finding).
+    QSignalSpy messages(m_view.get(), &StageView::frameMessage);
+    const double massScale = w.params.massScale;
+    QVERIFY(m_document->setParam(QStringLiteral("massScale"), QString::number(4.0 * massScale)).isEmpty());
+    QCOMPARE(messages.count(), 1);
+    const Vec2 now = w.acceleration[marble];
+    QCOMPARE_LE(std::abs(now.x - clicked.x / 4.0), 1e-12 * std::abs(clicked.x));
+    QCOMPARE(messages.last().at(0).toString(),
+             QStringLiteral("Marble 0's push waiting is now (%1, %2) px/frame, for the mass and push scale it meets")
+                 .arg(now.x, 0, 'f', 2)
+                 .arg(now.y, 0, 'f', 2));
+    // An edit that leaves it as it is says nothing of it.
+    QVERIFY(m_document->setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
+    QCOMPARE(messages.count(), 1);
 }
 
 void TestStageView::pushIsShownUntilItActs()
