@@ -55,6 +55,16 @@ QString AutoSaver::sourcePath() const
     return QDir(m_directory).filePath(QStringLiteral("autosave.source"));
 }
 
+bool AutoSaver::lockForSaving()
+{
+    if (takeLock())
+        return true;
+    // Not taken, and not another window's: changes this save should have kept are not kept.
+    if (!m_heldElsewhere && m_document->isModified())
+        Q_EMIT failed();
+    return false;
+}
+
 void AutoSaver::start(int intervalMs)
 {
     if (m_heldElsewhere)
@@ -93,11 +103,8 @@ QStringList AutoSaver::readSourceRecord() const
 
 bool AutoSaver::saveNow()
 {
-    if (!takeLock()) {
-        if (!m_heldElsewhere && m_document->isModified())
-            Q_EMIT failed();
+    if (!lockForSaving())
         return false;
-    }
     waitForBackgroundSave();
     if (!m_document->isModified()) {
         discard();
@@ -111,11 +118,8 @@ bool AutoSaver::saveNow()
 
 bool AutoSaver::saveInBackground()
 {
-    if (!takeLock()) {
-        if (!m_heldElsewhere && m_document->isModified())
-            Q_EMIT failed();
+    if (!lockForSaving())
         return false;
-    }
     if (m_background.valid() && m_background.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
         return false; // still writing the last one: the next tick tries again
     waitForBackgroundSave();

@@ -78,6 +78,8 @@ Q_SIGNALS:
 private:
     /// Takes the lock if no other instance holds it; whether this instance holds it.
     bool takeLock();
+    /// takeLock() for a save; failed() where it could not be taken and the scene has changes.
+    bool lockForSaving();
     QString sourcePath() const;
     /// What the source file holds: the scene's file name, then a NUL (which no path holds) and
     /// the preset title (an autosave of an older version has the file name alone).

@@ -7,7 +7,7 @@
 
 namespace marbles {
 
-QMetaObject::Connection putInScrollArea(QWidget *dock, QWidget *page)
+QMetaObject::Connection putInScrollArea(QDockWidget *dock, QWidget *page)
 {
     auto *scroll = new QScrollArea(dock);
     scroll->setWidgetResizable(true);
@@ -16,8 +16,7 @@ QMetaObject::Connection putInScrollArea(QWidget *dock, QWidget *page)
     scroll->setWidget(page);
     // Not a stop of its own for Tab (it showed no focus, and the arrow keys then scrolled it).
     scroll->setFocusPolicy(Qt::NoFocus);
-    if (auto *asDock = qobject_cast<QDockWidget *>(dock))
-        asDock->setWidget(scroll);
+    dock->setWidget(scroll);
     return QObject::connect(qApp, &QApplication::focusChanged, scroll, [scroll, page](QWidget *, QWidget *now) {
         if (now && page->isAncestorOf(now))
             scroll->ensureWidgetVisible(now);

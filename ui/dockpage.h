@@ -2,7 +2,7 @@
 
 #include <QMetaObject>
 
-class QScrollArea;
+class QDockWidget;
 class QWidget;
 
 namespace marbles {
@@ -12,6 +12,6 @@ namespace marbles {
 /// window past the screen's edge, and a field that takes the focus (by Tab, or Alt and its
 /// letter) is scrolled into sight. The returned connection does that scrolling: disconnect it in
 /// the dock's destructor, before the page goes.
-QMetaObject::Connection putInScrollArea(QWidget *dock, QWidget *page);
+QMetaObject::Connection putInScrollArea(QDockWidget *dock, QWidget *page);
 
 } // namespace marbles

@@ -92,6 +92,12 @@ SetMarbleCommand::SetMarbleCommand(SceneDocument *document, int marble, const Ma
     // Mid-run, the frame the edit belongs to (undone later in the run, it takes the scene back
     // there).
     setText(atFrame(text, m_frame));
+    // A radius or a mass: a click's push waiting for the next frame is worked out with the mass
+    // it will meet (PHYSICS.md works a push out just before its frame).
+    if (!sameBits(m_before.mass, m_after.mass)) {
+        const double pushScale = document->world().params.pushScale;
+        m_after.acceleration = World::rescaledPush(m_before.acceleration, m_before.mass, pushScale, m_after.mass, pushScale);
+    }
 }
 
 bool SetMarbleCommand::applyAtItsFrame(std::int64_t frame, const MarbleState &state, const MarbleState &other,

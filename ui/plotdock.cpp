@@ -1562,8 +1562,7 @@ bool PlotDock::drawRuns(QLineSeries *line, std::vector<QList<QPointF>> runs, con
         m_chart->addSeries(series);
         for (QAbstractAxis *axis : line->attachedAxes())
             series->attachAxis(axis);
-        for (QLegendMarker *marker : m_chart->legend()->markers(series))
-            marker->setVisible(false); // the line's own entry stands for it
+        showKey(series, false); // the line's own entry stands for it
         earlier.push_back(series);
     }
     for (std::size_t k = 0; k < runs.size(); ++k)
@@ -1586,8 +1585,7 @@ void PlotDock::followLine(const QLineSeries *line)
             series->setVisible(line->isVisible());
             // Qt Charts shows a line's legend entry again with the line (a helper's blank
             // entries, the energy ticked off and on between two refreshes).
-            for (QLegendMarker *marker : m_chart->legend()->markers(series))
-                marker->setVisible(false);
+            showKey(series, false);
         }
     }
 }
@@ -1652,8 +1650,7 @@ QLineSeries *PlotDock::addMarkSeries(Qt::PenStyle style, Key key, bool listed)
     m_chart->addSeries(series);
     series->attachAxis(m_axisX);
     series->attachAxis(m_axisSpeed);
-    for (QLegendMarker *marker : m_chart->legend()->markers(series))
-        marker->setVisible(listed);
+    showKey(series, listed);
     return series;
 }
 
@@ -1712,8 +1709,7 @@ void PlotDock::showTotal(QLineSeries *series, bool shown)
     // The comparison model's totals stay out of the legend: its "(dashed)" entry stands for them.
     const std::array<QLineSeries *, 3> listed = sceneTotals();
     const bool isListed = std::find(listed.begin(), listed.end(), series) != listed.end();
-    for (QLegendMarker *marker : m_chart->legend()->markers(series))
-        marker->setVisible(shown && isListed);
+    showKey(series, shown && isListed);
     updateLegendLabels();
 }
 
@@ -1729,8 +1725,7 @@ void PlotDock::styleSeries()
         if (t.compareSeries) {
             t.compareSeries->setName(tr("%1, %2").arg(marbleLabel(t.marble), m_compareModel));
             t.compareSeries->setPen(comparePen(colour));
-            for (QLegendMarker *marker : m_chart->legend()->markers(t.compareSeries))
-                marker->setVisible(false);
+            showKey(t.compareSeries, false);
         }
     }
     // The totals: solid in colours of their own; dashed is kept for the comparison model's lines

@@ -503,8 +503,6 @@ QString SceneDocument::setMarbleRadius(int i, double r)
     after.radius = r;
     if (!after.hasMass)
         after.mass = m_world.params.massScale * r;
-    after.acceleration = World::rescaledPush(before.acceleration, before.mass, m_world.params.pushScale, after.mass,
-                                             m_world.params.pushScale);
     m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble %1's radius to %2 px").arg(i).arg(r, 0, 'g', 6),
                                           CommandId::EditMarbleRadius));
     return {};
@@ -542,9 +540,6 @@ QString SceneDocument::setMarbleMass(int i, double m)
     MarbleState after = before;
     after.hasMass = m > 0.0;
     after.mass = after.hasMass ? m : m_world.params.massScale * before.radius;
-    // A click's push waiting for the next frame is worked out with the mass it will meet.
-    after.acceleration = World::rescaledPush(before.acceleration, before.mass, m_world.params.pushScale, after.mass,
-                                             m_world.params.pushScale);
     m_undoStack.push(
         new SetMarbleCommand(this, i, before, after, after.hasMass ? tr("Set marble %1's mass to %2").arg(i).arg(m, 0, 'g', 6)
                                                      : tr("Set marble %1's mass to massScale \u00d7 radius").arg(i),
