@@ -12,8 +12,10 @@
 #include <QHelpEvent>
 #include <QMenu>
 #include <QMouseEvent>
+#include <QGuiApplication>
 #include <QPainter>
 #include <QScrollBar>
+#include <QStyleHints>
 #include <QToolTip>
 #include <QWheelEvent>
 
@@ -718,7 +720,10 @@ void StageView::mouseMoveEvent(QMouseEvent *event)
         return;
     }
     const QPointF moved = viewport()->mapToGlobal(event->position()) - m_pressGlobal;
-    const bool beyondClick = std::abs(moved.x()) + std::abs(moved.y()) > kClickTolerancePx;
+    // As Qt's own views tell a drag from a click: a hand on a touchpad or a presenter's mouse
+    // shakes by a few pixels while it clicks (a helper's 3 px diagonal jitter dragged the marble
+    // where a 4 px tolerance held).
+    const bool beyondClick = moved.manhattanLength() >= QGuiApplication::styleHints()->startDragDistance();
     const Vec2 p = stagePoint(event->position());
     const Vec2 target{p.x + m_grabOffset.x, p.y + m_grabOffset.y};
     if (m_gesture == Gesture::PressMarble && beyondClick) {

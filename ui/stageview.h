@@ -36,8 +36,8 @@ public:
     /// What is selected: nothing, one marble or one pin.
     enum class SelectionKind { None, Marble, Pin };
 
-    /// A press and release closer than this (viewport px) is a click, not a drag.
-    static constexpr int kClickTolerancePx = 4;
+    /// A press and release closer than the platform's drag distance (QStyleHints::
+    /// startDragDistance(), 10 px by default, along x plus along y) is a click, not a drag.
     /// The view's smallest height, px (a screen less tall than 720 px allows less: MainWindow).
     static constexpr int kMinimumHeight = 240;
     /// Radius of a marble made with the add-marble tool, stage px.
