@@ -614,7 +614,15 @@ public:
 
     bool null() { return admit(0) && m_dom.null(); }
     bool boolean(bool b) { return admit(0) && m_dom.boolean(b); }
-    bool number_integer(Json::number_integer_t v) { return admit(0) && m_dom.number_integer(v); }
+    bool number_integer(Json::number_integer_t v)
+    {
+        // nlohmann reads a literal with a minus sign as a signed integer, and "-0" as the integer
+        // 0: it is taken as the double -0 (as strtod and JavaScript read it), so that a -0 printed
+        // by `marbles-cli run` (%.17g) reads back as the same bits (a helper's finding).
+        if (v == 0)
+            return admit(0) && m_dom.number_float(-0.0, "-0");
+        return admit(0) && m_dom.number_integer(v);
+    }
     bool number_unsigned(Json::number_unsigned_t v) { return admit(0) && m_dom.number_unsigned(v); }
     bool number_float(Json::number_float_t v, const Json::string_t &text)
     {
