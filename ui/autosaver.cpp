@@ -25,6 +25,7 @@ AutoSaver::AutoSaver(SceneDocument *document, const QString &directory, QObject 
 {
     m_lock = std::make_unique<QLockFile>(QDir(m_directory).filePath(QStringLiteral("autosave.lock")));
     takeLock();
+    m_recoveryPending = hasRecovery();
     connect(&m_timer, &QTimer::timeout, this, &AutoSaver::saveInBackground);
 }
 
@@ -103,7 +104,7 @@ QStringList AutoSaver::readSourceRecord() const
 
 bool AutoSaver::saveNow()
 {
-    if (!lockForSaving())
+    if (m_recoveryPending || !lockForSaving())
         return false;
     waitForBackgroundSave();
     if (!m_document->isModified()) {
@@ -118,7 +119,7 @@ bool AutoSaver::saveNow()
 
 bool AutoSaver::saveInBackground()
 {
-    if (!lockForSaving())
+    if (m_recoveryPending || !lockForSaving())
         return false;
     if (m_background.valid() && m_background.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
         return false; // still writing the last one: the next tick tries again
@@ -184,6 +185,7 @@ bool AutoSaver::recover(QString *error)
     }
     m_document->resetScene(load.world, recoverySource());
     m_document->markModified();
+    m_recoveryPending = false;
     return true;
 }
 
@@ -191,6 +193,7 @@ QString AutoSaver::setAside()
 {
     if (!m_active)
         return {};
+    m_recoveryPending = false; // kept or not, the teacher has answered: this session autosaves
     waitForBackgroundSave();
     const QFileInfo scene(scenePath());
     const QString stamp = QDateTime::currentDateTime().toString(QStringLiteral("yyyyMMdd-HHmmss"));
@@ -209,6 +212,7 @@ void AutoSaver::discard()
 {
     if (!m_active)
         return;
+    m_recoveryPending = false;
     waitForBackgroundSave();
     QFile::remove(scenePath());
     QFile::remove(sourcePath());

@@ -43,7 +43,9 @@ public:
     /// Starts the timer.
     void start(int intervalMs = kDefaultIntervalMs);
     /// Writes the scene now if it has unsaved edits (or deletes the autosave if it has none).
-    /// Returns false when writing failed. Waits for a background save first.
+    /// Returns false when writing failed, or when an earlier session's autosave still waits for
+    /// recover(), setAside() or discard() (nothing is written over it or deleted until then).
+    /// Waits for a background save first.
     bool saveNow();
     /// Same, but the writing happens on a worker thread (the timer's way); does nothing while the
     /// previous background save is still writing. Returns false when nothing was started.
@@ -96,6 +98,10 @@ private:
     std::unique_ptr<QLockFile> m_lock;
     bool m_active = false;
     bool m_heldElsewhere = false;
+    // An earlier session's autosave was here at the start, and the teacher has not yet chosen to
+    // recover, set aside or discard it: the timer's saves leave it alone (a helper's finding: the
+    // first tick, 30 s into the recovery question, deleted it, the scene being unmodified).
+    bool m_recoveryPending = false;
     QString m_presetTitle;
     std::future<bool> m_background; // the background save in flight, if any
 };

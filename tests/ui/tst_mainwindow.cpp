@@ -56,6 +56,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
 
 using namespace marbles;
@@ -67,6 +68,7 @@ class ScriptedPrompts : public Prompts {
 public:
     SaveChoice saveChoice = SaveChoice::Cancel;
     bool recoverAnswer = true;
+    std::function<void()> whileAskingRecover; // what happens while the recovery question waits
     QString openName;
     QString saveName;
     int saveQuestions = 0;
@@ -105,6 +107,8 @@ public:
     {
         ++recoverQuestions;
         recoverDetails = details;
+        if (whileAskingRecover)
+            whileAskingRecover();
         return recoverAnswer;
     }
     QString askOpenFileName(QWidget *, const QString &) override { return openName; }
@@ -191,6 +195,7 @@ private Q_SLOTS:
     void runThatCannotKeepUpSlowsDownAndSaysSo();
     void autosaveIsRecoveredAfterCrash();
     void damagedAutosaveIsKept();
+    void autosaveWaitsForTheRecoveryAnswer();
     void failedAutosaveIsSaid();
     void autosaveFolderUnwritableAtStartIsTriedAgain();
     void secondWindowSaysItIsNotAutosaved();
@@ -2425,6 +2430,46 @@ void TestMainWindow::damagedAutosaveIsKept()
     m_window->offerRecovery();
     QCOMPARE(m_prompts->recoverQuestions, 0);
     QVERIFY(QFile::remove(kept));
+}
+
+void TestMainWindow::autosaveWaitsForTheRecoveryAnswer()
+{
+    // A helper's finding: the recovery question left open for half a minute (a teacher called
+    // away, a screen reader reading it out) lost the autosave. The timer's tick found the new
+    // window's scene unmodified and deleted the file, and Recover then said it could not open it.
+    QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("0.25")).isEmpty());
+    const std::string edited = sceneToJson(m_window->document()->world());
+    QVERIFY(m_window->autoSaver()->saveNow());
+    const QString path = m_window->autoSaver()->scenePath();
+    m_window.reset(); // a crash
+
+    makeWindow();
+    QVERIFY(!m_window->document()->isModified());
+    m_prompts->whileAskingRecover = [this, path] {
+        AutoSaver *saver = m_window->autoSaver();
+        QVERIFY(!saver->saveInBackground()); // the timer's ticks
+        QVERIFY(saver->waitForBackgroundSave());
+        QVERIFY(!saver->saveNow());
+        QVERIFY(QFile::exists(path));
+    };
+    m_prompts->recoverAnswer = true;
+    m_window->offerRecovery();
+    m_prompts->whileAskingRecover = nullptr;
+    QVERIFY(m_prompts->errors.isEmpty());
+    QCOMPARE(sceneToJson(m_window->document()->world()), edited);
+
+    // Answered, the autosave does its work again: the recovered scene is kept, and a scene
+    // saved or discarded leaves nothing behind.
+    QVERIFY(m_window->autoSaver()->saveNow());
+    QVERIFY(QFile::exists(path));
+    m_window.reset();
+    makeWindow();
+    m_prompts->recoverAnswer = false; // Discard
+    m_window->offerRecovery();
+    QVERIFY(!QFile::exists(path));
+    QVERIFY(m_window->document()->setParam(QStringLiteral("friction"), QStringLiteral("0.5")).isEmpty());
+    QVERIFY(m_window->autoSaver()->saveNow());
+    QVERIFY(QFile::exists(path));
 }
 
 void TestMainWindow::failedAutosaveIsSaid()
