@@ -21,6 +21,7 @@
 #include <QChartView>
 #include <QCloseEvent>
 #include <QAbstractButton>
+#include <QAbstractItemView>
 #include <QComboBox>
 #include <QDialog>
 #include <QDialogButtonBox>
@@ -649,7 +650,11 @@ void MainWindow::showKeysAndMouse()
                                      : action == m_redoAction ? tr("Redo")
                                      : action == m_playAction ? tr("Play / Pause")
                                                               : withoutMnemonics(action->text());
-                row(text, action->shortcut().toString(QKeySequence::NativeText));
+                // Every key of it (Redo's Ctrl+Y was left out, behind Ctrl+Shift+Z).
+                QStringList keys;
+                for (const QKeySequence &key : action->shortcuts())
+                    keys << key.toString(QKeySequence::NativeText);
+                row(text, keys.join(QStringLiteral(", ")));
             }
         }
     }
@@ -662,7 +667,9 @@ void MainWindow::showKeysAndMouse()
     row(tr("Wheel"), tr("zoom"));
     rows += QStringLiteral("<tr><td colspan=3>&nbsp;</td></tr>");
     row(tr("Tab, Shift+Tab"), tr("from control to control; Space presses a button or ticks a box tabbed to (one clicked leaves the keys on the stage)"));
-    row(tr("Alt + a field's underlined letter"), tr("to that field (Enter takes a number typed; Space takes it and plays; Esc puts the number back and returns to the stage)"));
+    row(tr("Alt + a field's underlined letter"), tr("to that field (Enter takes a number typed; Space takes it and plays; Esc puts the number back and returns to the stage); a check box's letter ticks or clears it"));
+    row(tr("Esc in a dock or a toolbar"), tr("back to the stage, which a frame in the highlight colour marks while it has the keys"));
+    row(tr("View > a dock's name"), tr("shows that dock in front of its tabs (the Undo History behind the Inspector), or hides it when in front"));
     auto *label = m_keysDialog->findChild<QLabel *>(QStringLiteral("keysText"));
     label->setText(QStringLiteral("<table>%1</table>").arg(rows));
     // As large as the list asks, within the screen; narrower than its lines, it wraps them (at
@@ -723,6 +730,7 @@ void MainWindow::createToolBars()
     }
     m_speedBox = new QComboBox(runBar);
     m_speedBox->setObjectName(QStringLiteral("speedBox"));
+    m_speedBox->setAccessibleName(tr("Run speed"));
     m_speedBox->setToolTip(tr("Run speed: simulated time per wall-clock time (%1 slower, %2 faster)")
                                .arg(m_slowerAction->shortcut().toString(QKeySequence::NativeText),
                                     m_fasterAction->shortcut().toString(QKeySequence::NativeText)));
@@ -751,6 +759,8 @@ void MainWindow::createToolBars()
     compareBar->setObjectName(QStringLiteral("compareToolBar"));
     m_compareBox = new QComboBox(compareBar);
     m_compareBox->setObjectName(QStringLiteral("compareBox"));
+    // Named for a screen reader, which read out only its current text (a helper's finding).
+    m_compareBox->setAccessibleName(tr("Compare with a second model"));
     m_compareBoxToolTip = tr("Run a second model beside this one on the same scene; its marbles are drawn "
                              "as dashed outlines and its speeds as dashed lines in the plot");
     m_compareBox->setToolTip(m_compareBoxToolTip);
@@ -800,6 +810,7 @@ void MainWindow::createDocks()
     m_historyDock->setObjectName(QStringLiteral("historyDock"));
     auto *undoView = new QUndoView(m_document->undoStack(), m_historyDock);
     undoView->setEmptyLabel(tr("<scene opened>"));
+    undoView->setAccessibleName(tr("Undo history"));
     m_historyDock->setWidget(undoView);
     addDockWidget(Qt::RightDockWidgetArea, m_historyDock);
     tabifyDockWidget(m_inspectorDock, m_historyDock);
@@ -869,17 +880,44 @@ void MainWindow::createDocks()
         [this](std::int64_t frame) { return m_document->history().velocitiesAt(frame, m_document->world()); },
         [this](std::int64_t frame) { return m_compare->velocitiesAt(frame); });
 
-    for (QDockWidget *dock : {static_cast<QDockWidget *>(m_parametersDock), static_cast<QDockWidget *>(m_inspectorDock),
-                              m_historyDock, static_cast<QDockWidget *>(m_plotDock)}) {
-        m_viewMenu->addAction(dock->toggleViewAction());
+    const std::pair<QDockWidget *, QString> docks[] = {
+        {m_parametersDock, tr("&Parameters")},
+        {m_inspectorDock, tr("I&nspector")},
+        {m_historyDock, tr("&Undo History")},
+        {m_plotDock, tr("P&lot")},
+    };
+    for (const auto &[dock, menuText] : docks) {
         // A dock whose tab gives way to another's is not hidden, only moved out of sight, and the
         // keys stayed in its field: a value typed in the Inspector, then the Undo History's tab
         // clicked, and Right and Delete worked the unseen field instead of the run and the
-        // selection. They go back to the stage.
+        // selection. They go back to the stage. Its contents are disabled until its tab is in
+        // front again: Tab led into the unseen Undo History, where Up and Down undid and redid
+        // edits with nothing on screen to show it (a helper's finding).
         connect(dock, &QDockWidget::visibilityChanged, this, [this, dock](bool visible) {
             if (!visible && dock->isAncestorOf(QApplication::focusWidget()))
                 m_view->setFocus(Qt::OtherFocusReason);
+            if (QWidget *contents = dock->widget())
+                contents->setEnabled(visible);
         });
+        // The View menu's item for a dock hidden shows it in front of its tabs, and for a dock
+        // behind another's tab brings it to the front (the dock's own toggle hid it: the Undo
+        // History could be reached by a click on its tab alone); for a dock in front it hides it.
+        auto *action = new QAction(menuText, this);
+        action->setObjectName(dock->objectName() + QStringLiteral("Action"));
+        action->setCheckable(true);
+        action->setChecked(!dock->isHidden());
+        connect(dock->toggleViewAction(), &QAction::toggled, action, &QAction::setChecked);
+        connect(action, &QAction::triggered, this, [this, dock, action] {
+            const bool inFront = dock->widget() && dock->widget()->isEnabled();
+            if (dock->isHidden() || !inFront) {
+                dock->show();
+                dock->raise();
+            } else {
+                dock->hide();
+            }
+            action->setChecked(!dock->isHidden());
+        });
+        m_viewMenu->addAction(action);
     }
 }
 
@@ -1433,6 +1471,17 @@ bool MainWindow::eventFilter(QObject *watched, QEvent *event)
                 // stayed refused under the name Esc had put back).
                 m_parametersDock->clearRefusal();
                 m_inspectorDock->clearRefusal();
+                m_view->setFocus(Qt::ShortcutFocusReason);
+                event->accept();
+                return true;
+            }
+            // From a drop-down list (closed), a button, a check box or a list, Esc takes the keys
+            // back to the stage too: it had done so from number fields alone, and a teacher at the
+            // keyboard found no way back from the Model box (a helper's finding).
+            auto *combo = qobject_cast<QComboBox *>(watched);
+            const bool control = (combo && !combo->view()->isVisible()) || qobject_cast<QAbstractButton *>(watched)
+                || qobject_cast<QAbstractItemView *>(watched);
+            if (control && widget != m_view && isAncestorOf(widget)) {
                 m_view->setFocus(Qt::ShortcutFocusReason);
                 event->accept();
                 return true;

@@ -233,6 +233,7 @@ void ParametersDock::buildUi()
     // The models and what only they use.
     m_model = new FocusedWheel<QComboBox>(page); // as the number fields
     m_model->setObjectName(QStringLiteral("modelEdit"));
+    m_model->setAccessibleName(tr("Model")); // a screen reader read out its current text alone
     m_model->addItem(tr("Book (the chapter's code)"), QStringLiteral("book"));
     m_model->addItem(tr("Impulse (what games do)"), QStringLiteral("impulse"));
     m_model->addItem(tr("Exact (the reference)"), QStringLiteral("exact"));
@@ -257,6 +258,9 @@ void ParametersDock::buildUi()
     m_gravityY = makeSpin("gravityYEdit", -1000.0, 1000.0, 0.05, QString());
     m_gravityX->setPrefix(QStringLiteral("x "));
     m_gravityY->setPrefix(QStringLiteral("y "));
+    // Without a label each of their own, a screen reader named them not at all (a helper's finding).
+    m_gravityX->setAccessibleName(tr("Gravity x"));
+    m_gravityY->setAccessibleName(tr("Gravity y"));
     gravityRow->addWidget(m_gravityX);
     gravityRow->addWidget(m_gravityY);
     gravity->setFocusProxy(m_gravityX);

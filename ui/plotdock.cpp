@@ -473,6 +473,9 @@ PlotDock::PlotDock(QWidget *parent)
 
     m_chartView = new QChartView(m_chart, page);
     m_chartView->setObjectName(QStringLiteral("plotChartView"));
+    m_chartView->setAccessibleName(tr("Plot of the speeds over time"));
+    // No keys work the chart: Tab stopped on it with nothing marked (a helper's finding).
+    m_chartView->setFocusPolicy(Qt::NoFocus);
     m_chartView->setRenderHint(QPainter::Antialiasing);
     m_chartView->setMinimumSize(240, kMinimumChartHeight);
     m_chartView->installEventFilter(this);

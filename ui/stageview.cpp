@@ -8,6 +8,7 @@
 #include "ui/worldedit.h"
 
 #include <QContextMenuEvent>
+#include <QFocusEvent>
 #include <QGraphicsScene>
 #include <QHelpEvent>
 #include <QMenu>
@@ -51,6 +52,7 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
     , m_scene(new QGraphicsScene(this))
 {
     setObjectName(QStringLiteral("stageView"));
+    setAccessibleName(tr("Stage"));
     // Items move every frame: an index would be rebuilt constantly for nothing.
     m_scene->setItemIndexMethod(QGraphicsScene::NoIndex);
     setScene(m_scene);
@@ -1006,6 +1008,28 @@ void StageView::paintEvent(QPaintEvent *event)
 {
     ++m_paintCount;
     QGraphicsView::paintEvent(event);
+    if (!hasFocus())
+        return;
+    // The keys (Space, the arrows, Delete) work the stage: a frame in the highlight colour round
+    // its edge says so, as a field's focus frame does (from the keyboard the stage took the keys
+    // with nothing on screen to show it: a helper's finding).
+    QPainter painter(viewport());
+    QPen pen(palette().color(QPalette::Highlight), 2.0);
+    pen.setJoinStyle(Qt::MiterJoin);
+    painter.setPen(pen);
+    painter.drawRect(QRectF(viewport()->rect()).adjusted(1.0, 1.0, -1.0, -1.0));
+}
+
+void StageView::focusInEvent(QFocusEvent *event)
+{
+    QGraphicsView::focusInEvent(event);
+    viewport()->update();
+}
+
+void StageView::focusOutEvent(QFocusEvent *event)
+{
+    QGraphicsView::focusOutEvent(event);
+    viewport()->update();
 }
 
 } // namespace marbles

@@ -163,6 +163,7 @@ private Q_SLOTS:
     void spaceWorksAFocusedButtonOrCheckBox();
     void redrawnLinesKeepTheMassesTheyWereTakenWith();
     void keysLeaveADockHiddenBehindItsTab();
+    void tabSkipsADockBehindItsTab();
     void plotExportsAreInTheFileMenu();
     void massScaleSaysWhenNoMarbleUsesIt();
     void plottedMarblesWearTheirLinesColours();
@@ -1148,6 +1149,50 @@ void TestMainWindow::keysLeaveADockHiddenBehindItsTab()
     QCOMPARE(QApplication::focusWidget(), scale);
 }
 
+void TestMainWindow::tabSkipsADockBehindItsTab()
+{
+    // A helper's finding, from the keyboard: Tab went on from the Inspector's last field into the
+    // Undo History behind it, with nothing on screen marked, and Up and Down there undid and
+    // redid the teacher's edits unseen. Nor could the View menu bring that tab to the front: its
+    // item, checked, hid the dock.
+    SceneDocument *doc = m_window->document();
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
+    auto *history = m_window->findChild<QDockWidget *>(QStringLiteral("historyDock"));
+    QVERIFY(history->isVisible());
+    QVERIFY(!history->widget()->isEnabled()); // the first layout has it behind the Inspector
+    QVERIFY(m_window->inspectorDock()->widget()->isEnabled());
+    m_window->stageView()->selectMarble(0);
+    // Nor does it stop on the plot's chart, which takes no keys and showed nothing.
+    const auto *chart = m_window->findChild<QChartView *>(QStringLiteral("plotChartView"));
+    QVERIFY(chart);
+    for (int k = 0; k < 80; ++k) {
+        QTest::keyClick(QApplication::focusWidget(), Qt::Key_Tab);
+        QVERIFY2(!history->isAncestorOf(QApplication::focusWidget()), qPrintable(QString::number(k)));
+        QVERIFY2(QApplication::focusWidget() != chart, qPrintable(QString::number(k)));
+    }
+    QCOMPARE(doc->undoStack()->index(), 1);
+
+    auto *item = m_window->findChild<QAction *>(QStringLiteral("historyDockAction"));
+    QVERIFY(item && item->isChecked());
+    item->trigger(); // View > Undo History: to the front
+    QTRY_VERIFY(!history->visibleRegion().isEmpty());
+    QVERIFY(item->isChecked() && !history->isHidden());
+    QVERIFY(history->widget()->isEnabled());
+    QVERIFY(!m_window->inspectorDock()->widget()->isEnabled());
+    item->trigger(); // in front: hidden
+    QVERIFY(history->isHidden() && !item->isChecked());
+    item->trigger(); // and back, in front
+    QTRY_VERIFY(!history->visibleRegion().isEmpty());
+    QVERIFY(item->isChecked() && history->widget()->isEnabled());
+    // The Inspector's item brings it back to the front, its fields enabled as they were.
+    auto *inspectorItem = m_window->findChild<QAction *>(QStringLiteral("inspectorDockAction"));
+    QVERIFY(inspectorItem);
+    inspectorItem->trigger();
+    QTRY_VERIFY(m_window->inspectorDock()->widget()->isEnabled());
+    QVERIFY(!history->widget()->isEnabled());
+    QVERIFY(m_window->inspectorDock()->field(QStringLiteral("vx"))->isEnabled());
+}
+
 void TestMainWindow::spaceWorksAFocusedButtonOrCheckBox()
 {
     // Tabbed to a check box or a button, Space presses it (the Play shortcut took it: the run
@@ -1616,6 +1661,22 @@ void TestMainWindow::undoKeysReachTheSceneFromANumberField()
     // On the stage, Esc still clears the selection.
     QTest::keyClick(m_window->stageView(), Qt::Key_Escape);
     QCOMPARE(m_window->stageView()->selectedMarble(), -1);
+
+    // From the Model box, a check box or the plot's buttons too (a keyboard tester found no way
+    // back from the Model box), the selection kept and nothing else changed.
+    m_window->stageView()->selectMarble(1);
+    const QStringList controls = {QStringLiteral("modelEdit"), QStringLiteral("compareBox"),
+                                  QStringLiteral("shortCircuitEdit")};
+    for (const QString &name : controls) {
+        auto *control = m_window->findChild<QWidget *>(name);
+        QVERIFY2(control, qPrintable(name));
+        control->setFocus();
+        QTRY_COMPARE(QApplication::focusWidget(), control);
+        QTest::keyClick(control, Qt::Key_Escape);
+        QVERIFY2(m_window->stageView()->hasFocus(), qPrintable(name));
+        QCOMPARE(m_window->stageView()->selectedMarble(), 1);
+    }
+    QCOMPARE(doc->undoStack()->index(), 1);
 }
 
 void TestMainWindow::compareOffersOnlyModelsThatCanRun()
@@ -2831,13 +2892,17 @@ void TestMainWindow::helpListsTheRealShortcuts()
             if (action->shortcut().isEmpty())
                 continue;
             ++listed;
-            const QString row = QStringLiteral("<td width=12></td><td>%1</td></tr>")
-                                    .arg(action->shortcut().toString(QKeySequence::NativeText).toHtmlEscaped());
+            // Every key of the action (Redo's Ctrl+Y was left out: a keyboard tester's finding).
+            QStringList all;
+            for (const QKeySequence &key : action->shortcuts())
+                all << key.toString(QKeySequence::NativeText);
+            const QString row = QStringLiteral("<td width=12></td><td>%1</td></tr>").arg(all.join(QStringLiteral(", ")).toHtmlEscaped());
             QVERIFY2(text.contains(row), qPrintable(row));
         }
     }
     QCOMPARE_GE(listed, 10);
     QVERIFY(text.contains(QStringLiteral("<td>Play / Pause</td><td width=12></td><td>Space</td>")));
+    QVERIFY2(text.contains(QStringLiteral("<td>Redo</td><td width=12></td><td>Ctrl+Shift+Z, Ctrl+Y")), qPrintable(text));
     QVERIFY2(!text.contains(QStringLiteral("Set friction")), qPrintable(text));
     QVERIFY(text.contains(QStringLiteral("Tab, Shift+Tab")));
     // The toolbar buttons' tips name their keys too.

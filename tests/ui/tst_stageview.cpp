@@ -61,6 +61,7 @@ private Q_SLOTS:
     void addMarbleWithoutRoomKeepsTheSelection();
     void vectorsFollowLastHit();
     void shortMoveIsStillAClick_data();
+    void focusFrameShowsTheKeysGoToTheStage();
     void shortMoveIsStillAClick();
     void pushIsShownUntilItActs();
     void clickIsMeasuredAsTheStageLayAtThePress();
@@ -449,6 +450,28 @@ void TestStageView::vectorsFollowLastHit()
     // Back to frame 0: nothing has been hit yet.
     QVERIFY(m_document->rewind());
     QCOMPARE(visibleVectors(), 0);
+}
+
+void TestStageView::focusFrameShowsTheKeysGoToTheStage()
+{
+    // A keyboard tester's finding: Tab brought the keys to the stage with nothing on screen to
+    // show it. With them, a frame in the highlight colour runs round its edge; without, none.
+    m_view->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(m_view.get()));
+    m_view->setFocus();
+    QTRY_VERIFY(m_view->hasFocus());
+    const QColor highlight = m_view->palette().color(QPalette::Highlight);
+    const QImage focused = m_view->viewport()->grab().toImage();
+    const QPoint middleOfLeftEdge(1, focused.height() / 2);
+    const QPoint middleOfTopEdge(focused.width() / 2, 1);
+    QCOMPARE(focused.pixelColor(middleOfLeftEdge), highlight);
+    QCOMPARE(focused.pixelColor(middleOfTopEdge), highlight);
+    QVERIFY(focused.pixelColor(focused.width() / 2, 6) != highlight);
+    m_view->clearFocus();
+    QTRY_VERIFY(!m_view->hasFocus());
+    const QImage unfocused = m_view->viewport()->grab().toImage();
+    QVERIFY(unfocused.pixelColor(middleOfLeftEdge) != highlight);
+    QVERIFY(unfocused.pixelColor(middleOfTopEdge) != highlight);
 }
 
 void TestStageView::shortMoveIsStillAClick_data()
