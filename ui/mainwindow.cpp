@@ -11,6 +11,7 @@
 #include "ui/parametersdock.h"
 #include "ui/plotdock.h"
 #include "ui/prompts.h"
+#include "ui/refusingspinbox.h"
 #include "ui/runcontroller.h"
 #include "ui/scenedocument.h"
 #include "ui/stageview.h"
@@ -71,6 +72,13 @@ constexpr int kRealTimeSpeedIndex = 3;
 QIcon themeIcon(const QString &name, QStyle::StandardPixmap fallback)
 {
     return QIcon::fromTheme(name, QApplication::style()->standardIcon(fallback));
+}
+
+/// Whether `locale` writes its group separator as a space (French's narrow no-break space).
+bool groupsWithSpaces(const QLocale &locale)
+{
+    const QString mark = locale.groupSeparator();
+    return mark.size() == 1 && mark.at(0).isSpace();
 }
 
 QString keyRecentFiles()
@@ -1445,6 +1453,18 @@ bool MainWindow::eventFilter(QObject *watched, QEvent *event)
         if (plainSpace && (qobject_cast<QAbstractButton *>(watched) || qobject_cast<QComboBox *>(watched))) {
             event->accept(); // the control takes its key
             return true;
+        }
+        // Where the locale groups digits with a space (French: "1 500"), a number being typed
+        // takes the space: Space took the "1" and played, and "500" went on into the field, two
+        // edits without a word (a helper's finding). The field reads "1 500" as 1500 there (a
+        // space is never a decimal mark). A field holding its value still plays.
+        if (plainSpace) {
+            auto *box = qobject_cast<QAbstractSpinBox *>(watched);
+            const auto *field = dynamic_cast<const Refusing *>(box);
+            if (field && field->typing() && groupsWithSpaces(box->locale())) {
+                event->accept();
+                return true;
+            }
         }
         // Esc in a number field puts back the number it holds and the keys on the stage (it
         // cleared the stage's selection, the Inspector's marble going with it, and left the

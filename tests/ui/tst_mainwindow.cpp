@@ -1607,6 +1607,43 @@ void TestMainWindow::spacePausesFromANumberField()
     QVERIFY(!run->isRunning());
     QCOMPARE(friction->text(), QStringLiteral("0.2"));
     QCOMPARE(m_window->document()->world().params.friction, 0.2);
+
+    // Where digits are grouped with a space (French: "1 500"), a number being typed takes the
+    // space, and is read as grouped (a space is never a decimal mark): Space took the "1" and
+    // played, and the "500" typed on made a second edit (a helper's finding). A field holding
+    // its value still plays.
+    auto *push = m_window->findChild<QDoubleSpinBox *>(QStringLiteral("pushScaleEdit"));
+    QVERIFY(push);
+    push->setLocale(QLocale(QLocale::French, QLocale::France));
+    const int edits = m_window->document()->undoStack()->index();
+    push->setFocus();
+    push->selectAll();
+    QTest::keyClicks(push, QStringLiteral("1"));
+    QTest::keyClick(push, Qt::Key_Space);
+    QVERIFY(!run->isRunning());
+    QTest::keyClicks(push, QStringLiteral("500"));
+    QTest::keyClick(push, Qt::Key_Return);
+    QVERIFY(!run->isRunning());
+    QCOMPARE(m_window->document()->world().params.pushScale, 1500.0);
+    QCOMPARE(m_window->document()->undoStack()->index(), edits + 1);
+    push->selectAll();
+    QTest::keyClicks(push, QStringLiteral("15"));
+    QTest::keyClick(push, Qt::Key_Return);
+    QCOMPARE(m_window->document()->world().params.pushScale, 15.0);
+    push->selectAll();
+    QTest::keyClick(push, Qt::Key_Space);
+    QVERIFY(run->isRunning());
+    QTest::keyClick(push, Qt::Key_Space);
+    QVERIFY(!run->isRunning());
+    // In English Space still takes a number typed and plays.
+    push->setLocale(QLocale(QLocale::English, QLocale::UnitedStates));
+    push->selectAll();
+    QTest::keyClicks(push, QStringLiteral("12"));
+    QTest::keyClick(push, Qt::Key_Space);
+    QVERIFY(run->isRunning());
+    QCOMPARE(m_window->document()->world().params.pushScale, 12.0);
+    QTest::keyClick(push, Qt::Key_Space);
+    QVERIFY(!run->isRunning());
     // A scene opened then takes the keys to the stage: Right steps (in the field it moved the
     // cursor, and the field kept a part of its old text selected).
     m_prompts->saveChoice = Prompts::SaveChoice::Discard;
