@@ -7,7 +7,8 @@ namespace marbles {
 
 /// A file name's stem made from a scene's name, as the save and export dialogs offer it:
 /// "Preset: Pachinko board" gives "pachinko-board", "collision.marbles.json" "collision"; ""
-/// where nothing is left. Nothing a file system might refuse ("Four marbles (Figure 11.8)").
+/// where nothing is left. Nothing a file system might refuse ("Four marbles (Figure 11.8)"); the
+/// letters of every language kept ("Übung Stoß" gives "übung-stoß": ASCII-only, it gave "bung-sto").
 inline QString sceneFileStem(QString name)
 {
     if (name.startsWith(QStringLiteral("Preset: ")))
@@ -17,7 +18,8 @@ inline QString sceneFileStem(QString name)
             name.chop(end.size());
     }
     name = name.trimmed().toLower();
-    name.replace(QRegularExpression(QStringLiteral("[^\\w.-]+")), QStringLiteral("-"));
+    static const QRegularExpression notWord(QStringLiteral("[^\\w.-]+"), QRegularExpression::UseUnicodePropertiesOption);
+    name.replace(notWord, QStringLiteral("-"));
     name.remove(QRegularExpression(QStringLiteral("^-+|-+$")));
     return name;
 }

@@ -2278,6 +2278,14 @@ void TestPlotDock::exportsAreOfferedByTheScenesName()
     dock.setSceneName(QStringLiteral("collision.marbles.json"));
     dock.setSceneFile(QStringLiteral("/home/teacher/lessons/collision.marbles.json"));
     QCOMPARE(dock.suggestedExportPath(QStringLiteral("csv")), QStringLiteral("/home/teacher/lessons/collision-plot.csv"));
+    // Letters beyond ASCII are kept (a German-locale tester's "Übung Stoß" was offered as
+    // "bung-sto-plot.csv").
+    dock.setSceneName(QStringLiteral("Übung Stoß.marbles.json"));
+    dock.setSceneFile(QStringLiteral("/home/lehrer/Übung Stoß.marbles.json"));
+    QCOMPARE(dock.suggestedExportPath(QStringLiteral("png")), QStringLiteral("/home/lehrer/übung-stoß-plot.png"));
+    dock.setSceneName(QStringLiteral("Choc élastique"));
+    dock.setSceneFile(QString());
+    QCOMPARE(dock.suggestedExportPath(QStringLiteral("csv")), QStringLiteral("choc-élastique-plot.csv"));
     dock.setSceneName(QString());
     dock.setSceneFile(QString());
     QCOMPARE(dock.suggestedExportPath(QStringLiteral("csv")), QStringLiteral("marbles-plot.csv"));
