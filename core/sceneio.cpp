@@ -1415,8 +1415,19 @@ std::string parseDouble(std::string_view text, double &out)
     if (text.empty())
         return "must be a number";
     const auto result = std::from_chars(text.data(), text.data() + text.size(), out);
-    if (result.ptr != text.data() + text.size())
+    if (result.ptr != text.data() + text.size()) {
+        // A decimal comma, as a German or French teacher writes one ("0,5"), is named with the
+        // number meant (a helper's finding: "must be a number" alone did not say what was wrong).
+        if (std::count(text.begin(), text.end(), ',') == 1) {
+            std::string point(text);
+            std::replace(point.begin(), point.end(), ',', '.');
+            double meant = 0.0;
+            const auto again = std::from_chars(point.data(), point.data() + point.size(), meant);
+            if (again.ptr == point.data() + point.size() && again.ec == std::errc())
+                return "must be a number with a decimal point: " + point + ", not " + std::string(text);
+        }
         return "must be a number";
+    }
     if (result.ec == std::errc::result_out_of_range) {
         // Too close to 0 for a double ("1e-400") reads as its nearest double, 0, as JSON's in a
         // scene file does ("friction": 1e-400 loaded, --set friction=1e-400 was refused); too
@@ -1506,7 +1517,9 @@ std::string setParam(World &world, std::string_view key, std::string_view value)
         Vec2 g;
         for (const auto &[side, text] : {std::pair{&g.x, value.substr(0, comma)}, std::pair{&g.y, value.substr(comma + 1)}}) {
             if (std::string rule = parseDouble(text, *side); !rule.empty())
-                return head + (rule == "must be a number" ? std::string("must be two numbers \"x,y\"")
+                // (A comma too many is read as three numbers, not as a decimal comma.)
+                return head + (rule.starts_with("must be a number") && !rule.ends_with("double")
+                                   ? std::string("must be two numbers \"x,y\"")
                                                          : (side == &g.x ? "x " : "y ") + rule);
         }
         if (!isFinite(g))

@@ -1231,6 +1231,13 @@ void TestSceneIo::setParamRejects_data()
     QTest::addRow("substeps fraction") << "substeps" << "2.5" << "substeps=2.5: must be an integer";
     QTest::addRow("substeps plus minus") << "substeps" << "+-1" << "substeps=+-1: must be an integer";
     QTest::addRow("friction plus minus") << "friction" << "+-0" << "friction=+-0: must be a number";
+    // A decimal comma is named with the number meant (a German-locale tester's finding).
+    QTest::addRow("friction decimal comma") << "friction" << "0,5"
+                                            << "friction=0,5: must be a number with a decimal point: 0.5, not 0,5";
+    QTest::addRow("massScale comma and exponent") << "massScale" << "1,5e3"
+                                                  << "massScale=1,5e3: must be a number with a decimal point: 1.5e3, not 1,5e3";
+    QTest::addRow("pushScale grouped and comma") << "pushScale" << "1.234,5" << "pushScale=1.234,5: must be a number";
+    QTest::addRow("gravity decimal commas") << "gravity" << "0,0,5" << R"(gravity=0,0,5: must be two numbers "x,y")";
     QTest::addRow("substeps huge") << "substeps" << "99999999999" << "substeps=99999999999: must be <= 1000000";
     // Beyond int64 still an integer: too large, not "must be an integer".
     QTest::addRow("substeps beyond int64") << "substeps" << "99999999999999999999"
