@@ -835,7 +835,25 @@ void StageView::resizeEvent(QResizeEvent *event)
 
 void StageView::contextMenuEvent(QContextMenuEvent *event)
 {
-    m_contextPoint = stagePoint(event->pos());
+    // From the keyboard (the Menu key, Shift+F10) the menu is about the marble or pin selected,
+    // where it is in sight, or else the middle of the view: it opened at the window's corner,
+    // and Add Marble Here put a marble in the stage's top left corner (a helper's finding).
+    QPoint at = event->pos();
+    if (event->reason() == QContextMenuEvent::Keyboard) {
+        const World &world = m_document->world();
+        at = viewport()->rect().center();
+        std::optional<Vec2> selected;
+        if (m_selectionKind == SelectionKind::Marble && m_selectionIndex < world.marbleCount())
+            selected = world.position[static_cast<std::size_t>(m_selectionIndex)];
+        else if (m_selectionKind == SelectionKind::Pin && m_selectionIndex < static_cast<int>(world.pins.size()))
+            selected = world.pins[static_cast<std::size_t>(m_selectionIndex)];
+        if (selected && isFinite(*selected)) {
+            const QPoint there = viewportPoint(*selected);
+            if (viewport()->rect().contains(there))
+                at = there;
+        }
+    }
+    m_contextPoint = stagePoint(at);
     pickAt(m_contextPoint);
     if (m_contextActions.isEmpty())
         return;
@@ -846,7 +864,7 @@ void StageView::contextMenuEvent(QContextMenuEvent *event)
         else
             menu.addSeparator();
     }
-    menu.exec(event->globalPos());
+    menu.exec(event->reason() == QContextMenuEvent::Keyboard ? viewport()->mapToGlobal(at) : event->globalPos());
 }
 
 void StageView::findPendingPushes()

@@ -12,12 +12,14 @@
 #include "ui/worldedit.h"
 
 #include <QApplication>
+#include <QContextMenuEvent>
 #include <QGraphicsScene>
 #include <QImage>
 #include <QPainter>
 #include <QSignalSpy>
 #include <QStyleHints>
 #include <QTest>
+#include <QTimer>
 #include <QToolTip>
 #include <QWheelEvent>
 
@@ -62,6 +64,7 @@ private Q_SLOTS:
     void vectorsFollowLastHit();
     void shortMoveIsStillAClick_data();
     void focusFrameShowsTheKeysGoToTheStage();
+    void keyboardMenuIsAboutTheSelection();
     void shortMoveIsStillAClick();
     void pushIsShownUntilItActs();
     void clickIsMeasuredAsTheStageLayAtThePress();
@@ -472,6 +475,40 @@ void TestStageView::focusFrameShowsTheKeysGoToTheStage()
     const QImage unfocused = m_view->viewport()->grab().toImage();
     QVERIFY(unfocused.pixelColor(middleOfLeftEdge) != highlight);
     QVERIFY(unfocused.pixelColor(middleOfTopEdge) != highlight);
+}
+
+void TestStageView::keyboardMenuIsAboutTheSelection()
+{
+    // A keyboard tester's finding: the Menu key opened the stage's menu at the window's corner,
+    // and Add Marble Here put the marble in the stage's top left corner. From the keyboard the
+    // menu is about the marble selected, or the middle of the view.
+    QAction here(QStringLiteral("Here"));
+    m_view->setContextActions({&here});
+    const auto openByKey = [this] {
+        QPoint shownAt(-1, -1);
+        QTimer::singleShot(0, this, [&shownAt] {
+            if (QWidget *popup = QApplication::activePopupWidget()) {
+                shownAt = popup->pos();
+                popup->close();
+            }
+        });
+        QContextMenuEvent event(QContextMenuEvent::Keyboard, QPoint(0, 0), m_view->viewport()->mapToGlobal(QPoint(0, 0)));
+        QApplication::sendEvent(m_view->viewport(), &event);
+        return shownAt;
+    };
+    const World &w = m_document->world();
+    m_view->selectMarble(1);
+    const QPoint marble = m_view->viewportPoint(w.position[1]);
+    // (Its height only: Qt moves a menu sideways to keep it on the offscreen 800 x 600 screen.)
+    QCOMPARE(openByKey().y(), m_view->viewport()->mapToGlobal(marble).y());
+    QCOMPARE_LE(distance(m_view->contextPoint(), w.position[1]), 1.0 / m_view->transform().m11());
+    QCOMPARE(m_view->selectedMarble(), 1);
+
+    m_view->clearSelection();
+    const QPoint middle = m_view->viewport()->rect().center();
+    QCOMPARE(openByKey().y(), m_view->viewport()->mapToGlobal(middle).y());
+    const QPointF expected = m_view->mapToScene(middle);
+    QCOMPARE_LE(distance(m_view->contextPoint(), {expected.x(), expected.y()}), 1.0 / m_view->transform().m11());
 }
 
 void TestStageView::shortMoveIsStillAClick_data()
