@@ -2,6 +2,7 @@
 
 #include "core/sceneio.h"
 #include "ui/marblefielditem.h"
+#include "ui/numbertext.h"
 #include "ui/scenedocument.h"
 
 #include <QGraphicsScene>
@@ -556,7 +557,7 @@ QString CompareRun::summary() const
         return tr("Compare: %1 - largest gap 0 px%2").arg(model, since);
     return tr("Compare: %1 - largest gap %2 px (marble %3, frame %4)%5")
         .arg(model)
-        .arg(m_largestGap, 0, 'f', 1)
+        .arg(shownNumber(m_largestGap, 'f', 1))
         .arg(m_largestGapMarble)
         .arg(m_largestGapFrame)
         .arg(since);

@@ -248,7 +248,7 @@ void InspectorDock::showMarble(bool overTyping)
             beyond << tr("%1 is not a number.").arg(box->objectName());
         else
             beyond << tr("%1 is %2%3 (the field stops at %4).")
-                          .arg(box->objectName(), QString::number(value, 'g', 4), box->suffix(),
+                          .arg(box->objectName(), shownNumber(value, 'g', 4), box->suffix(),
                                box->textFromValue(value < box->minimum() ? box->minimum() : box->maximum()));
     }
     {
@@ -285,8 +285,8 @@ void InspectorDock::showCompared()
     const Vec2 v = compared->velocity[k];
     const int decimals = velocityDecimals(world.params.zeroThreshold);
     m_compared->setText(tr("In the %1 model (its ghost): x %2, y %3 px; vx %4, vy %5 px/frame")
-                            .arg(m_comparisonModel ? m_comparisonModel() : QString(), QString::number(p.x, 'f', 2), QString::number(p.y, 'f', 2),
-                                 QString::number(v.x, 'f', decimals), QString::number(v.y, 'f', decimals)));
+                            .arg(m_comparisonModel ? m_comparisonModel() : QString(), shownNumber(p.x, 'f', 2), shownNumber(p.y, 'f', 2),
+                                 shownNumber(v.x, 'f', decimals), shownNumber(v.y, 'f', decimals)));
 }
 
 void InspectorDock::report(const QString &error)

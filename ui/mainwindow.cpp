@@ -744,7 +744,7 @@ void MainWindow::createToolBars()
                                     m_fasterAction->shortcut().toString(QKeySequence::NativeText)));
     m_speedBox->setFocusPolicy(Qt::NoFocus);
     for (double speed : kSpeeds)
-        m_speedBox->addItem(QStringLiteral("%1×").arg(speed), speed);
+        m_speedBox->addItem(QStringLiteral("%1×").arg(shownNumber(speed)), speed);
     m_speedBox->setCurrentIndex(kRealTimeSpeedIndex);
     connect(m_speedBox, &QComboBox::currentIndexChanged, this, &MainWindow::onSpeedChosen);
     runBar->addWidget(m_speedBox);
@@ -759,7 +759,7 @@ void MainWindow::createToolBars()
     font.setBold(true);
     m_frameDisplay->setFont(font);
     m_frameDisplay->setMinimumWidth(
-        QFontMetrics(font).horizontalAdvance(tr("Frame %1   t = %2 s").arg(999999).arg(99999.99, 0, 'f', 2)) + 16);
+        QFontMetrics(font).horizontalAdvance(tr("Frame %1   t = %2 s").arg(999999).arg(shownNumber(99999.99, 'f', 2))) + 16);
     runBar->addWidget(m_frameDisplay);
     // A bar of its own, so that on a narrow window (half of a 1366-px laptop screen) it takes
     // the next row rather than the run bar's overflow menu.
@@ -1716,7 +1716,7 @@ void MainWindow::stepSpeed(int by)
     const int index = std::clamp(m_speedBox->currentIndex() + by, 0, m_speedBox->count() - 1);
     m_speedBox->setCurrentIndex(index);
     showStatus(tr("Run speed %1: one second of the scene takes %2 s.")
-                   .arg(m_speedBox->currentText(), QLocale().toString(1.0 / kSpeeds[index], 'g', 3)));
+                   .arg(m_speedBox->currentText(), shownNumber(1.0 / kSpeeds[index], 'g', 3)));
 }
 
 void MainWindow::onRunningChanged(bool running)
@@ -1952,9 +1952,9 @@ void MainWindow::updateFrameDisplay()
 {
     const World &world = m_document->world();
     const double seconds = static_cast<double>(world.frame) * world.params.frameMs / 1000.0;
-    m_frameDisplay->setText(tr("Frame %1   t = %2 s").arg(world.frame).arg(seconds, 0, 'f', 2));
+    m_frameDisplay->setText(tr("Frame %1   t = %2 s").arg(world.frame).arg(shownNumber(seconds, 'f', 2)));
     m_frameLabel->setText(tr("Frame %1").arg(world.frame));
-    m_timeLabel->setText(tr("t = %1 s").arg(seconds, 0, 'f', 3));
+    m_timeLabel->setText(tr("t = %1 s").arg(shownNumber(seconds, 'f', 3)));
 }
 
 void MainWindow::updateFrameLabelsShown()
@@ -1970,7 +1970,7 @@ void MainWindow::updateStatistics()
     const World &world = m_document->world();
     m_countLabel->setText(tr("%n marble(s)", nullptr, world.marbleCount()) + QStringLiteral(", ")
                           + tr("%n pin(s)", nullptr, static_cast<int>(world.pins.size())));
-    m_physicsLabel->setText(tr("physics %1 ms/frame").arg(m_document->physicsMsPerFrame(), 0, 'f', 3));
+    m_physicsLabel->setText(tr("physics %1 ms/frame").arg(shownNumber(m_document->physicsMsPerFrame(), 'f', 3)));
     const qint64 elapsed = m_statisticsClock.restart();
     const qint64 paints = m_view->paintCount();
     if (elapsed > 0)
@@ -1984,7 +1984,7 @@ void MainWindow::updateStatistics()
     auto energy = [f](const World &w) { return readableNumber(w.kineticEnergy() * f * f, 5); };
     auto momentum = [f](const World &w) {
         const Vec2 p = shownMomentum(w);
-        return QStringLiteral("(%1, %2)").arg(readableNumber(p.x * f, 4), readableNumber(p.y * f, 4));
+        return shownPair(readableNumber(p.x * f, 4), readableNumber(p.y * f, 4));
     };
     // With their units, which change with the plot's (the numbers jumped 2,500 times with nothing
     // in the bar to say why); while comparing, only in the tooltip (see below).
@@ -2066,7 +2066,7 @@ void MainWindow::updateSlowLabel()
 {
     const bool slow = m_run->isFallingBehind();
     if (slow)
-        m_slowLabel->setText(tr("slowed to %1×").arg(m_run->achievedSpeed(), 0, 'f', 2));
+        m_slowLabel->setText(tr("slowed to %1×").arg(shownNumber(m_run->achievedSpeed(), 'f', 2)));
     m_slowLabel->setVisible(slow);
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <QLocale>
 #include <QString>
 
 #include <algorithm>
@@ -14,14 +15,38 @@ inline bool writtenWhole(double size, int significant = 6)
     return size >= std::pow(10.0, significant) && size < 1e12;
 }
 
+/// The desktop's language for the numbers the window writes (its decimal mark: "0,5" in German),
+/// without group separators, as the fields show them: the Undo History, the status bar and the
+/// plot had written "0.5" beside a field's "0,5" (a German-locale tester's finding). Files, the
+/// CSV exports and the values handed to the scene are written in C's way whatever the language.
+inline QLocale shownLocale()
+{
+    QLocale locale;
+    locale.setNumberOptions(locale.numberOptions() | QLocale::OmitGroupSeparator);
+    return locale;
+}
+
+/// `value` as QString::number(value, format, precision) writes it, in the desktop's language.
+inline QString shownNumber(double value, char format = 'g', int precision = 6)
+{
+    return shownLocale().toString(value, format, precision);
+}
+
+/// "(x, y)", or "(x; y)" where the decimal mark is a comma ("(0,5; 1,2)", not "(0,5, 1,2)").
+inline QString shownPair(const QString &x, const QString &y)
+{
+    const bool comma = shownLocale().decimalPoint() == QLatin1String(",");
+    return QLatin1Char('(') + x + (comma ? QStringLiteral("; ") : QStringLiteral(", ")) + y + QLatin1Char(')');
+}
+
 /// A value for a class to read: `significant` digits, but without a power of ten below 1e12,
 /// where the whole number is written ("1031250", where "1.03125e+06" read badly, and "38010",
 /// where four digits gave "3.801e+04").
 inline QString readableNumber(double value, int significant = 6)
 {
     if (writtenWhole(std::abs(value), significant))
-        return QString::number(value, 'f', 0);
-    return QString::number(value, 'g', significant);
+        return shownNumber(value, 'f', 0);
+    return shownNumber(value, 'g', significant);
 }
 
 /// Decimals of a velocity as the window shows it (the Inspector's fields, the Undo History): the
@@ -59,8 +84,9 @@ inline QString withoutTrailingZeros(const QString &text, const QString &point = 
 /// `value` to `decimals` places, without trailing zeros ("1.2346", "6", "0.000012").
 inline QString fixedTrimmed(double value, int decimals)
 {
-    const QString text = withoutTrailingZeros(QString::number(value, 'f', decimals));
-    return text == QLatin1String("-0") ? QStringLiteral("0") : text;
+    const QLocale locale = shownLocale();
+    const QString text = withoutTrailingZeros(locale.toString(value, 'f', decimals), locale.decimalPoint());
+    return text == locale.negativeSign() + locale.zeroDigit() ? locale.zeroDigit() : text;
 }
 
 } // namespace marbles

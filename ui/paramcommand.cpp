@@ -1,6 +1,7 @@
 #include "ui/paramcommand.h"
 
 #include "ui/commandids.h"
+#include "ui/numbertext.h"
 #include "ui/scenedocument.h"
 
 #include <QCoreApplication>
@@ -97,10 +98,22 @@ QString paramLabel(const QString &key)
 
 // The value as the Parameters dock shows it, with its unit ("Set frame interval to 1" gave no
 // hint that it was 1 ms).
-QString shownValue(const QString &key, const QString &value)
+QString shownValue(const QString &key, const QString &text)
 {
-    if (key == QLatin1String("gravity"))
-        return QStringLiteral("(%1) px/frame\u00b2").arg(QString(value).replace(QLatin1Char(','), QStringLiteral(", ")));
+    // The value comes written as a scene's file writes it ("0.15", gravity "0,0.15"); shown in
+    // the desktop's language, as the dock's field beside it ("0,15" in German).
+    const auto number = [](const QString &written) {
+        bool ok = false;
+        const double v = written.toDouble(&ok);
+        return ok ? shownNumber(v, 'g', QLocale::FloatingPointShortest) : written;
+    };
+    if (key == QLatin1String("gravity")) {
+        const QStringList xy = text.split(QLatin1Char(','));
+        if (xy.size() == 2)
+            return shownPair(number(xy[0]), number(xy[1])) + QStringLiteral(" px/frame\u00b2");
+        return text + QStringLiteral(" px/frame\u00b2");
+    }
+    const QString value = number(text);
     if (key == QLatin1String("frameMs"))
         return value + QStringLiteral(" ms");
     if (key == QLatin1String("zeroThreshold"))

@@ -4,6 +4,7 @@
 
 #include "ui/dockpage.h"
 #include "ui/focusedwheel.h"
+#include "ui/numbertext.h"
 #include "ui/quiettext.h"
 #include "ui/refusingspinbox.h"
 
@@ -470,7 +471,7 @@ void ParametersDock::updateWarnings()
                 ? tr("\u26a0 Gravity is within the zero threshold: a marble at rest stays where it is, even in mid-air.")
                 : tr("\u26a0 Gravity is within the zero threshold: a marble at rest never gathers speed, it creeps "
                      "%1 px a frame.")
-                      .arg(moved, 0, 'g', 3);
+                      .arg(shownNumber(moved, 'g', 3));
         }
     }
     // A click at a marble's rim changes its velocity by pushScale / massScale (a = (p - c)
@@ -483,7 +484,7 @@ void ParametersDock::updateWarnings()
             held += QLatin1Char('\n');
         held += tr("\u26a0 A click gives a marble at most %1 px/frame (push scale / mass scale): this threshold "
                    "zeroes it at once.")
-                    .arg(clickMost, 0, 'g', 3);
+                    .arg(shownNumber(clickMost, 'g', 3));
     }
     show(m_thresholdWarning, held, orange);
     fitPageHeight();

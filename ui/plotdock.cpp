@@ -320,10 +320,11 @@ void applyRange(QValueAxis *axis, const AxisRange &range)
         axis->setRange(range.min, range.max);
     if (axis->tickCount() != range.ticks)
         axis->setTickCount(range.ticks);
-    // Plain numbers by the readout's rule (readableNumber(), "%g" giving six digits): the
-    // energy in seconds read "1.5e+06".
+    // Plain numbers by the readout's rule (readableNumber(), "%.6g" giving six digits): the
+    // energy in seconds read "1.5e+06". (With the chart's numbers in the desktop's language, Qt
+    // Charts writes no label for a format without its precision: "%g" left the axis blank.)
     const double size = std::max(std::abs(range.min), std::abs(range.max));
-    const QString format = writtenWhole(size) ? QStringLiteral("%.0f") : QStringLiteral("%g");
+    const QString format = writtenWhole(size) ? QStringLiteral("%.0f") : QStringLiteral("%.6g");
     if (axis->labelFormat() != format)
         axis->setLabelFormat(format);
 }
@@ -354,9 +355,10 @@ void applyLabelledRange(QCategoryAxis *axis, const AxisRange &range, Labels whic
             blank += QLatin1Char(' '); // category labels must differ: " ", "  ", ...
             label = blank;
         } else {
-            label = QString::asprintf(axis->labelFormat().toLatin1().constData(), at);
+            // The format's numbers, in the desktop's language (see shownNumber()).
+            label = axis->labelFormat() == QLatin1String("%.0f") ? shownNumber(at, 'f', 0) : shownNumber(at, 'g', 6);
         }
-        while (labels.contains(label)) // "%g" can write two huge ticks alike
+        while (labels.contains(label)) // "%.6g" can write two huge ticks alike
             label += QLatin1Char(' ');
         labels << label;
         ends << at;
@@ -436,11 +438,14 @@ PlotDock::PlotDock(QWidget *parent)
     m_chart->legend()->setMarkerShape(QLegend::MarkerShapeFromSeries);
     m_chart->layout()->setContentsMargins(0, 0, 0, 0);
     m_chart->setBackgroundRoundness(0);
+    // The time axis's numbers in the desktop's language, as the other axes' and the readout's.
+    m_chart->setLocale(shownLocale());
+    m_chart->setLocalizeNumbers(true);
 
     m_axisX = new QValueAxis(m_chart);
-    m_axisX->setLabelFormat(QStringLiteral("%g"));
+    m_axisX->setLabelFormat(QStringLiteral("%.6g"));
     m_axisSpeed = new QCategoryAxis(m_chart);
-    m_axisSpeed->setLabelFormat(QStringLiteral("%g"));
+    m_axisSpeed->setLabelFormat(QStringLiteral("%.6g"));
     m_axisSpeed->setLabelsPosition(QCategoryAxis::AxisLabelsPositionOnValue);
     m_rangeScratch = new QValueAxis(this); // never added to the chart (niceRange())
     m_chart->addAxis(m_axisX, Qt::AlignBottom);
@@ -452,7 +457,7 @@ PlotDock::PlotDock(QWidget *parent)
     m_axisMomentum = new QCategoryAxis(m_chart);
     m_axisMomentum->setLabelsPosition(QCategoryAxis::AxisLabelsPositionOnValue);
     for (QCategoryAxis *axis : {m_axisTotals, m_axisMomentum}) {
-        axis->setLabelFormat(QStringLiteral("%g"));
+        axis->setLabelFormat(QStringLiteral("%.6g"));
         // Its ticks fall elsewhere than the speed axis's: two sets of grid lines read as a double grid.
         axis->setGridLineVisible(false);
         axis->setVisible(false);
@@ -1178,7 +1183,7 @@ QString PlotDock::describePoints(const QList<const QLineSeries *> &lines, double
     if (values.isEmpty())
         return QString();
     const std::int64_t f = m_frames.at(sample);
-    return tr("frame %1 (%2 s): %3").arg(f).arg(QString::number(secondsAt(f), 'g', 6), values.join(QStringLiteral("; ")));
+    return tr("frame %1 (%2 s): %3").arg(f).arg(shownNumber(secondsAt(f), 'g', 6), values.join(QStringLiteral("; ")));
 }
 
 QList<const QLineSeries *> PlotDock::seriesNear(QPointF at) const
@@ -1320,7 +1325,7 @@ QString PlotDock::exportCaption() const
         // of 0.05 ms read "0.00 to 0.00 s").
         const bool brief = std::abs(secondsAt(last) - secondsAt(first)) < 0.1;
         const auto seconds = [brief](double t) {
-            return brief ? QString::number(t, 'g', 3) : QString::number(t, 'f', 2);
+            return brief ? shownNumber(t, 'g', 3) : shownNumber(t, 'f', 2);
         };
         parts << tr("frames %1 to %2, %3 to %4 s").arg(first).arg(last).arg(seconds(secondsAt(first)), seconds(secondsAt(last)));
     }

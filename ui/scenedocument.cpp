@@ -462,7 +462,7 @@ QString SceneDocument::setMarblePosition(int i, Vec2 p)
     const MarbleState before = MarbleState::of(m_world, i);
     MarbleState after = before;
     after.position = p;
-    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble %1's position to (%2, %3)").arg(i).arg(p.x, 0, 'g', 6).arg(p.y, 0, 'g', 6),
+    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble %1's position to %2").arg(i).arg(shownPair(shownNumber(p.x), shownNumber(p.y))),
                                           CommandId::EditMarblePosition));
     return {};
 }
@@ -481,7 +481,7 @@ QString SceneDocument::setMarbleVelocity(int i, Vec2 v)
     const int decimals = velocityDecimals(m_world.params.zeroThreshold);
     const auto shown = [decimals](double x) { return fixedTrimmed(x, decimals); };
     m_undoStack.push(new SetMarbleCommand(this, i, before, after,
-                                          tr("Set marble %1's velocity to (%2, %3) px/frame").arg(i).arg(shown(v.x), shown(v.y)),
+                                          tr("Set marble %1's velocity to %2 px/frame").arg(i).arg(shownPair(shown(v.x), shown(v.y))),
                                           CommandId::EditMarbleVelocity));
     return {};
 }
@@ -497,13 +497,13 @@ QString SceneDocument::setMarbleRadius(int i, double r)
     // overlaps already (a file may place it so) may still shrink.
     if (r > m_world.radius[i] && !isFreeSpot(m_world, m_world.position[i], r, BodyKind::Marble, i))
         return tr("A radius of %1 px would make the marble overlap the stage edge, a pin or another marble.")
-            .arg(r, 0, 'g', 6);
+            .arg(shownNumber(r));
     const MarbleState before = MarbleState::of(m_world, i);
     MarbleState after = before;
     after.radius = r;
     if (!after.hasMass)
         after.mass = m_world.params.massScale * r;
-    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble %1's radius to %2 px").arg(i).arg(r, 0, 'g', 6),
+    m_undoStack.push(new SetMarbleCommand(this, i, before, after, tr("Set marble %1's radius to %2 px").arg(i).arg(shownNumber(r)),
                                           CommandId::EditMarbleRadius));
     return {};
 }
@@ -541,7 +541,7 @@ QString SceneDocument::setMarbleMass(int i, double m)
     after.hasMass = m > 0.0;
     after.mass = after.hasMass ? m : m_world.params.massScale * before.radius;
     m_undoStack.push(
-        new SetMarbleCommand(this, i, before, after, after.hasMass ? tr("Set marble %1's mass to %2").arg(i).arg(m, 0, 'g', 6)
+        new SetMarbleCommand(this, i, before, after, after.hasMass ? tr("Set marble %1's mass to %2").arg(i).arg(shownNumber(m))
                                                      : tr("Set marble %1's mass to massScale \u00d7 radius").arg(i),
                              CommandId::EditMarbleMass));
     return {};

@@ -2,6 +2,7 @@
 
 #include "ui/marblefielditem.h"
 #include "ui/marbleitem.h"
+#include "ui/numbertext.h"
 #include "ui/pinitem.h"
 #include "ui/trailitem.h"
 #include "ui/vectoritem.h"
@@ -159,15 +160,15 @@ void StageView::pushAt(int i, Vec2 p, bool byKey)
     m_pushed.removeAll(i);
     m_pushed.append(i);
     const Vec2 scripted = m_document->world().scriptedPushDue(i);
-    QString text = (byKey ? tr("Marble %1 pushed: the key's push of (%2, %3) px/frame acts on the next frame")
-                          : tr("Marble %1 pushed: the click's push of (%2, %3) px/frame acts on the next frame"))
+    const auto pair = [](Vec2 u) { return shownPair(shownNumber(u.x, 'f', 2), shownNumber(u.y, 'f', 2)); };
+    QString text = (byKey ? tr("Marble %1 pushed: the key's push of %2 px/frame acts on the next frame")
+                          : tr("Marble %1 pushed: the click's push of %2 px/frame acts on the next frame"))
                        .arg(i)
-                       .arg(a.x, 0, 'f', 2)
-                       .arg(a.y, 0, 'f', 2);
+                       .arg(pair(a));
     if (before.x != 0.0 || before.y != 0.0)
-        text += tr(", with earlier pushes' (%1, %2)").arg(before.x, 0, 'f', 2).arg(before.y, 0, 'f', 2);
+        text += tr(", with earlier pushes' %1").arg(pair(before));
     if (scripted.x != 0.0 || scripted.y != 0.0)
-        text += tr(", with the scene's scripted push (%1, %2)").arg(scripted.x, 0, 'f', 2).arg(scripted.y, 0, 'f', 2);
+        text += tr(", with the scene's scripted push %1").arg(pair(scripted));
     text += tr("; Esc takes the click back"); // a click is not an edit: Ctrl+Z cannot
     m_saidPush = {i, after};
     Q_EMIT frameMessage(text);
@@ -187,10 +188,9 @@ void StageView::sayPushRescaled()
     if (sameBits(a, said) || !world.pushPending(i))
         return;
     m_saidPush = {i, a};
-    Q_EMIT frameMessage(tr("Marble %1's push waiting is now (%2, %3) px/frame, for the mass and push scale it meets")
+    Q_EMIT frameMessage(tr("Marble %1's push waiting is now %2 px/frame, for the mass and push scale it meets")
                             .arg(i)
-                            .arg(a.x, 0, 'f', 2)
-                            .arg(a.y, 0, 'f', 2));
+                            .arg(shownPair(shownNumber(a.x, 'f', 2), shownNumber(a.y, 'f', 2))));
 }
 
 void StageView::selectNextMarble(int step)
@@ -952,9 +952,10 @@ void StageView::drawForeground(QPainter *painter, const QRectF &rect)
         // A click on a marble with a scripted push due: one arrow for both, whose label says the
         // scene's part is in it (the "scripted" label went, as if the click had replaced it).
         const bool both = byClick && (scripted.x != 0.0 || scripted.y != 0.0);
-        const QString label = both ? tr("+%1 px/frame, scripted %2 in it").arg(size, 0, 'f', 2).arg(std::hypot(scripted.x, scripted.y), 0, 'f', 2)
-                              : byClick ? tr("+%1 px/frame").arg(size, 0, 'f', 2)
-                                        : tr("scripted +%1 px/frame").arg(size, 0, 'f', 2);
+        const QString label = both ? tr("+%1 px/frame, scripted %2 in it")
+                                         .arg(shownNumber(size, 'f', 2), shownNumber(std::hypot(scripted.x, scripted.y), 'f', 2))
+                              : byClick ? tr("+%1 px/frame").arg(shownNumber(size, 'f', 2))
+                                        : tr("scripted +%1 px/frame").arg(shownNumber(size, 'f', 2));
         m_pushLabels.append(label);
         const QPointF at = head + u * 8.0;
         const QRectF box = painter->fontMetrics().boundingRect(label);

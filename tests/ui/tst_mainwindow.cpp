@@ -44,6 +44,7 @@
 #include <QMap>
 #include <QMenu>
 #include <QMenuBar>
+#include <QScopeGuard>
 #include <QScreen>
 #include <QSettings>
 #include <QSignalSpy>
@@ -164,6 +165,7 @@ private Q_SLOTS:
     void redrawnLinesKeepTheMassesTheyWereTakenWith();
     void keysLeaveADockHiddenBehindItsTab();
     void tabSkipsADockBehindItsTab();
+    void numbersAreWrittenInTheDesktopsLanguage();
     void plotExportsAreInTheFileMenu();
     void massScaleSaysWhenNoMarbleUsesIt();
     void plottedMarblesWearTheirLinesColours();
@@ -1147,6 +1149,35 @@ void TestMainWindow::keysLeaveADockHiddenBehindItsTab()
     m_window->inspectorDock()->raise();
     QTRY_VERIFY(m_window->inspectorDock()->isVisible());
     QCOMPARE(QApplication::focusWidget(), scale);
+}
+
+void TestMainWindow::numbersAreWrittenInTheDesktopsLanguage()
+{
+    // A German-locale tester's finding: the fields wrote "0,25" and "1,5 per px", the Undo
+    // History beside them "Set friction to 0.25", the status bar "p = (79.88, 0)". The window
+    // writes its numbers in the desktop's language, a pair of them with a semicolon where the
+    // decimal mark is a comma, and no group separators (as the fields).
+    const QLocale before;
+    QLocale::setDefault(QLocale(QLocale::German, QLocale::Germany));
+    const auto restore = qScopeGuard([before] { QLocale::setDefault(before); });
+    SceneDocument *doc = m_window->document();
+    const auto lastEdit = [doc] { return doc->undoStack()->text(doc->undoStack()->index() - 1); };
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.25")).isEmpty());
+    QCOMPARE(lastEdit(), QStringLiteral("Set friction to 0,25"));
+    QVERIFY(doc->setParam(QStringLiteral("gravity"), QStringLiteral("0,0.15")).isEmpty());
+    QCOMPARE(lastEdit(), QStringLiteral("Set gravity to (0; 0,15) px/frame\u00b2"));
+    QVERIFY(doc->setParam(QStringLiteral("massScale"), QStringLiteral("1500.5")).isEmpty());
+    QCOMPARE(lastEdit(), QStringLiteral("Set mass scale to 1500,5 per px"));
+    QVERIFY(doc->setMarbleVelocity(0, {0.5, -1.25}).isEmpty());
+    QCOMPARE(lastEdit(), QStringLiteral("Set marble 0's velocity to (0,5; -1,25) px/frame"));
+    QVERIFY(doc->setMarbleRadius(0, 12.5).isEmpty());
+    QCOMPARE(lastEdit(), QStringLiteral("Set marble 0's radius to 12,5 px"));
+    QCOMPARE(readableNumber(1234567.0), QStringLiteral("1234567"));
+    QCOMPARE(readableNumber(0.000125), QStringLiteral("0,000125"));
+    QCOMPARE(fixedTrimmed(-0.0001, 2), QStringLiteral("0"));
+    // The scene keeps C's numbers whatever the language (its file, and the values handed to it).
+    QCOMPARE(doc->world().params.massScale, 1500.5);
+    QVERIFY(QString::fromStdString(sceneToJson(doc->world())).contains(QStringLiteral("1500.5")));
 }
 
 void TestMainWindow::tabSkipsADockBehindItsTab()

@@ -11,6 +11,8 @@
 #include <QCheckBox>
 #include <QDir>
 #include <QFile>
+#include <QGraphicsScene>
+#include <QGraphicsTextItem>
 #include <QHelpEvent>
 #include <QImage>
 #include <QLabel>
@@ -18,6 +20,7 @@
 #include <QLegendMarker>
 #include <QLineSeries>
 #include <QRadioButton>
+#include <QScopeGuard>
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QSet>
@@ -84,6 +87,7 @@ private slots:
     void exportCsv();
     void exportCsvError();
     void exportPng();
+    void axesAreWrittenInTheDesktopsLanguage();
     void exportsAreOfferedByTheScenesName();
 };
 
@@ -2094,7 +2098,7 @@ void TestPlotDock::hoverNamesLinesOnTopOfEachOther()
         dock.refreshChart();
         const QString readout = dock.describePoint(dock.kineticSeries(), QPointF(double(world.frame), 0.0));
         QCOMPARE(readout.contains(QLatin1Char('e')) && readout.contains(QStringLiteral("e+")), !whole);
-        QCOMPARE(energyAxis->labelFormat(), whole ? QStringLiteral("%.0f") : QStringLiteral("%g"));
+        QCOMPARE(energyAxis->labelFormat(), whole ? QStringLiteral("%.0f") : QStringLiteral("%.6g"));
     }
 }
 
@@ -2265,6 +2269,41 @@ void TestPlotDock::exportPng()
     const QStringList before = axisTitles(dock);
     QCOMPARE(dock.exportPng(path), QString());
     QCOMPARE(axisTitles(dock), before);
+}
+
+void TestPlotDock::axesAreWrittenInTheDesktopsLanguage()
+{
+    // A German-locale tester's finding: the axes read "0.2 0.4" beside fields that wrote "0,2".
+    // Qt Charts, asked for the desktop's numbers, wrote no label at all for "%g": the time axis
+    // had gone blank.
+    const QLocale before;
+    QLocale::setDefault(QLocale(QLocale::German, QLocale::Germany));
+    const auto restore = qScopeGuard([before] { QLocale::setDefault(before); });
+    World world;
+    world.addMarble({100, 100}, 10.0, {0.03, 0.0}); // 1.5 px/s
+    PlotDock dock;
+    dock.resize(900, 400);
+    dock.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dock));
+    dock.setTimeInSeconds(true);
+    dock.reset(world);
+    for (int f = 0; f < 40; ++f) {
+        world.frame = f;
+        dock.appendFrame(world);
+    }
+    QTest::qWait(200); // the chart lays its axes out on its own time
+    auto *view = dock.findChild<QChartView *>(QStringLiteral("plotChartView"));
+    QVERIFY(view);
+    QStringList labels;
+    for (QGraphicsItem *item : view->scene()->items()) {
+        if (auto *text = dynamic_cast<QGraphicsTextItem *>(item); text && !text->toPlainText().isEmpty())
+            labels << text->toPlainText();
+    }
+    const auto has = [&labels](const QString &label) { return labels.contains(label); };
+    // The time axis, 0 to 0.78 s.
+    QVERIFY2(has(QStringLiteral("0,2")) && has(QStringLiteral("0,4")), qPrintable(labels.join(QLatin1Char('|'))));
+    for (const QString &label : std::as_const(labels))
+        QVERIFY2(!label.contains(QLatin1Char('.')), qPrintable(label));
 }
 
 void TestPlotDock::exportsAreOfferedByTheScenesName()
