@@ -9,6 +9,7 @@
 #include "ui/worldedit.h"
 
 #include <QContextMenuEvent>
+#include <QCursor>
 #include <QFocusEvent>
 #include <QGraphicsScene>
 #include <QHelpEvent>
@@ -17,6 +18,7 @@
 #include <QGuiApplication>
 #include <QPainter>
 #include <QScrollBar>
+#include <QShortcut>
 #include <QStyleHints>
 #include <QToolTip>
 #include <QWheelEvent>
@@ -54,6 +56,14 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
 {
     setObjectName(QStringLiteral("stageView"));
     setAccessibleName(tr("Stage"));
+    // Shift+F10 opens the stage's menu as the Menu key does (on X11 Qt gives the Menu key alone a
+    // context menu event: a re-tester's finding).
+    auto *menuKey = new QShortcut(QKeySequence(Qt::SHIFT | Qt::Key_F10), this);
+    menuKey->setContext(Qt::WidgetShortcut);
+    connect(menuKey, &QShortcut::activated, this, [this] {
+        QContextMenuEvent event(QContextMenuEvent::Keyboard, QPoint(), QCursor::pos());
+        contextMenuEvent(&event);
+    });
     // Items move every frame: an index would be rebuilt constantly for nothing.
     m_scene->setItemIndexMethod(QGraphicsScene::NoIndex);
     setScene(m_scene);

@@ -1237,6 +1237,12 @@ void TestSceneIo::setParamRejects_data()
     QTest::addRow("massScale comma and exponent") << "massScale" << "1,5e3"
                                                   << "massScale=1,5e3: must be a number with a decimal point: 1.5e3, not 1,5e3";
     QTest::addRow("pushScale grouped and comma") << "pushScale" << "1.234,5" << "pushScale=1.234,5: must be a number";
+    // Not where the comma may group thousands (a re-tester's finding: "1,000" was offered as 1.000).
+    QTest::addRow("massScale grouped") << "massScale" << "1,000"
+                                       << "massScale=1,000: must be a number written without group separators (1,000 can be "
+                                          "read two ways: 1000 or 1.000)";
+    QTest::addRow("friction comma, zero first") << "friction" << "0,125"
+                                                << "friction=0,125: must be a number with a decimal point: 0.125, not 0,125";
     QTest::addRow("gravity decimal commas") << "gravity" << "0,0,5" << R"(gravity=0,0,5: must be two numbers "x,y")";
     QTest::addRow("substeps huge") << "substeps" << "99999999999" << "substeps=99999999999: must be <= 1000000";
     // Beyond int64 still an integer: too large, not "must be an integer".

@@ -2291,17 +2291,19 @@ void TestPlotDock::axesAreWrittenInTheDesktopsLanguage()
         world.frame = f;
         dock.appendFrame(world);
     }
-    QTest::qWait(200); // the chart lays its axes out on its own time
     auto *view = dock.findChild<QChartView *>(QStringLiteral("plotChartView"));
     QVERIFY(view);
     QStringList labels;
-    for (QGraphicsItem *item : view->scene()->items()) {
-        if (auto *text = dynamic_cast<QGraphicsTextItem *>(item); text && !text->toPlainText().isEmpty())
-            labels << text->toPlainText();
-    }
-    const auto has = [&labels](const QString &label) { return labels.contains(label); };
-    // The time axis, 0 to 0.78 s.
-    QVERIFY2(has(QStringLiteral("0,2")) && has(QStringLiteral("0,4")), qPrintable(labels.join(QLatin1Char('|'))));
+    const auto timeAxisLabelled = [&labels, view] {
+        labels.clear();
+        for (QGraphicsItem *item : view->scene()->items()) {
+            if (auto *text = dynamic_cast<QGraphicsTextItem *>(item); text && !text->toPlainText().isEmpty())
+                labels << text->toPlainText();
+        }
+        return labels.contains(QStringLiteral("0,2")) && labels.contains(QStringLiteral("0,4")); // 0 to 0.78 s
+    };
+    // The chart lays its axes out on its own time.
+    QTRY_VERIFY2(timeAxisLabelled(), qPrintable(labels.join(QLatin1Char('|'))));
     for (const QString &label : std::as_const(labels))
         QVERIFY2(!label.contains(QLatin1Char('.')), qPrintable(label));
 }
