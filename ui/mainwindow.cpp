@@ -672,6 +672,7 @@ void MainWindow::showKeysAndMouse()
     row(tr("The marble clicked"), tr("is selected: inspected, plotted, and with Trails on its trail kept long"));
     row(tr("Drag a marble or a pin"), tr("move it (paused or running)"));
     row(tr("Right-click"), tr("add or delete here"));
+    row(tr("Menu key, Shift+F10"), tr("the same menu, at the marble or pin selected or in the middle of the stage"));
     row(tr("Wheel"), tr("zoom"));
     rows += QStringLiteral("<tr><td colspan=3>&nbsp;</td></tr>");
     row(tr("Tab, Shift+Tab"), tr("from control to control; Space presses a button or ticks a box tabbed to (one clicked leaves the keys on the stage)"));
