@@ -84,7 +84,7 @@ void CompareRun::restart()
     // the book model's instability on show, but the exact and impulse models cannot run with it.
     m_problem = QString::fromStdString(validateParams(m_world->params));
     if (!m_problem.isEmpty() && m_world->params.friction >= 1.0)
-        m_problem = tr("it needs a friction below 1 (the scene's is %1)").arg(m_world->params.friction);
+        m_problem = tr("it needs a friction below 1 (the scene's is %1)").arg(shownNumber(m_world->params.friction));
     updateGhost();
     Q_EMIT restarted();
 }

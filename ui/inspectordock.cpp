@@ -284,9 +284,13 @@ void InspectorDock::showCompared()
     const Vec2 p = compared->position[k];
     const Vec2 v = compared->velocity[k];
     const int decimals = velocityDecimals(world.params.zeroThreshold);
-    m_compared->setText(tr("In the %1 model (its ghost): x %2, y %3 px; vx %4, vy %5 px/frame")
+    // Its numbers separated as in a list, and its two parts by a dash where that is a semicolon
+    // ("x 232,29; y 298,92 px \u2014 vx ..." in German: "x 232,29, y" read as one number).
+    const QString sep = shownListSeparator();
+    const QString parts = sep == QLatin1String(", ") ? QStringLiteral("; ") : QStringLiteral(" \u2014 ");
+    m_compared->setText(tr("In the %1 model (its ghost): x %2%6y %3 px%7vx %4%6vy %5 px/frame")
                             .arg(m_comparisonModel ? m_comparisonModel() : QString(), shownNumber(p.x, 'f', 2), shownNumber(p.y, 'f', 2),
-                                 shownNumber(v.x, 'f', decimals), shownNumber(v.y, 'f', decimals)));
+                                 shownNumber(v.x, 'f', decimals), shownNumber(v.y, 'f', decimals), sep, parts));
 }
 
 void InspectorDock::report(const QString &error)

@@ -1853,7 +1853,7 @@ void MainWindow::updateCompareControls()
         m_compareBox->setToolTip(tr("Paused: the %1 model needs friction below 1 (the scene's is %2). Lower the "
                                     "friction to run it again.")
                                      .arg(QString::fromUtf8(name.data(), static_cast<qsizetype>(name.size())))
-                                     .arg(m_document->world().params.friction));
+                                     .arg(shownNumber(m_document->world().params.friction)));
     } else {
         m_compareBox->setToolTip(m_compareBoxToolTip);
     }
@@ -2015,8 +2015,10 @@ void MainWindow::updateStatistics()
         // the gap's summary short there, stay in the tooltip.
         const QString ours = QString::fromLatin1(modelName(world.params.model));
         const QString theirs = QString::fromLatin1(modelName(m_compare->model()));
-        setTotal(m_energyLabel, tr("KE %1 (%2), %3 (%4)").arg(energy(world), ours, energy(*compared), theirs));
-        setTotal(m_momentumLabel, tr("p = %1 %2, %3 %4").arg(momentum(world), ours, momentum(*compared), theirs));
+        // Separated as numbers are in a list ("KE 4,913 (book); 8,6691 (exact)" in German).
+        const QString sep = shownListSeparator();
+        setTotal(m_energyLabel, tr("KE %1 (%2)%5%3 (%4)").arg(energy(world), ours, energy(*compared), theirs, sep));
+        setTotal(m_momentumLabel, tr("p = %1 %2%5%3 %4").arg(momentum(world), ours, momentum(*compared), theirs, sep));
         return;
     }
     setTotal(m_energyLabel, tr("KE %1 %2").arg(energy(world), energyUnit));

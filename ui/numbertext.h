@@ -32,11 +32,16 @@ inline QString shownNumber(double value, char format = 'g', int precision = 6)
     return shownLocale().toString(value, format, precision);
 }
 
+/// What separates numbers in a list: ", ", or "; " where the decimal mark is a comma ("0,5; 1,2").
+inline QString shownListSeparator()
+{
+    return shownLocale().decimalPoint() == QLatin1String(",") ? QStringLiteral("; ") : QStringLiteral(", ");
+}
+
 /// "(x, y)", or "(x; y)" where the decimal mark is a comma ("(0,5; 1,2)", not "(0,5, 1,2)").
 inline QString shownPair(const QString &x, const QString &y)
 {
-    const bool comma = shownLocale().decimalPoint() == QLatin1String(",");
-    return QLatin1Char('(') + x + (comma ? QStringLiteral("; ") : QStringLiteral(", ")) + y + QLatin1Char(')');
+    return QLatin1Char('(') + x + shownListSeparator() + y + QLatin1Char(')');
 }
 
 /// A value for a class to read: `significant` digits, but without a power of ten below 1e12,

@@ -1175,6 +1175,21 @@ void TestMainWindow::numbersAreWrittenInTheDesktopsLanguage()
     QCOMPARE(readableNumber(1234567.0), QStringLiteral("1234567"));
     QCOMPARE(readableNumber(0.000125), QStringLiteral("0,000125"));
     QCOMPARE(fixedTrimmed(-0.0001, 2), QStringLiteral("0"));
+    // A comparison paused by the friction says it so, and its readouts separate their numbers
+    // with semicolons (a re-tester's findings: "the scene's is 1.5"; "x 232,29, y 298,92 px").
+    m_window->findChild<QAction *>(QStringLiteral("actionCompareExact"))->trigger();
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("1.5")).isEmpty());
+    auto *box = m_window->findChild<QComboBox *>(QStringLiteral("compareBox"));
+    QTRY_VERIFY2(box->toolTip().contains(QStringLiteral("(the scene's is 1,5)")), qPrintable(box->toolTip()));
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.25")).isEmpty());
+    QTRY_VERIFY(m_window->compareRun()->world());
+    doc->advance(3);
+    m_window->stageView()->selectMarble(0);
+    auto *compared = m_window->inspectorDock()->findChild<QLabel *>(QStringLiteral("comparedNote"));
+    QTRY_VERIFY(compared->isVisible());
+    QVERIFY2(compared->text().contains(QStringLiteral(" px \u2014 vx ")) && compared->text().contains(QStringLiteral("; y ")),
+             qPrintable(compared->text()));
+    m_window->findChild<QAction *>(QStringLiteral("actionCompareNone"))->trigger();
     // The scene keeps C's numbers whatever the language (its file, and the values handed to it).
     QCOMPARE(doc->world().params.massScale, 1500.5);
     QVERIFY(QString::fromStdString(sceneToJson(doc->world())).contains(QStringLiteral("1500.5")));
