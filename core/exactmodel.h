@@ -249,6 +249,7 @@ private:
     /// out of the arrays (see Body::rank).
     int rankOf(int i) const { return m_layer ? m_body[i].rank : i; }
     std::uint64_t tieOf(int i, const Event &e) const;
+    double searchHorizon(double limit) const;
     bool before(int i, const Event &a, const Event &b) const;
     Event contactOf(int i) const;
     Event currentEvent(int i) const;
