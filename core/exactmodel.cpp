@@ -1556,11 +1556,14 @@ inline void ExactModel::offerPair(int i, int j, const Vec2 &p, const Vec2 &v, Ev
     const double limit = std::min({best.time, bj.contactTime, 1.0});
     double tau;
     bool recheck;
-    if (pairContact(i, j, p, v, searchHorizon(limit), tau, recheck) && m_now + tau <= limit) {
-        const Event e{m_now + tau, recheck ? EventKind::RecheckPair : EventKind::Pair, j, recheck ? 0u : m_rec[j].stamp};
-        if (before(i, e, best))
-            best = e;
-    }
+    if (!pairContact(i, j, p, v, searchHorizon(limit), tau, recheck))
+        return;
+    const double at = m_now + tau;
+    if (!(at <= limit))
+        return;
+    const Event e{at, recheck ? EventKind::RecheckPair : EventKind::Pair, j, recheck ? 0u : m_rec[j].stamp};
+    if (before(i, e, best))
+        best = e;
 }
 
 void ExactModel::offerStraight(int i, int j, double s, Event &best) const
@@ -1570,10 +1573,10 @@ void ExactModel::offerStraight(int i, int j, double s, Event &best) const
     const Body &bj = m_body[j];
     if (m_body[i].frozen && bj.frozen)
         return;
-    const double tau = phi1Inverse(m_lambda, s);
-    if (!(m_now + tau <= std::min({best.time, bj.contactTime, 1.0})))
+    const double at = m_now + phi1Inverse(m_lambda, s);
+    if (!(at <= std::min({best.time, bj.contactTime, 1.0})))
         return;
-    const Event e{m_now + tau, EventKind::Pair, j, m_rec[j].stamp};
+    const Event e{at, EventKind::Pair, j, m_rec[j].stamp};
     if (before(i, e, best))
         best = e;
 }

@@ -1419,21 +1419,20 @@ std::string parseDouble(std::string_view text, double &out)
         // A decimal comma, as a German or French teacher writes one ("0,5"), is named with the
         // number meant (a helper's finding: "must be a number" alone did not say what was wrong).
         // Not where it may group thousands ("1,000": 1000 to one teacher, 1.0 to another), as the
-        // window's fields refuse it.
-        const std::size_t comma = text.find(',');
-        const auto digits = [](std::string_view s) {
-            return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
-        };
-        const std::string_view whole = text.substr(0, comma);
-        const std::string_view part = comma == std::string_view::npos ? std::string_view() : text.substr(comma + 1);
-        const std::string_view magnitude = !whole.empty() && (whole[0] == '-' || whole[0] == '+') ? whole.substr(1) : whole;
-        const bool grouped = digits(magnitude) && magnitude.size() <= 3 && magnitude[0] != '0' && digits(part) && part.size() == 3;
-        if (grouped)
-            return "must be a number written without group separators (" + std::string(text) + " can be read two ways: "
-                + std::string(whole) + std::string(part) + " or " + std::string(whole) + "." + std::string(part) + ")";
+        // window's fields refuse it (RefusingSpinBox::marksIn(), the same rule on QStrings).
         if (std::count(text.begin(), text.end(), ',') == 1) {
+            const std::size_t comma = text.find(',');
+            const std::string_view whole = text.substr(0, comma);
+            const std::string_view part = text.substr(comma + 1);
+            const std::string_view magnitude = !whole.empty() && (whole[0] == '-' || whole[0] == '+') ? whole.substr(1) : whole;
+            const auto digits = [](std::string_view s) {
+                return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+            };
+            if (digits(magnitude) && magnitude.size() <= 3 && magnitude[0] != '0' && digits(part) && part.size() == 3)
+                return "must be a number written without group separators (" + std::string(text) + " can be read two ways: "
+                    + std::string(whole) + std::string(part) + " or " + std::string(whole) + "." + std::string(part) + ")";
             std::string point(text);
-            std::replace(point.begin(), point.end(), ',', '.');
+            point[comma] = '.';
             double meant = 0.0;
             const auto again = std::from_chars(point.data(), point.data() + point.size(), meant);
             if (again.ptr == point.data() + point.size() && again.ec == std::errc())
