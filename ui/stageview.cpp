@@ -696,8 +696,6 @@ void StageView::mousePressEvent(QMouseEvent *event)
     setFocus(Qt::MouseFocusReason);
     const Vec2 p = stagePoint(event->position());
     m_pressGlobal = viewport()->mapToGlobal(event->position());
-    m_pressPos = event->position();
-    m_pressToStage = viewportTransform().inverted();
     m_gesture = Gesture::None;
     switch (m_tool) {
     case Tool::AddMarble:
@@ -764,17 +762,23 @@ void StageView::mouseReleaseEvent(QMouseEvent *event)
     m_gesture = Gesture::None;
     switch (gesture) {
     case Gesture::PressMarble: {
-        // The chapter's hitMarble runs on release, with the mouse position at release. The push
-        // acts on the next frame; until then an arrow shows it (a click while paused would
-        // otherwise change nothing on screen, and a second click add to it unseen).
-        // Measured as the stage lay at the press (the selection it makes fills the Inspector: on
-        // a projector at a scale of 1.5 that grew the window and re-fitted the stage, and a click
-        // on a marble's left edge pushed it down and to the left at 29.5 px/frame).
+        // The chapter's hitMarble runs on release. The push acts on the next frame; until then an
+        // arrow shows it (a click while paused would otherwise change nothing on screen, and a
+        // second click add to it unseen).
+        // The point clicked is where the press landed on the marble, carried along with the
+        // marble: read at the release (hitMarble's own mouse position) it depended on how long
+        // the button was held. A moving marble had run on under the mouse, and a click anywhere
+        // on one at 4 px/frame, held for a tenth of a second, pushed it on along its way as
+        // hard as a click 20 px behind its centre; a hand's shake of up to the drag distance
+        // (10 px) before the release, just off a marble's edge, pushed harder than any point on
+        // the marble could. Measured on the stage as it lay at the press, too (the selection it
+        // makes fills the Inspector: on a projector at a scale of 1.5 that grew the window and
+        // re-fitted the stage before the release).
         const int i = m_gestureIndex;
         if (i >= m_document->world().marbleCount())
             break; // gone since the press (an undo by key, say)
-        const QPointF at = m_pressToStage.map(m_pressPos + (viewport()->mapToGlobal(event->position()) - m_pressGlobal));
-        pushAt(i, {at.x(), at.y()}, false);
+        const Vec2 centre = m_document->world().position[static_cast<std::size_t>(i)];
+        pushAt(i, {centre.x - m_grabOffset.x, centre.y - m_grabOffset.y}, false);
         break;
     }
     case Gesture::DragMarble:

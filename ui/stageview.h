@@ -228,12 +228,12 @@ private:
     enum class Gesture { None, PressMarble, DragMarble, PressPin, DragPin };
     Gesture m_gesture = Gesture::None;
     int m_gestureIndex = -1;
-    // The press, where it was on the screen and on the stage: a click's push is measured from the
-    // press's stage by the mouse's travel on the screen, so a stage that moved or re-fitted under
-    // a still mouse (the selection filling the docks) does not make one.
+    // The press, where it was on the screen (a drag is told from a click by the mouse's travel on
+    // the screen, so a stage that moved or re-fitted under a still mouse does not make one), and
+    // the centre of the marble or pin pressed less the point pressed, both on the stage as it lay
+    // then: a drag keeps the body at that offset from the mouse, and a click pushes from the point
+    // pressed, carried along with the marble.
     QPointF m_pressGlobal;
-    QPointF m_pressPos;
-    QTransform m_pressToStage;
     Vec2 m_grabOffset;
 
     Vec2 m_contextPoint;

@@ -68,6 +68,7 @@ private Q_SLOTS:
     void shortMoveIsStillAClick();
     void pushIsShownUntilItActs();
     void clickIsMeasuredAsTheStageLayAtThePress();
+    void clickPushesFromThePointPressed();
     void scriptedPushIsShownWhenDue();
     void pushLabelKeepsOffMarbles();
     void latestClickIsLast();
@@ -600,6 +601,61 @@ void TestStageView::clickIsMeasuredAsTheStageLayAtThePress()
     // An edit that leaves it as it is says nothing of it.
     QVERIFY(m_document->setParam(QStringLiteral("friction"), QStringLiteral("0.3")).isEmpty());
     QCOMPARE(messages.count(), 1);
+}
+
+void TestStageView::clickPushesFromThePointPressed()
+{
+    // The point clicked is where the press landed on the marble, carried along with it. Read at
+    // the release, it depended on how long the button was held: a marble running on under the
+    // mouse was pushed along its way (as if clicked behind its centre), and a hand's shake just
+    // off the edge before the release pushed harder than any point on the marble could.
+    World scene;
+    scene.stage = {800, 600, true};
+    scene.params.friction = 0.0;
+    scene.params.zeroThreshold = 0.0;
+    scene.addMarble({200, 300}, 20);
+    scene.velocity[0] = {4.0, 0.0};
+    m_document->resetScene(scene);
+    const World &w = m_document->world();
+    const double perPx = w.params.pushScale / w.mass[0];
+    // The push of a press at `press` on the still marble, as PHYSICS.md works it out.
+    const auto pushOfPress = [&](QPoint press) {
+        const Vec2 at = m_view->stagePoint(press);
+        return Vec2{(w.position[0].x - at.x) * perPx, (w.position[0].y - at.y) * perPx};
+    };
+    const auto near = [](Vec2 a, Vec2 b) { return std::abs(a.x - b.x) <= 1e-12 && std::abs(a.y - b.y) <= 1e-12; };
+
+    // Held while the marble runs on 20 px (5 frames at 4 px/frame), pressed 12 px behind it.
+    const QPoint behind = m_view->viewportPoint(w.position[0]) + QPoint(-12, 0);
+    const Vec2 fromBehind = pushOfPress(behind);
+    QVERIFY(fromBehind.x > 0.0);
+    QTest::mousePress(viewport(), Qt::LeftButton, {}, behind);
+    m_document->advance(5);
+    QCOMPARE(w.frame, 5);
+    QTest::mouseRelease(viewport(), Qt::LeftButton, {}, behind);
+    QVERIFY2(near(w.acceleration[0], fromBehind),
+             qPrintable(QStringLiteral("push (%1, %2), clicked (%3, %4)")
+                            .arg(w.acceleration[0].x)
+                            .arg(w.acceleration[0].y)
+                            .arg(fromBehind.x)
+                            .arg(fromBehind.y)));
+    QCOMPARE(m_document->takeBackPushes(), 1);
+
+    // Pressed 2 px inside the front edge, released after a shake of 6 px outwards and 3 down
+    // (a click still: under the drag distance).
+    const QPoint edge = m_view->viewportPoint(w.position[0]) + QPoint(static_cast<int>(18 * m_view->transform().m11()), 0);
+    const Vec2 fromEdge = pushOfPress(edge);
+    QVERIFY(fromEdge.x < 0.0);
+    QTest::mousePress(viewport(), Qt::LeftButton, {}, edge);
+    QTest::mouseMove(viewport(), edge + QPoint(6, 3));
+    QTest::mouseRelease(viewport(), Qt::LeftButton, {}, edge + QPoint(6, 3));
+    QCOMPARE(m_document->undoStack()->count(), 0); // not a drag
+    QVERIFY2(near(w.acceleration[0], fromEdge),
+             qPrintable(QStringLiteral("push (%1, %2), clicked (%3, %4)")
+                            .arg(w.acceleration[0].x)
+                            .arg(w.acceleration[0].y)
+                            .arg(fromEdge.x)
+                            .arg(fromEdge.y)));
 }
 
 void TestStageView::pushIsShownUntilItActs()
