@@ -26,10 +26,19 @@ inline QLocale shownLocale()
     return locale;
 }
 
-/// `value` as QString::number(value, format, precision) writes it, in the desktop's language.
+/// `value` as QString::number(value, format, precision) writes it, in the desktop's language;
+/// a zero is written without a sign, as is a small negative number rounded to one (a click
+/// pushed by "(6.05, -0.00) px/frame").
 inline QString shownNumber(double value, char format = 'g', int precision = 6)
 {
-    return shownLocale().toString(value, format, precision);
+    const QLocale locale = shownLocale();
+    const QString text = locale.toString(value, format, precision);
+    if (std::signbit(value) && text.startsWith(locale.negativeSign())) {
+        const QString zero = locale.toString(0.0, format, precision);
+        if (QStringView(text).sliced(locale.negativeSign().size()) == zero)
+            return zero;
+    }
+    return text;
 }
 
 /// What separates numbers in a list: ", ", or "; " where the decimal mark is a comma ("0,5; 1,2").
@@ -89,9 +98,7 @@ inline QString withoutTrailingZeros(const QString &text, const QString &point = 
 /// `value` to `decimals` places, without trailing zeros ("1.2346", "6", "0.000012").
 inline QString fixedTrimmed(double value, int decimals)
 {
-    const QLocale locale = shownLocale();
-    const QString text = withoutTrailingZeros(locale.toString(value, 'f', decimals), locale.decimalPoint());
-    return text == locale.negativeSign() + locale.zeroDigit() ? locale.zeroDigit() : text;
+    return withoutTrailingZeros(shownNumber(value, 'f', decimals), shownLocale().decimalPoint());
 }
 
 } // namespace marbles

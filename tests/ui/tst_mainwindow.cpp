@@ -1175,6 +1175,12 @@ void TestMainWindow::numbersAreWrittenInTheDesktopsLanguage()
     QCOMPARE(readableNumber(1234567.0), QStringLiteral("1234567"));
     QCOMPARE(readableNumber(0.000125), QStringLiteral("0,000125"));
     QCOMPARE(fixedTrimmed(-0.0001, 2), QStringLiteral("0"));
+    // Rounded to zero, a small negative number is written without its sign (a click's push read
+    // "(6,05; -0,00) px/frame"); -0 likewise.
+    QCOMPARE(shownNumber(-0.0023, 'f', 2), QStringLiteral("0,00"));
+    QCOMPARE(shownNumber(-0.0, 'g', 6), QStringLiteral("0"));
+    QCOMPARE(shownNumber(-0.0051, 'f', 2), QStringLiteral("-0,01"));
+    QCOMPARE(shownNumber(-1e-7), shownLocale().toString(-1e-7)); // not rounded to zero
     // A comparison paused by the friction says it so, and its readouts separate their numbers
     // with semicolons (a re-tester's findings: "the scene's is 1.5"; "x 232,29, y 298,92 px").
     m_window->findChild<QAction *>(QStringLiteral("actionCompareExact"))->trigger();
