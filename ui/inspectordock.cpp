@@ -255,11 +255,31 @@ void InspectorDock::showMarble(bool overTyping)
         const QSignalBlocker blocker(m_autoMass);
         m_autoMass->setChecked(!world.info[m_marble].hasMass);
     }
-    m_mass->setEnabled(world.info[m_marble].hasMass);
+    showMassEditable(world.info[m_marble].hasMass);
     m_beyond->setText(beyond.join(QLatin1Char('\n')));
     m_beyond->setVisible(!beyond.isEmpty());
     showCompared();
     fitToPage();
+}
+
+void InspectorDock::showMassEditable(bool editable)
+{
+    // A mass worked out from the radius is read-only, not disabled: disabled, its number was pale
+    // grey on light grey (about 1.9:1, hard to read on a projector), and Tab and a screen reader
+    // passed it by. Read-only, it keeps the text's colour on the window's background, without
+    // arrows, so that it does not look like a field to type in.
+    m_mass->setToolTip(editable ? tr("Mass m, the marble's own; ticking \"mass scale × radius\" gives it the book's "
+                                     "mass scale × r.")
+                                : tr("Mass m = mass scale (Parameters) × radius, as in the book; untick "
+                                     "\"mass scale × radius\" to give the marble a mass of its own."));
+    if (m_mass->isReadOnly() != editable)
+        return;
+    m_mass->setReadOnly(!editable);
+    m_mass->setButtonSymbols(editable ? QAbstractSpinBox::UpDownArrows : QAbstractSpinBox::NoButtons);
+    QPalette palette = m_form->palette();
+    if (!editable)
+        palette.setColor(QPalette::Base, palette.color(QPalette::Window));
+    m_mass->setPalette(palette);
 }
 
 void InspectorDock::setComparison(std::function<const World *()> world, std::function<QString()> model)

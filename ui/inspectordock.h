@@ -61,6 +61,7 @@ private:
     void fitToPage();
     /// Shows (or hides) the marble's place and velocity in the comparison's world.
     void showCompared();
+    void showMassEditable(bool editable);
     void onRadius(double value);
     void onMass(double value);
     void onX(double value);

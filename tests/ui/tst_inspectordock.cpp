@@ -5,12 +5,14 @@
 #include "ui/inspectordock.h"
 #include "ui/scenedocument.h"
 
+#include <QApplication>
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QLabel>
 #include <QSignalSpy>
 #include <QTest>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -47,6 +49,7 @@ private Q_SLOTS:
     void init();
     void cleanup();
     void tabGoesDownTheForm();
+    void workedOutMassIsReadable();
     void showsTheSelectedMarble();
     void typedValuesAreUndoableEdits();
     void outOfRangeNumbersAreRefusedWhole_data();
@@ -93,6 +96,48 @@ void TestInspectorDock::tabGoesDownTheForm()
     };
     QCOMPARE(after(mass), box);
     QCOMPARE(after(box), x);
+}
+
+void TestInspectorDock::workedOutMassIsReadable()
+{
+    // A mass worked out as mass scale x radius was a disabled field: pale grey on light grey,
+    // about 1.9:1 (a keyboard tester's finding), passed by Tab and by a screen reader. It is
+    // read-only instead, in the text's colour, without the arrows of a field to type in.
+    const auto luminance = [](QColor c) {
+        const auto channel = [](double v) { return v <= 0.03928 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); };
+        return 0.2126 * channel(c.redF()) + 0.7152 * channel(c.greenF()) + 0.0722 * channel(c.blueF());
+    };
+    const auto contrast = [&](QColor a, QColor b) {
+        const double la = luminance(a);
+        const double lb = luminance(b);
+        return (std::max(la, lb) + 0.05) / (std::min(la, lb) + 0.05);
+    };
+    m_dock->setMarble(2);
+    QVERIFY(!m_document->world().info[2].hasMass);
+    QDoubleSpinBox *mass = m_dock->field(QStringLiteral("mass"));
+    QDoubleSpinBox *radius = m_dock->field(QStringLiteral("radius"));
+    QVERIFY(mass->isEnabled());
+    QVERIFY(mass->isReadOnly());
+    QCOMPARE(mass->buttonSymbols(), QAbstractSpinBox::NoButtons);
+    const QPalette shown = mass->palette();
+    QCOMPARE_GE(contrast(shown.color(QPalette::Active, QPalette::Text), shown.color(QPalette::Active, QPalette::Base)), 4.5);
+    QCOMPARE(shown.color(QPalette::Active, QPalette::Base), shown.color(QPalette::Active, QPalette::Window));
+    // Tab stops at it on the way down, and typing does not change it.
+    radius->setFocus();
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_Tab);
+    QVERIFY(mass->isAncestorOf(QApplication::focusWidget()) || QApplication::focusWidget() == mass);
+    const double before = m_document->world().mass[2];
+    QTest::keyClicks(QApplication::focusWidget(), QStringLiteral("9"));
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_Return);
+    QCOMPARE(m_document->world().mass[2], before);
+    QCOMPARE(m_document->undoStack()->count(), 0);
+
+    // Unticked, the marble has a mass of its own, in a field to type in.
+    m_dock->findChild<QCheckBox *>()->click();
+    QVERIFY(m_document->world().info[2].hasMass);
+    QVERIFY(!mass->isReadOnly());
+    QCOMPARE(mass->buttonSymbols(), QAbstractSpinBox::UpDownArrows);
+    QCOMPARE(mass->palette().color(QPalette::Active, QPalette::Base), m_dock->palette().color(QPalette::Active, QPalette::Base));
 }
 
 void TestInspectorDock::showsTheSelectedMarble()
