@@ -192,6 +192,10 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
             throw OutOfMemory{load.error};
         if (!load.ok)
             throw InvalidInput{load.error};
+        // Keys it does not read: the scene runs, and standard error says which (a misspelt
+        // "Friction" had left the default in force without a word).
+        for (const std::string &note : load.notes)
+            std::cerr << note << '\n';
         world = std::move(load.world);
     }
     for (const std::string &setting : settings) {

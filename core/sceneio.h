@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace marbles {
 
@@ -32,6 +33,14 @@ struct SceneLoad {
     std::string error;
     /// The scene could not be read for want of memory (the scene itself may be valid).
     bool outOfMemory = false;
+    /// When `ok`: the keys the scene holds that this program does not read, one line each
+    /// ("<source>: params.Friction: not a key of params, so not used (did you mean friction?)"),
+    /// the likely misspellings of a known key first, at most five, then how many more. They are
+    /// kept when the scene is saved (INTERFACES.md).
+    std::vector<std::string> notes;
+    /// Some key is a near-miss of one this program reads (a different case, or an edit or two
+    /// away): the scene most likely meant that key, whose default is in force instead.
+    bool misspeltKeys = false;
 };
 
 /// Parses scene JSON text. `source` names it in messages: "<source>: <place>: <rule>".

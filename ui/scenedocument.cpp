@@ -55,7 +55,7 @@ void SceneDocument::resetScene(const World &world, const QString &fileName)
     Q_EMIT stepped();
 }
 
-bool SceneDocument::readSceneFile(const QString &path, World &out, QString *error)
+bool SceneDocument::readSceneFile(const QString &path, World &out, QString *error, ReadNotes *notes)
 {
     // The core's reader: a device or pipe is read only up to the size limit, and a named pipe
     // nothing writes to does not hang the window. Messages name the file without its folder.
@@ -66,6 +66,12 @@ bool SceneDocument::readSceneFile(const QString &path, World &out, QString *erro
         if (error)
             *error = QString::fromStdString(load.error);
         return false;
+    }
+    if (notes) {
+        notes->unusedKeys.clear();
+        for (const std::string &line : load.notes)
+            notes->unusedKeys << QString::fromStdString(line);
+        notes->misspelt = load.misspeltKeys;
     }
     out = std::move(load.world);
     return true;

@@ -6,6 +6,7 @@
 #include <QElapsedTimer>
 #include <QObject>
 #include <QString>
+#include <QStringList>
 #include <QUndoStack>
 
 namespace marbles {
@@ -36,9 +37,18 @@ public:
 
     /// Replaces the scene with `world` (at frame 0), clears undo and history; `fileName` may be empty.
     void resetScene(const World &world, const QString &fileName = {});
+    /// What a scene file held that was read without being used.
+    struct ReadNotes {
+        /// The loader's lines on the keys it does not read ("lesson.marbles.json: params.Friction:
+        /// not a key of params, so not used (did you mean friction?)").
+        QStringList unusedKeys;
+        /// Some of them look like a known key misspelt: the scene most likely meant that key.
+        bool misspelt = false;
+    };
     /// Reads and checks a scene file without touching any document; on error returns false and sets
-    /// `error` to the loader's message, which names the file.
-    static bool readSceneFile(const QString &path, World &out, QString *error);
+    /// `error` to the loader's message, which names the file. On success, `notes` (if given) says
+    /// what the file held that is not used.
+    static bool readSceneFile(const QString &path, World &out, QString *error, ReadNotes *notes = nullptr);
     /// Loads a scene file; on error returns false, leaves the scene untouched and sets `error`
     /// to the loader's message, which names the file.
     bool openFile(const QString &path, QString *error);

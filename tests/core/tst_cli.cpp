@@ -109,6 +109,7 @@ private slots:
     void runPrintsCsvMatchingTheCore_data();
     void runPrintsCsvMatchingTheCore();
     void runReadsStandardInput();
+    void unknownKeysAreSaidOnStandardError();
     void runWritesOutFile();
     void outDashIsStandardOutput();
     void runKeepsItsSceneAndReadsOptionsAlike();
@@ -176,6 +177,23 @@ void TestCli::runReadsStandardInput()
     const SceneLoad load = parseScene(validScene, "test");
     QVERIFY(load.ok);
     QVERIFY(rowsMatchWorld(parseRows(r.out), load.world, 30, 1));
+}
+
+void TestCli::unknownKeysAreSaidOnStandardError()
+{
+    // A misspelt key left its default in force without a word ("Friction": 0.5 ran at 0.1): the
+    // scene still runs, standard output is as before, and standard error names the key.
+    const QByteArray misspelt = R"({"format": "marbles-scene", "version": 1, "params": {"Friction": 0.5},
+        "marbles": [{"x": 100, "y": 100, "vx": 3}]})";
+    const QByteArray plain = R"({"format": "marbles-scene", "version": 1, "marbles": [{"x": 100, "y": 100, "vx": 3}]})";
+    const CliResult run = runCli({"run", "-", "--frames", "3"}, misspelt);
+    QCOMPARE(run.exitCode, 0);
+    QCOMPARE(run.out, runCli({"run", "-", "--frames", "3"}, plain).out);
+    QCOMPARE(run.err, QByteArray("stdin: params.Friction: not a key of params, so not used (did you mean friction?)\n"));
+    const CliResult check = runCli({"check", "-"}, misspelt);
+    QCOMPARE(check.exitCode, 0);
+    QVERIFY(check.out.startsWith("stdin: ok: 1 marble"));
+    QCOMPARE(check.err, run.err);
 }
 
 void TestCli::runWritesOutFile()

@@ -153,6 +153,7 @@ private Q_SLOTS:
     void saveThenOpenRoundTrips();
     void presetOpensWithItsView();
     void invalidFileLeavesSceneAsItWas();
+    void unknownKeysAreSaidOnOpening();
     void unsavedChangesAreAskedAbout_data();
     void unsavedChangesAreAskedAbout();
     void blownUpSceneSavesItsStart();
@@ -721,6 +722,42 @@ void TestMainWindow::presetOpensWithItsView()
     makeWindow();
     QVERIFY(m_window->stageView()->vectorsVisible());
     QVERIFY(!m_window->stageView()->trailsVisible());
+}
+
+void TestMainWindow::unknownKeysAreSaidOnOpening()
+{
+    // A file with "Friction": 0.5 opened without a word and ran at the default 0.1 (a helper's
+    // finding): a likely misspelling is asked to be put right, any other key not read is noted.
+    QTemporaryDir dir;
+    const auto write = [&](const QString &name, const QByteArray &text) {
+        QFile file(dir.filePath(name));
+        if (!file.open(QIODevice::WriteOnly) || file.write(text) != text.size())
+            return QString();
+        return file.fileName();
+    };
+    const QString misspelt = write(QStringLiteral("misspelt.marbles.json"),
+                                   R"({"format":"marbles-scene","version":1,"params":{"Friction":0.5},
+                                       "marbles":[{"x":100,"y":100,"note":"cue ball"}]})");
+    const QString noted = write(QStringLiteral("noted.marbles.json"),
+                                R"({"format":"marbles-scene","version":1,"marbles":[{"x":100,"y":100,"note":"cue ball"}]})");
+    QVERIFY(!misspelt.isEmpty() && !noted.isEmpty());
+    const QString friction = QStringLiteral("misspelt.marbles.json: params.Friction: not a key of params, so not used "
+                                            "(did you mean friction?)");
+    const QString note = QStringLiteral("marbles[0].note: not a key of a marble, so not used (kept when the scene is saved)");
+
+    QVERIFY(m_window->openFile(misspelt));
+    QCOMPARE(m_window->document()->world().params.friction, Params{}.friction);
+    QCOMPARE(m_prompts->errors.size(), 1);
+    QVERIFY2(m_prompts->errors.first().contains(friction + QLatin1Char('\n') + QStringLiteral("misspelt.marbles.json: ") + note),
+             qPrintable(m_prompts->errors.first()));
+    QVERIFY2(m_window->statusBar()->currentMessage().contains(QStringLiteral("Not used: ") + friction),
+             qPrintable(m_window->statusBar()->currentMessage()));
+
+    // A key of the teacher's own is kept and only noted: no question.
+    QVERIFY(m_window->openFile(noted));
+    QCOMPARE(m_prompts->errors.size(), 1);
+    QVERIFY2(m_window->statusBar()->currentMessage().endsWith(QStringLiteral("Not used: noted.marbles.json: ") + note),
+             qPrintable(m_window->statusBar()->currentMessage()));
 }
 
 void TestMainWindow::invalidFileLeavesSceneAsItWas()
