@@ -1242,10 +1242,51 @@ void MainWindow::openRecent()
     }
 }
 
+namespace {
+
+// Holds the run still while the window asks how to save, and plays it again after, unless told
+// not to: the frame a question names is the frame saved. The run went on behind the questions,
+// and "Save Frame 205" wrote frame 380 (a helper's finding, Save As in Pachinko's run).
+class RunHeldWhileAsking {
+public:
+    explicit RunHeldWhileAsking(RunController *run)
+        : m_run(run)
+        , m_wasRunning(run->isRunning())
+    {
+        if (m_wasRunning)
+            m_run->pause();
+    }
+    RunHeldWhileAsking(const RunHeldWhileAsking &) = delete;
+    RunHeldWhileAsking &operator=(const RunHeldWhileAsking &) = delete;
+    ~RunHeldWhileAsking()
+    {
+        if (m_wasRunning && m_resume)
+            m_run->play();
+    }
+    /// The scene goes (closed, or replaced by another): its run is not played again.
+    void keepStill() { m_resume = false; }
+
+private:
+    RunController *m_run;
+    bool m_wasRunning;
+    bool m_resume = true;
+};
+
+} // namespace
+
 bool MainWindow::maybeSave()
 {
     if (!m_document->isModified())
         return true;
+    RunHeldWhileAsking held(m_run);
+    const bool goOn = askToSaveChanges();
+    if (goOn)
+        held.keepStill(); // the caller closes the scene or replaces it
+    return goOn;
+}
+
+bool MainWindow::askToSaveChanges()
+{
     // At the run's start (frame 0, or where a save of the frame shown started it again) Save asks
     // nothing more: no frame to name.
     const std::int64_t frame = m_document->world().frame;
@@ -1353,6 +1394,7 @@ bool MainWindow::save()
 {
     if (m_document->fileName().isEmpty())
         return saveAs();
+    const RunHeldWhileAsking held(m_run);
     const std::optional<SceneDocument::SavedFrame> which = askSavedFrame(m_document->fileName());
     return which && saveFile(m_document->fileName(), *which);
 }
@@ -1378,6 +1420,7 @@ std::optional<SceneDocument::SavedFrame> MainWindow::askSavedFrame(const QString
 
 bool MainWindow::saveAs()
 {
+    const RunHeldWhileAsking held(m_run); // from the file's name: the frame is named after it
     QString suggestion = m_document->fileName();
     if (suggestion.isEmpty()) {
         const QStringList recent = recentFiles();

@@ -133,7 +133,10 @@ private:
     /// window resized), so that a crash or a power cut keeps them; closing writes them at once.
     void scheduleSettingsWrite();
 
+    /// Asks, for a modified scene about to be closed or replaced, whether to save it (with the run
+    /// held still while it asks); false: the scene stays (cancelled, or the save failed).
     bool maybeSave();
+    bool askToSaveChanges();
     void newScene();
     void open();
     bool save();

@@ -70,6 +70,7 @@ public:
     SaveChoice saveChoice = SaveChoice::Cancel;
     bool recoverAnswer = true;
     std::function<void()> whileAskingRecover; // what happens while the recovery question waits
+    std::function<void()> whileAskingToSave;  // ... while a question on saving (or its file) waits
     QString openName;
     QString saveName;
     int saveQuestions = 0;
@@ -89,6 +90,8 @@ public:
     SaveChoice askSaveChanges(QWidget *, const QString &name, std::int64_t frame, const QString &unsavable) override
     {
         ++saveQuestions;
+        if (whileAskingToSave)
+            whileAskingToSave();
         savedSceneName = name;
         savedAtFrame = frame;
         unsavableReason = unsavable;
@@ -98,6 +101,8 @@ public:
                            const QString &unsavable) override
     {
         ++frameQuestions;
+        if (whileAskingToSave)
+            whileAskingToSave();
         frameFile = file;
         frameAsked = frame;
         startAsked = start;
@@ -116,6 +121,8 @@ public:
     QString askSaveFileName(QWidget *, const QString &suggested) override
     {
         saveSuggestion = suggested;
+        if (whileAskingToSave)
+            whileAskingToSave();
         return saveName;
     }
     QString saveSuggestion; // the file name the last Save As offered
@@ -154,6 +161,7 @@ private Q_SLOTS:
     void presetOpensWithItsView();
     void invalidFileLeavesSceneAsItWas();
     void unknownKeysAreSaidOnOpening();
+    void savingHoldsTheRunWhileItAsks();
     void unsavedChangesAreAskedAbout_data();
     void unsavedChangesAreAskedAbout();
     void blownUpSceneSavesItsStart();
@@ -758,6 +766,58 @@ void TestMainWindow::unknownKeysAreSaidOnOpening()
     QCOMPARE(m_prompts->errors.size(), 1);
     QVERIFY2(m_window->statusBar()->currentMessage().endsWith(QStringLiteral("Not used: noted.marbles.json: ") + note),
              qPrintable(m_window->statusBar()->currentMessage()));
+}
+
+void TestMainWindow::savingHoldsTheRunWhileItAsks()
+{
+    // The run went on behind the questions of a save: "Save Frame 205" wrote frame 380 (a
+    // helper's finding). It is held still while they wait, the frame named is the frame saved,
+    // and it plays on after, unless the scene goes.
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("run.marbles.json"));
+    SceneDocument *doc = m_window->document();
+    RunController *run = m_window->runController();
+    QVERIFY(m_window->openPreset(QStringLiteral("pachinko")));
+    run->setSpeed(RunController::kMaxSpeed);
+    World asked;
+    std::int64_t movedWhileAsking = 0;
+    m_prompts->whileAskingToSave = [&] {
+        const std::int64_t before = doc->world().frame;
+        QTest::qWait(250);
+        movedWhileAsking += doc->world().frame - before;
+        asked = doc->world();
+    };
+    m_prompts->saveName = path;
+    m_prompts->saveFrame = Prompts::SaveFrame::Now;
+    run->play();
+    QTRY_VERIFY(doc->world().frame > 5);
+    m_window->findChild<QAction *>(QStringLiteral("actionSaveAs"))->trigger();
+    QVERIFY(m_prompts->errors.isEmpty());
+    QCOMPARE(m_prompts->frameQuestions, 1);
+    QCOMPARE(movedWhileAsking, std::int64_t(0));
+    QCOMPARE(m_prompts->frameAsked, asked.frame);
+    World saved;
+    QString error;
+    QVERIFY2(SceneDocument::readSceneFile(path, saved, &error), qPrintable(error));
+    QCOMPARE(saved.position, asked.position);
+    QCOMPARE(saved.velocity, asked.velocity);
+    QVERIFY(run->isRunning());
+
+    // Asked to save the changes before another scene opens: Cancel keeps this one, running.
+    QVERIFY(doc->setParam(QStringLiteral("friction"), QStringLiteral("0.05")).isEmpty());
+    QVERIFY(doc->isModified());
+    QVERIFY(run->isRunning());
+    m_prompts->saveChoice = Prompts::SaveChoice::Cancel;
+    QVERIFY(!m_window->openPreset(QStringLiteral("pins")));
+    QCOMPARE(m_prompts->saveQuestions, 1);
+    QCOMPARE(movedWhileAsking, std::int64_t(0));
+    QVERIFY(run->isRunning());
+    // Discard: the other scene opens, still.
+    m_prompts->saveChoice = Prompts::SaveChoice::Discard;
+    QVERIFY(m_window->openPreset(QStringLiteral("pins")));
+    QCOMPARE(movedWhileAsking, std::int64_t(0));
+    QVERIFY(!run->isRunning());
+    QCOMPARE(doc->world().frame, std::int64_t(0));
 }
 
 void TestMainWindow::invalidFileLeavesSceneAsItWas()
