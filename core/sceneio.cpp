@@ -168,11 +168,22 @@ std::string describe(const Json &j)
 /// 1-based line and column (in bytes) of the byte at `offset` in `text`.
 std::string lineColumn(std::string_view text, std::size_t offset)
 {
+    // As a text editor counts them: a line ends at LF, CRLF or a lone CR (an old Mac file was
+    // all "line 1, column 489"), and a column is a character, not a byte (each of "Stoß Ärger
+    // Überlauf"'s letters beyond ASCII moved every later column one on). A byte order mark is no
+    // character of the first line.
     offset = std::min(offset, text.size());
-    const std::string_view before = text.substr(0, offset);
-    const std::size_t line = 1 + static_cast<std::size_t>(std::count(before.begin(), before.end(), '\n'));
-    const std::size_t lastNewline = before.rfind('\n');
-    const std::size_t column = lastNewline == std::string_view::npos ? offset + 1 : offset - lastNewline;
+    std::size_t line = 1;
+    std::size_t column = 1;
+    for (std::size_t i = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0; i < offset; ++i) {
+        const char c = text[i];
+        if (c == '\n' || (c == '\r' && (i + 1 >= text.size() || text[i + 1] != '\n'))) {
+            ++line;
+            column = 1;
+        } else if ((static_cast<unsigned char>(c) & 0xC0) != 0x80 && c != '\r') {
+            ++column; // a byte that starts a character (continuation bytes are 10xxxxxx)
+        }
+    }
     return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
 
@@ -970,6 +981,9 @@ std::string plainSyntaxError(const std::string &detail)
                "without them are true, false and null" + read;
     if (startsWith("unexpected end of input"))
         return "the text ends too soon (a '}' or ']' missing?)";
+    if (startsWith("invalid string: ill-formed UTF-8 byte"))
+        return "a byte that is not UTF-8 in a text (was the file saved as Latin-1 or Windows-1252?): "
+               "save it as UTF-8" + read;
     if (startsWith("invalid string: missing closing quote"))
         return "a text without its closing double quote" + read;
     if (context == "object" && startsWith("unexpected ") && problem.find("; expected '}'") != std::string::npos)
@@ -985,6 +999,84 @@ std::string plainSyntaxError(const std::string &detail)
     if (context == "object separator" && problem.find("expected ':'") != std::string::npos)
         return "a key without its ':' and value";
     return problem;
+}
+
+/// Where the first byte of `s` that does not start a well-formed UTF-8 character is, or npos.
+std::size_t firstNonUtf8(std::string_view s)
+{
+    for (std::size_t i = 0; i < s.size();) {
+        const std::size_t n = static_cast<unsigned char>(s[i]) < 0x80 ? 1 : utf8SequenceLength(s, i);
+        if (n == 0)
+            return i;
+        i += n;
+    }
+    return std::string_view::npos;
+}
+
+/// What the author of a scene most likely meant where the parser stopped, at `offset` of `text`,
+/// in a word or number outside any text (`keyExpected`: where a key should have come); "" when
+/// the parser's own message says it as well. Sets `start` to where that word or number begins.
+/// The parser had called "+5", ".5", NaN, Infinity and 0x10 "a word JSON does not know" and asked
+/// for double quotes (quoted, each was then "a string"), and "massScale": 1,25 "a number where a
+/// key should come" (a helper's findings).
+std::string likelyMeant(std::string_view text, std::size_t offset, bool keyExpected, std::size_t &start)
+{
+    if (offset >= text.size())
+        return {};
+    const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+    const auto wordChar = [&](char c) {
+        return digit(c) || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == '.' || c == '+' || c == '-';
+    };
+    if (text[offset] == '\'')
+        return start = offset, "a text in single quotes: JSON puts a text in double quotes (\"like this\")";
+    // The parser stops on the character after a number cut short ("1.5e,"), on the one it could
+    // not take in a word ("+", "N" of NaN).
+    if (!wordChar(text[offset])) {
+        if (offset == 0 || !wordChar(text[offset - 1]))
+            return {};
+        --offset;
+    }
+    std::size_t from = offset;
+    while (from > 0 && wordChar(text[from - 1]))
+        --from;
+    std::size_t to = offset;
+    while (to < text.size() && wordChar(text[to]))
+        ++to;
+    const std::string_view word = text.substr(from, to - from);
+    const std::string shown = printable(word);
+    std::string lower(word);
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; });
+    const std::string_view unsigned_ = std::string_view(lower).substr(!lower.empty() && (lower[0] == '+' || lower[0] == '-') ? 1 : 0);
+    start = from;
+    // "massScale": 1,25 reads as the number 1 and then 25 where a key should come.
+    if (keyExpected && digit(word.front()) && from >= 2 && text[from - 1] == ',' && digit(text[from - 2])) {
+        std::size_t number = from - 1;
+        while (number > 0 && (digit(text[number - 1]) || text[number - 1] == '-'))
+            --number;
+        start = number;
+        const std::string whole = printable(text.substr(number, from - 1 - number));
+        const std::string part = printable(word.substr(0, static_cast<std::size_t>(
+                                                              std::find_if_not(word.begin(), word.end(), digit) - word.begin())));
+        return "a decimal comma (" + whole + "," + part + "): JSON writes a number with a point, " + whole + "." + part;
+    }
+    if (keyExpected && !digit(word.front()) && word.front() != '+' && word.front() != '-' && word.front() != '.')
+        return "a key without its double quotes (" + shown + "): write \"" + shown + "\"";
+    if (unsigned_ == "nan" || unsigned_ == "infinity" || unsigned_ == "inf")
+        return shown + " is not a number a scene can hold: every number must be finite";
+    if (unsigned_.substr(0, 2) == "0x")
+        return "a hexadecimal number (" + shown + "), which JSON does not allow: write it in decimal";
+    if (word.front() == '+' && word.size() > 1 && (digit(word[1]) || word[1] == '.'))
+        return "a number with a '+' sign (" + shown + "), which JSON does not allow: write it without the sign";
+    if (!unsigned_.empty() && unsigned_.front() == '.' && unsigned_.size() > 1 && digit(unsigned_[1]))
+        return "a number without a digit before its point (" + shown + "): write a 0 before the point";
+    if (std::any_of(word.begin(), word.end(), digit) && std::string_view(".eE+-").find(word.back()) != std::string_view::npos
+        && to == offset + 1)
+        return "a number that stops short (" + shown + "): digits must follow its point, its e and its sign";
+    if (lower == "true" || lower == "false" || lower == "null")
+        return shown + " in small letters: JSON knows true, false and null only so";
+    if ((word.front() >= 'a' && word.front() <= 'z') || (word.front() >= 'A' && word.front() <= 'Z'))
+        return "a text without its double quotes (" + shown + "): write \"" + shown + "\"";
+    return {};
 }
 
 /// nlohmann's message without its "[json.exception...] parse error at line L, column C: " head.
@@ -1168,7 +1260,26 @@ std::string parseInto(std::string_view text, World &world, UnknownKeys &unknown)
                 + "), which JSON does not allow: write it without the zero";
         }
         const std::size_t offset = builder.position() > 0 ? builder.position() - 1 : 0;
-        return lineColumn(text, offset) + ": not valid JSON: " + parserDetail(builder.what());
+        const std::string &what = builder.what();
+        // At the byte that is not UTF-8, not the end of the text holding it.
+        if (what.find("ill-formed UTF-8") != std::string::npos && offset < text.size()) {
+            const std::size_t opening = text.rfind('"', offset > 0 ? offset - 1 : 0);
+            if (opening != std::string_view::npos && opening < offset) {
+                const std::size_t bad = firstNonUtf8(text.substr(opening + 1, offset - opening - 1));
+                if (bad != std::string_view::npos)
+                    return lineColumn(text, opening + 1 + bad) + ": not valid JSON: " + parserDetail(what);
+            }
+        }
+        // Not past the scene's end: "} xyz" is text after it, whatever that text is.
+        if ((what.find("invalid literal") != std::string::npos || what.find("invalid number") != std::string::npos
+             || what.find("unexpected number literal") != std::string::npos)
+            && what.find("expected end of input") == std::string::npos) {
+            std::size_t at = offset;
+            if (const std::string meant = likelyMeant(text, offset, what.find("parsing object key") != std::string::npos, at);
+                !meant.empty())
+                return lineColumn(text, at) + ": not valid JSON: " + meant;
+        }
+        return lineColumn(text, offset) + ": not valid JSON: " + parserDetail(what);
     }
 
     try {

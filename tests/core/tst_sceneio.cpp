@@ -478,7 +478,7 @@ void TestSceneIo::placeOfSyntaxError_data()
 
     QTest::addRow("bad literal on line 3")
         << QByteArray("{\n  \"format\": \"marbles-scene\",\n  \"version\": x\n}")
-        << R"(demo.marbles.json: line 3, column 14: not valid JSON: a word JSON does not know: a text goes in double quotes ("like this"), and the only words without them are true, false and null (last read: '"version": x'))";
+        << R"(demo.marbles.json: line 3, column 14: not valid JSON: a text without its double quotes (x): write "x")";
     QTest::addRow("missing comma on line 2")
         << QByteArray("{\"format\": \"marbles-scene\"\n \"version\": 1}")
         << R"(demo.marbles.json: line 2, column 10: not valid JSON: a text in double quotes where a ',' or the '}' should come (a comma missing?))";
@@ -487,7 +487,7 @@ void TestSceneIo::placeOfSyntaxError_data()
         << R"(demo.marbles.json: line 1, column 26: not valid JSON: a text without its closing double quote (last read: '"marbles-scene'))";
     QTest::addRow("after a byte order mark")
         << QByteArray("\xEF\xBB\xBF{]")
-        << R"(demo.marbles.json: line 1, column 5: not valid JSON: ']' where a key in double quotes should come)";
+        << R"(demo.marbles.json: line 1, column 2: not valid JSON: ']' where a key in double quotes should come)";
     // A teacher's slips by hand, in words (nlohmann's "syntax error while parsing object key -
     // unexpected '}'; expected string literal" said nothing of a comma).
     QTest::addRow("comma too many")
@@ -522,7 +522,52 @@ void TestSceneIo::placeOfSyntaxError_data()
     // The invisible second mark had been quoted as it was ("last read: '\uFEFF?'").
     QTest::addRow("two byte order marks")
         << QByteArray("\xEF\xBB\xBF\xEF\xBB\xBF{}")
-        << R"(demo.marbles.json: line 1, column 4: a second byte order mark (U+FEFF): a scene file may start with one, not two)";
+        << R"(demo.marbles.json: line 1, column 1: a second byte order mark (U+FEFF): a scene file may start with one, not two)";
+    // Numbers and words as a teacher writes them by hand, or a spreadsheet exports them: they had
+    // been "a word JSON does not know", to be put in double quotes (quoted, each was then "a
+    // string"), and a decimal comma "a number where a key should come" (a helper's findings).
+    QTest::addRow("a decimal comma")
+        << QByteArray("{\"params\": {\"massScale\": 1,25,\n \"friction\": 0.1}}")
+        << R"(demo.marbles.json: line 1, column 26: not valid JSON: a decimal comma (1,25): JSON writes a number with a point, 1.25)";
+    QTest::addRow("a plus sign")
+        << QByteArray("{\"radius\": +5}")
+        << R"(demo.marbles.json: line 1, column 12: not valid JSON: a number with a '+' sign (+5), which JSON does not allow: write it without the sign)";
+    QTest::addRow("no digit before the point")
+        << QByteArray("{\"friction\": .5}")
+        << R"(demo.marbles.json: line 1, column 14: not valid JSON: a number without a digit before its point (.5): write a 0 before the point)";
+    QTest::addRow("NaN") << QByteArray("{\"x\": NaN}")
+                         << R"(demo.marbles.json: line 1, column 7: not valid JSON: NaN is not a number a scene can hold: every number must be finite)";
+    QTest::addRow("-Infinity")
+        << QByteArray("{\"x\": -Infinity}")
+        << R"(demo.marbles.json: line 1, column 7: not valid JSON: -Infinity is not a number a scene can hold: every number must be finite)";
+    QTest::addRow("hexadecimal")
+        << QByteArray("{\"x\": 0x10}")
+        << R"(demo.marbles.json: line 1, column 7: not valid JSON: a hexadecimal number (0x10), which JSON does not allow: write it in decimal)";
+    QTest::addRow("an exponent without digits")
+        << QByteArray("{\"x\": 1.5e, \"y\": 2}")
+        << R"(demo.marbles.json: line 1, column 7: not valid JSON: a number that stops short (1.5e): digits must follow its point, its e and its sign)";
+    QTest::addRow("a key without quotes")
+        << QByteArray("{\"params\": {\n    friction: 0.02}}")
+        << R"(demo.marbles.json: line 2, column 5: not valid JSON: a key without its double quotes (friction): write "friction")";
+    QTest::addRow("a text without quotes")
+        << QByteArray("{\"params\": {\"model\": exact}}")
+        << R"(demo.marbles.json: line 1, column 22: not valid JSON: a text without its double quotes (exact): write "exact")";
+    QTest::addRow("True") << QByteArray("{\"stage\": {\"walls\": True}}")
+                          << R"(demo.marbles.json: line 1, column 21: not valid JSON: True in small letters: JSON knows true, false and null only so)";
+    QTest::addRow("single quotes, a value")
+        << QByteArray("{\"format\": 'marbles-scene'}")
+        << R"(demo.marbles.json: line 1, column 12: not valid JSON: a text in single quotes: JSON puts a text in double quotes ("like this"))";
+    QTest::addRow("Latin-1")
+        << QByteArray("{\"marbles\": [{\"name\": \"Sto\xDF\"}]}")
+        << R"(demo.marbles.json: line 1, column 27: not valid JSON: a byte that is not UTF-8 in a text (was the file saved as Latin-1 or Windows-1252?): save it as UTF-8 (last read: '"Sto?"'))";
+    // As an editor counts: an old Mac's lone CR ends a line, a character is one column whatever
+    // its bytes (the file had been all "line 1", and "Stoß" took two columns).
+    QTest::addRow("lines ended by CR")
+        << QByteArray("{\r\"format\": \"marbles-scene\",\r\"version\": +1}")
+        << R"(demo.marbles.json: line 3, column 12: not valid JSON: a number with a '+' sign (+1), which JSON does not allow: write it without the sign)";
+    QTest::addRow("letters beyond ASCII")
+        << QByteArray("{\"marbles\": [{\"name\": \"Sto\xC3\x9F \xC3\x84rger\", \"x\": +5}]}")
+        << R"(demo.marbles.json: line 1, column 42: not valid JSON: a number with a '+' sign (+5), which JSON does not allow: write it without the sign)";
     QTest::addRow("a comment")
         << QByteArray("// lesson 3\n{}")
         << R"(demo.marbles.json: line 1, column 1: not valid JSON: a comment: JSON has none ('//' and '/* */' are not allowed) (last read: '/'))";
