@@ -121,6 +121,12 @@ StageView::StageView(SceneDocument *document, QWidget *parent)
         m_unselectedByRemoval = i;
     });
     connect(m_document, &SceneDocument::sceneChanged, this, [this](SceneDocument::Change change) {
+        // A marble or pin pressed and not yet released may be gone, and another have its number
+        // (Delete pressed while the button was held pushed the next marble, a re-tester's
+        // finding): the press is let go, and its release does nothing.
+        if ((change == SceneDocument::Change::Structure || change == SceneDocument::Change::Scene)
+            && (m_gesture == Gesture::PressMarble || m_gesture == Gesture::PressPin))
+            m_gesture = Gesture::None;
         // A new scene is shown whole, whatever the zoom was on the last one.
         if (change == SceneDocument::Change::Scene) {
             m_autoFit = true;
@@ -776,7 +782,7 @@ void StageView::mouseReleaseEvent(QMouseEvent *event)
         // re-fitted the stage before the release).
         const int i = m_gestureIndex;
         if (i >= m_document->world().marbleCount())
-            break; // gone since the press (an undo by key, say)
+            break; // (the press was let go when the marbles changed: see the constructor)
         const Vec2 centre = m_document->world().position[static_cast<std::size_t>(i)];
         pushAt(i, {centre.x - m_grabOffset.x, centre.y - m_grabOffset.y}, false);
         break;

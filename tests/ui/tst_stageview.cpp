@@ -656,6 +656,18 @@ void TestStageView::clickPushesFromThePointPressed()
                             .arg(w.acceleration[0].y)
                             .arg(fromEdge.x)
                             .arg(fromEdge.y)));
+    QCOMPARE(m_document->takeBackPushes(), 1);
+
+    // The marble pressed deleted (by its key) before the release: no other marble that took its
+    // number is pushed (a re-tester's finding: the next marble got the press's push).
+    scene.addMarble({600, 300}, 20);
+    m_document->resetScene(scene);
+    QTest::mousePress(viewport(), Qt::LeftButton, {}, m_view->viewportPoint(w.position[0]) + QPoint(-12, 0));
+    m_document->removeMarble(0);
+    QCOMPARE(w.marbleCount(), 1);
+    QTest::mouseRelease(viewport(), Qt::LeftButton, {}, m_view->viewportPoint(w.position[0]) + QPoint(-12, 0));
+    QCOMPARE(w.acceleration[0], Vec2{});
+    QVERIFY(m_view->pendingPushes().isEmpty());
 }
 
 void TestStageView::pushIsShownUntilItActs()
