@@ -276,10 +276,26 @@ void InspectorDock::showMassEditable(bool editable)
         return;
     m_mass->setReadOnly(!editable);
     m_mass->setButtonSymbols(editable ? QAbstractSpinBox::UpDownArrows : QAbstractSpinBox::NoButtons);
-    QPalette palette = m_form->palette();
-    if (!editable)
-        palette.setColor(QPalette::Base, palette.color(QPalette::Window));
-    m_mass->setPalette(palette);
+    paintMassField();
+}
+
+void InspectorDock::paintMassField()
+{
+    // The window's background, from the palette in force: a theme changed to dark while it showed
+    // kept the light grey under the text turned light.
+    QPalette shown = palette();
+    if (m_mass->isReadOnly())
+        shown.setColor(QPalette::Base, shown.color(QPalette::Window));
+    m_mass->setPalette(shown);
+}
+
+void InspectorDock::changeEvent(QEvent *event)
+{
+    QDockWidget::changeEvent(event);
+    // Once the new palette has reached the fields too (it comes to the dock first), and not
+    // while the dock is being built.
+    if ((event->type() == QEvent::PaletteChange || event->type() == QEvent::ApplicationPaletteChange) && m_mass)
+        QMetaObject::invokeMethod(this, &InspectorDock::paintMassField, Qt::QueuedConnection);
 }
 
 void InspectorDock::setComparison(std::function<const World *()> world, std::function<QString()> model)

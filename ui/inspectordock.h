@@ -52,6 +52,9 @@ Q_SIGNALS:
     /// A refusal is shown under the fields.
     void refused();
 
+protected:
+    void changeEvent(QEvent *event) override;
+
 private:
     void refresh() { showMarble(false); }
     /// Shows the selected marble's numbers; a field being typed in keeps its text unless
@@ -62,6 +65,8 @@ private:
     /// Shows (or hides) the marble's place and velocity in the comparison's world.
     void showCompared();
     void showMassEditable(bool editable);
+    /// The mass field's background: the window's while it is read-only, a field's otherwise.
+    void paintMassField();
     void onRadius(double value);
     void onMass(double value);
     void onX(double value);

@@ -1523,6 +1523,18 @@ bool MainWindow::eventFilter(QObject *watched, QEvent *event)
                 return true;
             }
         }
+        // Delete and Backspace in a read-only field (the Inspector's mass, worked out from the
+        // radius) delete nothing: they had gone past it to Edit > Delete, and the marble went
+        // (a re-tester's finding). An editable field takes them for its text.
+        if ((key->key() == Qt::Key_Delete || key->key() == Qt::Key_Backspace)
+            && (key->modifiers() & ~Qt::KeypadModifier) == Qt::NoModifier) {
+            const auto *edit = qobject_cast<const QLineEdit *>(watched);
+            const auto *box = edit ? qobject_cast<const QAbstractSpinBox *>(edit->parentWidget()) : qobject_cast<const QAbstractSpinBox *>(watched);
+            if ((box && box->isReadOnly()) || (edit && edit->isReadOnly())) {
+                event->accept();
+                return true;
+            }
+        }
         // Esc in a number field puts back the number it holds and the keys on the stage (it
         // cleared the stage's selection, the Inspector's marble going with it, and left the
         // keys in the field: ] typed into it and 14 Tabs led back to the stage).

@@ -132,6 +132,19 @@ void TestInspectorDock::workedOutMassIsReadable()
     QCOMPARE(m_document->world().mass[2], before);
     QCOMPARE(m_document->undoStack()->count(), 0);
 
+    // A theme changed while it shows (to dark): the field follows, its text as readable.
+    QPalette dark = QApplication::palette();
+    dark.setColor(QPalette::Window, QColor(0x30, 0x30, 0x30));
+    dark.setColor(QPalette::Base, QColor(0x20, 0x20, 0x20));
+    dark.setColor(QPalette::Text, QColor(0xee, 0xee, 0xee));
+    dark.setColor(QPalette::WindowText, QColor(0xee, 0xee, 0xee));
+    const QPalette light = QApplication::palette();
+    QApplication::setPalette(dark);
+    QTRY_COMPARE(mass->palette().color(QPalette::Active, QPalette::Base), QColor(0x30, 0x30, 0x30));
+    QCOMPARE_GE(contrast(mass->palette().color(QPalette::Active, QPalette::Text), mass->palette().color(QPalette::Active, QPalette::Base)), 4.5);
+    QApplication::setPalette(light);
+    QTRY_COMPARE(mass->palette().color(QPalette::Active, QPalette::Base), light.color(QPalette::Active, QPalette::Window));
+
     // Unticked, the marble has a mass of its own, in a field to type in.
     m_dock->findChild<QCheckBox *>()->click();
     QVERIFY(m_document->world().info[2].hasMass);

@@ -161,6 +161,7 @@ private Q_SLOTS:
     void presetOpensWithItsView();
     void invalidFileLeavesSceneAsItWas();
     void unknownKeysAreSaidOnOpening();
+    void deleteInAReadOnlyFieldDeletesNothing();
     void savingHoldsTheRunWhileItAsks();
     void unsavedChangesAreAskedAbout_data();
     void unsavedChangesAreAskedAbout();
@@ -730,6 +731,27 @@ void TestMainWindow::presetOpensWithItsView()
     makeWindow();
     QVERIFY(m_window->stageView()->vectorsVisible());
     QVERIFY(!m_window->stageView()->trailsVisible());
+}
+
+void TestMainWindow::deleteInAReadOnlyFieldDeletesNothing()
+{
+    // The Inspector's mass, worked out from the radius, is read-only: Delete there had gone past
+    // it to Edit > Delete, and the marble went (a re-tester's finding). In the stage it deletes.
+    SceneDocument *doc = m_window->document();
+    const int before = doc->world().marbleCount();
+    QVERIFY(!doc->world().info[0].hasMass);
+    m_window->stageView()->selectMarble(0);
+    QDoubleSpinBox *mass = m_window->inspectorDock()->field(QStringLiteral("mass"));
+    QVERIFY(mass->isReadOnly());
+    mass->setFocus();
+    QTRY_VERIFY(mass->hasFocus());
+    for (const int key : {Qt::Key_Delete, Qt::Key_Backspace})
+        QTest::keyClick(QApplication::focusWidget(), static_cast<Qt::Key>(key));
+    QCOMPARE(doc->world().marbleCount(), before);
+    QCOMPARE(doc->undoStack()->count(), 0);
+    m_window->stageView()->setFocus();
+    QTest::keyClick(m_window->stageView(), Qt::Key_Delete);
+    QCOMPARE(doc->world().marbleCount(), before - 1);
 }
 
 void TestMainWindow::unknownKeysAreSaidOnOpening()
