@@ -18,6 +18,7 @@
 #include <optional>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -172,6 +173,7 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
     if (scene.empty())
         throw InvalidInput{"SCENE: an empty file name"};
     World world;
+    std::vector<std::string> notes;
     constexpr std::string_view presetPrefix = "preset:";
     if (scene.rfind(presetPrefix, 0) == 0) {
         const std::string id = scene.substr(presetPrefix.size());
@@ -192,10 +194,7 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
             throw OutOfMemory{load.error};
         if (!load.ok)
             throw InvalidInput{load.error};
-        // Keys it does not read: the scene runs, and standard error says which (a misspelt
-        // "Friction" had left the default in force without a word).
-        for (const std::string &note : load.notes)
-            std::cerr << note << '\n';
+        notes = std::move(load.notes);
         world = std::move(load.world);
     }
     for (const std::string &setting : settings) {
@@ -212,6 +211,11 @@ World loadWorld(const std::string &scene, const std::vector<std::string> &settin
     // both are named.
     if (const std::string error = validateParams(world.params); !error.empty())
         throw InvalidInput{sceneLabel(scene) + (settings.empty() ? "" : " with --set") + ": " + error};
+    // Keys it does not read: the scene runs, and standard error says which (a misspelt "Friction"
+    // had left the default in force without a word). Once the scene is taken: a refusal stays the
+    // one message on standard error (INTERFACES.md).
+    for (const std::string &note : notes)
+        std::cerr << note << '\n';
     return world;
 }
 

@@ -165,7 +165,7 @@ std::string describe(const Json &j)
     return "an invalid value";
 }
 
-/// 1-based line and column (in bytes) of the byte at `offset` in `text`.
+/// 1-based line and column, in characters, of the byte at `offset` in `text`.
 std::string lineColumn(std::string_view text, std::size_t offset)
 {
     // As a text editor counts them: a line ends at LF, CRLF or a lone CR (an old Mac file was
@@ -414,14 +414,17 @@ std::string element(const std::string &parent, std::size_t index)
 /// word (a helper's finding). Each is noted, those a known key's near-misses first, with that key.
 class UnknownKeys {
 public:
-    /// Notes the key `key` of the object at `place`, whose known keys are `known`.
-    void note(const std::string &place, std::string_view key, std::span<const std::string_view> known)
+    /// Notes the key `key` of the object `object` at `place`, whose known keys are `known`.
+    void note(const Json &object, const std::string &place, std::string_view key, std::span<const std::string_view> known)
     {
         ++m_count;
         std::vector<std::string_view> meant;
         if (key.size() <= 64) {
             std::size_t best = 3;
             for (std::string_view candidate : known) {
+                // Not a key the object also gives ("x" beside "X": x was read).
+                if (object.contains(candidate))
+                    continue;
                 // Other case only, or one edit for keys of up to 4 letters ("vz" for vx), two for
                 // longer ones ("raduis").
                 // A key of one letter is one edit from every other ("r" from x and y): only its case.
@@ -438,7 +441,8 @@ public:
         std::vector<std::string> &list = meant.empty() ? m_other : m_misspelt;
         if (list.size() >= kShown)
             return;
-        std::string text = (place.empty() ? printable(key) : member(place, std::string(key))) + ": not a key of " + placeName(place) + ", so not used";
+        const std::string shownKey = key.empty() ? std::string("\"\"") : printable(key);
+        std::string text = (place.empty() ? shownKey : place + "." + shownKey) + ": not a key of " + placeName(place) + ", so not used";
         if (!meant.empty()) {
             text += " (did you mean ";
             for (std::size_t k = 0; k < meant.size(); ++k)
@@ -507,7 +511,7 @@ void readStage(Json &j, Stage &stage, std::string &extraJson, UnknownKeys &unkno
         } else if (key == "walls") {
             stage.walls = readBool(value, place);
         } else {
-            unknown.note("stage", key, kStageKeys);
+            unknown.note(j, "stage", key, kStageKeys);
             extras[key] = std::move(value);
         }
     }
@@ -545,7 +549,7 @@ void readParams(Json &j, Params &p, std::string &extraJson, UnknownKeys &unknown
         } else if (key == "shortCircuit") {
             p.shortCircuit = readBool(value, place);
         } else {
-            unknown.note("params", key, kParamsKeys);
+            unknown.note(j, "params", key, kParamsKeys);
             extras[key] = std::move(value);
         }
     }
@@ -597,7 +601,7 @@ void readMarble(Json &j, const std::string &place, World &world, UnknownKeys &un
             if (!isColor(info.color))
                 fail(at, "must be a colour \"#rrggbb\", got " + describe(value));
         } else {
-            unknown.note(place, key, kMarbleKeys);
+            unknown.note(j, place, key, kMarbleKeys);
             extras[key] = std::move(value);
         }
     }
@@ -621,7 +625,7 @@ void readPin(Json &j, const std::string &place, World &world, UnknownKeys &unkno
         } else if (key == "y") {
             q.y = readNumber(value, member(place, key));
         } else {
-            unknown.note(place, key, kPinKeys);
+            unknown.note(j, place, key, kPinKeys);
             extras[key] = std::move(value);
         }
     }
@@ -664,7 +668,7 @@ void readPush(Json &j, const std::string &place, World &world, UnknownKeys &unkn
         } else if (key == "y") {
             push.at.y = readNumber(value, at);
         } else {
-            unknown.note(place, key, kPushKeys);
+            unknown.note(j, place, key, kPushKeys);
             extras[key] = std::move(value);
         }
     }
@@ -725,7 +729,7 @@ World readScene(Json &doc, UnknownKeys &unknown)
     Json extras = Json::object();
     for (auto &&[key, value] : doc.items()) {
         if (!isSceneKey(key)) {
-            unknown.note(std::string(), key, kSceneKeys);
+            unknown.note(doc, std::string(), key, kSceneKeys);
             extras[key] = std::move(value);
         }
     }
@@ -1014,18 +1018,23 @@ std::size_t firstNonUtf8(std::string_view s)
 }
 
 /// What the author of a scene most likely meant where the parser stopped, at `offset` of `text`,
-/// in a word or number outside any text (`keyExpected`: where a key should have come); "" when
-/// the parser's own message says it as well. Sets `start` to where that word or number begins.
+/// in a word or number outside any text (`keyExpected`: where a key should have come; `closer`:
+/// where a ',' or this '}' or ']' should have come, after a value, else 0; `pair`: the value was
+/// to be a pair [x, y], gravity); "" when the parser's own message says it as well. Sets `start`
+/// to where that word or number begins.
 /// The parser had called "+5", ".5", NaN, Infinity and 0x10 "a word JSON does not know" and asked
 /// for double quotes (quoted, each was then "a string"), and "massScale": 1,25 "a number where a
 /// key should come" (a helper's findings).
-std::string likelyMeant(std::string_view text, std::size_t offset, bool keyExpected, std::size_t &start)
+std::string likelyMeant(std::string_view text, std::size_t offset, bool keyExpected, char closer, bool pair,
+                        std::size_t &start)
 {
-    if (offset >= text.size())
+    if (text.empty())
         return {};
+    offset = std::min(offset, text.size() - 1); // (a number cut short by the text's end: "0.")
     const auto digit = [](char c) { return c >= '0' && c <= '9'; };
     const auto wordChar = [&](char c) {
-        return digit(c) || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == '.' || c == '+' || c == '-';
+        return digit(c) || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == '.' || c == '+' || c == '-'
+            || static_cast<unsigned char>(c) >= 0x80; // a letter beyond ASCII ("Stoß")
     };
     if (text[offset] == '\'')
         return start = offset, "a text in single quotes: JSON puts a text in double quotes (\"like this\")";
@@ -1048,15 +1057,25 @@ std::string likelyMeant(std::string_view text, std::size_t offset, bool keyExpec
     std::transform(lower.begin(), lower.end(), lower.begin(), [](char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; });
     const std::string_view unsigned_ = std::string_view(lower).substr(!lower.empty() && (lower[0] == '+' || lower[0] == '-') ? 1 : 0);
     start = from;
-    // "massScale": 1,25 reads as the number 1 and then 25 where a key should come.
-    if (keyExpected && digit(word.front()) && from >= 2 && text[from - 1] == ',' && digit(text[from - 2])) {
-        std::size_t number = from - 1;
-        while (number > 0 && (digit(text[number - 1]) || text[number - 1] == '-'))
-            --number;
+    if (to == text.size())
+        return "the text ends too soon, in " + shown + " (cut short?)";
+    // "massScale": 1,25 reads as the number 1 and then 25 where a key should come. Only for a
+    // whole number before the comma: 1.250,5 (German for 1250.5) or 1e5,25 would be "250.5" and
+    // "5.25", a valid file with the wrong number.
+    std::size_t number = from >= 2 ? from - 1 : 0;
+    while (number > 0 && digit(text[number - 1]))
+        --number;
+    if (number > 0 && text[number - 1] == '-')
+        --number;
+    const bool wholeBefore = number == 0 || std::string_view(".eE+-").find(text[number - 1]) == std::string_view::npos;
+    if (keyExpected && digit(word.front()) && from >= 2 && text[from - 1] == ',' && digit(text[from - 2]) && wholeBefore) {
         start = number;
         const std::string whole = printable(text.substr(number, from - 1 - number));
         const std::string part = printable(word.substr(0, static_cast<std::size_t>(
                                                               std::find_if_not(word.begin(), word.end(), digit) - word.begin())));
+        // "gravity": 0,5 is more likely a pair without its brackets than 0.5.
+        if (pair)
+            return "two numbers (" + whole + "," + part + ") where a pair goes in brackets: write [" + whole + ", " + part + "]";
         return "a decimal comma (" + whole + "," + part + "): JSON writes a number with a point, " + whole + "." + part;
     }
     if (keyExpected && !digit(word.front()) && word.front() != '+' && word.front() != '-' && word.front() != '.')
@@ -1072,9 +1091,14 @@ std::string likelyMeant(std::string_view text, std::size_t offset, bool keyExpec
     if (std::any_of(word.begin(), word.end(), digit) && std::string_view(".eE+-").find(word.back()) != std::string_view::npos
         && to == offset + 1)
         return "a number that stops short (" + shown + "): digits must follow its point, its e and its sign";
+    const bool letter = (word.front() >= 'a' && word.front() <= 'z') || (word.front() >= 'A' && word.front() <= 'Z')
+        || static_cast<unsigned char>(word.front()) >= 0x80;
+    // After a value: a key that follows it without its comma ("exact" massScale: 2), even quoted.
+    if (closer != 0 && letter)
+        return "a word (" + shown + ") where a ',' or the '" + closer + "' should come (a comma missing?)";
     if (lower == "true" || lower == "false" || lower == "null")
         return shown + " in small letters: JSON knows true, false and null only so";
-    if ((word.front() >= 'a' && word.front() <= 'z') || (word.front() >= 'A' && word.front() <= 'Z'))
+    if (letter)
         return "a text without its double quotes (" + shown + "): write \"" + shown + "\"";
     return {};
 }
@@ -1262,7 +1286,7 @@ std::string parseInto(std::string_view text, World &world, UnknownKeys &unknown)
         const std::size_t offset = builder.position() > 0 ? builder.position() - 1 : 0;
         const std::string &what = builder.what();
         // At the byte that is not UTF-8, not the end of the text holding it.
-        if (what.find("ill-formed UTF-8") != std::string::npos && offset < text.size()) {
+        if (what.find("ill-formed UTF-8") != std::string::npos && offset <= text.size()) {
             const std::size_t opening = text.rfind('"', offset > 0 ? offset - 1 : 0);
             if (opening != std::string_view::npos && opening < offset) {
                 const std::size_t bad = firstNonUtf8(text.substr(opening + 1, offset - opening - 1));
@@ -1275,7 +1299,11 @@ std::string parseInto(std::string_view text, World &world, UnknownKeys &unknown)
              || what.find("unexpected number literal") != std::string::npos)
             && what.find("expected end of input") == std::string::npos) {
             std::size_t at = offset;
-            if (const std::string meant = likelyMeant(text, offset, what.find("parsing object key") != std::string::npos, at);
+            const char closer = what.find("expected '}'") != std::string::npos   ? '}'
+                                : what.find("expected ']'") != std::string::npos ? ']'
+                                                                                   : '\0';
+            const bool pair = builder.failedPath() == "params.gravity";
+            if (const std::string meant = likelyMeant(text, offset, what.find("parsing object key") != std::string::npos, closer, pair, at);
                 !meant.empty())
                 return lineColumn(text, at) + ": not valid JSON: " + meant;
         }

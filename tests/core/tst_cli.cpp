@@ -194,6 +194,11 @@ void TestCli::unknownKeysAreSaidOnStandardError()
     QCOMPARE(check.exitCode, 0);
     QVERIFY(check.out.startsWith("stdin: ok: 1 marble"));
     QCOMPARE(check.err, run.err);
+    // Refused after all (a --set that breaks a rule): that is the one message.
+    const CliResult refused = runCli({"run", "-", "--frames", "1", "--set", "friction=-1"}, misspelt);
+    QCOMPARE(refused.exitCode, 2);
+    QVERIFY(refused.out.isEmpty());
+    QCOMPARE(refused.err, QByteArray("stdin: --set friction=-1: must be >= 0\n"));
 }
 
 void TestCli::runWritesOutFile()

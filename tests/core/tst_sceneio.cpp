@@ -513,10 +513,10 @@ void TestSceneIo::placeOfSyntaxError_data()
         << R"(demo.marbles.json: line 1, column 26: not valid JSON: the text ends too soon (a '}' or ']' missing?))";
     QTest::addRow("cut short after a zero and its point")
         << QByteArray("{\"marbles\": [{\"x\": 0.")
-        << R"(demo.marbles.json: line 1, column 22: not valid JSON: invalid number; expected digit after '.'; last read: '0.')";
+        << R"(demo.marbles.json: line 1, column 20: not valid JSON: the text ends too soon, in 0. (cut short?))";
     QTest::addRow("cut short in an exponent")
         << QByteArray("{\"marbles\": [{\"x\": 0.5e-")
-        << R"(demo.marbles.json: line 1, column 25: not valid JSON: invalid number; expected digit after exponent sign; last read: '0.5e-')";
+        << R"(demo.marbles.json: line 1, column 20: not valid JSON: the text ends too soon, in 0.5e- (cut short?))";
     QTest::addRow("a zero then a number")
         << QByteArray("[0 1]") << R"(demo.marbles.json: line 1, column 4: not valid JSON: a number where a ',' or the ']' should come (a comma missing?))";
     // The invisible second mark had been quoted as it was ("last read: '\uFEFF?'").
@@ -560,6 +560,29 @@ void TestSceneIo::placeOfSyntaxError_data()
     QTest::addRow("Latin-1")
         << QByteArray("{\"marbles\": [{\"name\": \"Sto\xDF\"}]}")
         << R"(demo.marbles.json: line 1, column 27: not valid JSON: a byte that is not UTF-8 in a text (was the file saved as Latin-1 or Windows-1252?): save it as UTF-8 (last read: '"Sto?"'))";
+    // Not where the hint would make a valid file with the wrong number: German 1.250,5 (1250.5)
+    // would be "250.5", 1e5,25 "5.25" (a reviewer's finding).
+    QTest::addRow("a decimal comma after a point")
+        << QByteArray("{\"params\": {\"massScale\": 1.250,5}}")
+        << R"(demo.marbles.json: line 1, column 32: not valid JSON: a number where a key in double quotes should come)";
+    QTest::addRow("a text beyond ASCII without quotes")
+        << QByteArray("{\"marbles\": [{\"name\": Sto\xC3\x9F}]}")
+        << "demo.marbles.json: line 1, column 23: not valid JSON: a text without its double quotes (Sto\xC3\x9F): write \"Sto\xC3\x9F\"";
+    // A key after a value without its comma is the comma's slip, not the quotes'.
+    QTest::addRow("a comma missing before a key without quotes")
+        << QByteArray("{\"params\": {\"model\": \"exact\" massScale: 2}}")
+        << R"(demo.marbles.json: line 1, column 30: not valid JSON: a word (massScale) where a ',' or the '}' should come (a comma missing?))";
+    QTest::addRow("Latin-1 at the end")
+        << QByteArray("{\"marbles\": [{\"name\": \"Sto\xDF")
+        << R"(demo.marbles.json: line 1, column 27: not valid JSON: a byte that is not UTF-8 in a text (was the file saved as Latin-1 or Windows-1252?): save it as UTF-8 (last read: '"Sto?'))";
+    // Gravity is a pair: 0,5 there is its brackets left out, not 0.5 (a re-tester's finding).
+    QTest::addRow("a pair without brackets")
+        << QByteArray("{\"params\": {\"gravity\": 0,5}}")
+        << R"(demo.marbles.json: line 1, column 24: not valid JSON: two numbers (0,5) where a pair goes in brackets: write [0, 5])";
+    // Cut short in a word or a number: the text's end, not a word without quotes.
+    QTest::addRow("cut short in a word")
+        << QByteArray("{\"stage\": {\"walls\": tr")
+        << R"(demo.marbles.json: line 1, column 21: not valid JSON: the text ends too soon, in tr (cut short?))";
     // As an editor counts: an old Mac's lone CR ends a line, a character is one column whatever
     // its bytes (the file had been all "line 1", and "Stoß" took two columns).
     QTest::addRow("lines ended by CR")
@@ -987,6 +1010,17 @@ void TestSceneIo::unknownKeysAreNoted()
              std::string("demo.marbles.json: marbles[0].tag: not a key of a marble, so not used (kept when the scene is saved)"));
     QCOMPARE(tagged.notes.back(), std::string("demo.marbles.json: and 36 more keys not used"));
     QCOMPARE(tagged.world.info[39].extraJson, std::string(R"({"tag":39})"));
+
+    // An empty key is shown as such; a key beside the one it is near to is not taken for it ("X"
+    // beside "x": x was read).
+    const SceneLoad odd = parseScene(R"({"format": "marbles-scene", "version": 1, "": 1, "marbles": [{"x": 100, "X": 5}]})", kSource);
+    QVERIFY2(odd.ok, odd.error.c_str());
+    QVERIFY(!odd.misspeltKeys);
+    const std::vector<std::string> oddNotes = {
+        "demo.marbles.json: marbles[0].X: not a key of a marble, so not used (kept when the scene is saved)",
+        "demo.marbles.json: \"\": not a key of a scene, so not used (kept when the scene is saved)",
+    };
+    QCOMPARE(odd.notes, oddNotes);
 
     // A scene of known keys only: nothing to say.
     const SceneLoad plain = parseScene(R"({"format": "marbles-scene", "version": 1, "marbles": [{"x": 1}]})", kSource);
