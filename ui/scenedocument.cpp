@@ -546,10 +546,15 @@ QString SceneDocument::setMarbleMass(int i, double m)
     MarbleState after = before;
     after.hasMass = m > 0.0;
     after.mass = after.hasMass ? m : m_world.params.massScale * before.radius;
+    // Masses typed or scrubbed one after another are one undo step; a switch between the marble's
+    // own mass and massScale x radius is a step of its own (untick, type 80, tick had been one
+    // step, and Ctrl+Z went past "80" to the mass before it all, a re-tester's finding).
+    const std::optional<CommandId> merge =
+        before.hasMass && after.hasMass ? std::optional(CommandId::EditMarbleMass) : std::nullopt;
     m_undoStack.push(
         new SetMarbleCommand(this, i, before, after, after.hasMass ? tr("Set marble %1's mass to %2").arg(i).arg(shownNumber(m))
                                                      : tr("Set marble %1's mass to massScale \u00d7 radius").arg(i),
-                             CommandId::EditMarbleMass));
+                             merge));
     return {};
 }
 

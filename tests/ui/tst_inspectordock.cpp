@@ -151,6 +151,25 @@ void TestInspectorDock::workedOutMassIsReadable()
     QVERIFY(!mass->isReadOnly());
     QCOMPARE(mass->buttonSymbols(), QAbstractSpinBox::UpDownArrows);
     QCOMPARE(mass->palette().color(QPalette::Active, QPalette::Base), m_dock->palette().color(QPalette::Active, QPalette::Base));
+
+    // Unticked, a mass typed, ticked again: three undo steps (they had been one, and Ctrl+Z went
+    // past the mass typed, a re-tester's finding), each undone to the field it left.
+    QCOMPARE(m_document->undoStack()->count(), 1);
+    mass->setFocus();
+    mass->selectAll();
+    QTest::keyClicks(mass, QStringLiteral("80"));
+    QTest::keyClick(mass, Qt::Key_Return);
+    QCOMPARE(m_document->world().mass[2], 80.0);
+    m_dock->findChild<QCheckBox *>()->click();
+    QVERIFY(!m_document->world().info[2].hasMass);
+    QCOMPARE(m_document->undoStack()->count(), 3);
+    m_document->undoStack()->undo();
+    QVERIFY(m_document->world().info[2].hasMass);
+    QCOMPARE(m_document->world().mass[2], 80.0);
+    QVERIFY(!mass->isReadOnly());
+    m_document->undoStack()->undo();
+    QCOMPARE(m_document->world().mass[2], before);
+    QVERIFY(m_document->world().info[2].hasMass);
 }
 
 void TestInspectorDock::showsTheSelectedMarble()
