@@ -413,9 +413,10 @@ int runCommand(const std::vector<std::string> &args)
     std::fflush(stdout);
     if (firstHeld >= 0) {
         std::cerr << sceneLabel(scene) << ": note: from frame " << firstHeld
-                  << " on, the exact model held up to " << mostHeld << " marble(s) in " << heldFrames
-                  << " frame(s) to finish them (at rest where a marble has more collisions in a frame than it "
-                     "follows; between two walls where it is wider than the stage); kinetic energy is not "
+                  << " on, the exact model held up to " << mostHeld << (mostHeld == 1 ? " marble" : " marbles") << " in "
+                  << heldFrames << (heldFrames == 1 ? " frame" : " frames")
+                  << " to finish them (at rest where a marble has more collisions in a frame than it can "
+                     "follow; between two walls where it is wider than the stage); kinetic energy is not "
                      "conserved there\n";
     }
     if (status != ExitOk)

@@ -64,8 +64,8 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     m_form = new QWidget(body);
     auto *form = new QFormLayout(m_form);
     form->setContentsMargins(0, 0, 0, 0);
-    m_radius = makeBox(0.5, 5000.0, 2, tr(" px"), tr("Radius r, px. Mass follows as massScale * r unless set."));
-    m_mass = makeBox(0.001, 1.0e9, 3, QString(), tr("Mass m (the book: massScale * r)."));
+    m_radius = makeBox(0.5, 5000.0, 2, tr(" px"), tr("Radius r, px. The mass follows as mass scale \u00d7 r unless the marble has its own."));
+    m_mass = makeBox(0.001, 1.0e9, 3, QString(), tr("Mass m (the book: mass scale \u00d7 r)."));
     m_autoMass = new QCheckBox(tr("mass scale × radius"), m_form);
     m_autoMass->setToolTip(tr("Checked: the mass is the mass scale (Parameters) times the radius, as in the book; "
                               "unchecked: the marble has a mass of its own."));

@@ -592,7 +592,7 @@ void MainWindow::createMenus()
             tr("<p><b>Marbles %1</b></p>"
                "<p>A physics lesson you can play with: the marbles of chapter 11 of a game-programming "
                "book, step by step (the <i>book</i> model, its shortcuts included), beside the exact "
-               "physics (collisions at their exact moment, momentum kept in every one) and a game engine's "
+               "physics (collisions at their exact moment, momentum kept in every hit between marbles) and a game engine's "
                "<i>impulse</i> model, so that a class can see where the shortcuts go wrong.</p>"
                "<p>Running with Qt %2.</p>")
                 .arg(QCoreApplication::applicationVersion(), QString::fromLatin1(qVersion())));
@@ -941,7 +941,7 @@ void MainWindow::createStatusBar()
         return label;
     };
     m_frameLabel = addLabel(QStringLiteral("frameLabel"), tr("Frames simulated since frame 0"));
-    m_timeLabel = addLabel(QStringLiteral("timeLabel"), tr("Simulated time: frame × frameMs"));
+    m_timeLabel = addLabel(QStringLiteral("timeLabel"), tr("Simulated time: frame × frame interval / 1000, in seconds"));
     m_countLabel = addLabel(QStringLiteral("countLabel"), tr("Marbles and pins on the stage"));
     m_physicsLabel = addLabel(QStringLiteral("physicsLabel"), tr("Time the model takes to compute a frame (average of the last 30 or so; keeping the frame for stepping back is not counted)"));
     m_fpsLabel = addLabel(QStringLiteral("fpsLabel"), tr("Times per second the stage was redrawn (0 while nothing moves)"));
@@ -2037,8 +2037,8 @@ void MainWindow::updateFrameLabelsShown()
 void MainWindow::updateStatistics()
 {
     const World &world = m_document->world();
-    m_countLabel->setText(tr("%n marble(s)", nullptr, world.marbleCount()) + QStringLiteral(", ")
-                          + tr("%n pin(s)", nullptr, static_cast<int>(world.pins.size())));
+    m_countLabel->setText(counted(world.marbleCount(), tr("marble"), tr("marbles")) + QStringLiteral(", ")
+                          + counted(static_cast<qint64>(world.pins.size()), tr("pin"), tr("pins")));
     m_physicsLabel->setText(tr("physics %1 ms/frame").arg(shownNumber(m_document->physicsMsPerFrame(), 'f', 3)));
     const qint64 elapsed = m_statisticsClock.restart();
     const qint64 paints = m_view->paintCount();

@@ -47,6 +47,13 @@ inline QString shownListSeparator()
     return shownLocale().decimalPoint() == QLatin1String(",") ? QStringLiteral("; ") : QStringLiteral(", ");
 }
 
+/// "1 marble", "3 marbles": `n` and the word for one or for many. (tr("%n marble(s)") is written
+/// "3 marble(s)" without a translation file, and the window loads none: its texts are English.)
+inline QString counted(qint64 n, const QString &one, const QString &many)
+{
+    return shownLocale().toString(n) + QLatin1Char(' ') + (n == 1 ? one : many);
+}
+
 /// "(x, y)", or "(x; y)" where the decimal mark is a comma ("(0,5; 1,2)", not "(0,5, 1,2)").
 inline QString shownPair(const QString &x, const QString &y)
 {

@@ -192,7 +192,7 @@ void ParametersDock::buildUi()
     // Alt key is its own, and none is a menu's (File, Edit, Simulation, View, Help): Alt+F went
     // to Friction instead of the File menu, Alt+H to Short circuit. The Plot dock's are apart too.
     m_massScale = makeSpin("massScaleEdit", 0.000001, 1000.0, 0.05, tr(" per px"));
-    addField(tr("&Mass scale"), m_massScale, tr("m = massScale \u00d7 r"),
+    addField(tr("&Mass scale"), m_massScale, tr("m = mass scale \u00d7 r"),
              tr("Mass per pixel of radius: bigger marbles are heavier. Hits depend on the ratio of "
                 "masses only; the scale changes how far a click pushes, and the energy and momentum figures "
                 "(for the marbles without a mass of their own)."));
@@ -223,12 +223,12 @@ void ParametersDock::buildUi()
     m_thresholdWarning = addWarning(QStringLiteral("thresholdWarning"));
 
     m_pushScale = makeSpin("pushScaleEdit", -1000000.0, 1000000.0, 1.0, QString());
-    addField(tr("&Push scale"), m_pushScale, tr("a += (p \u2212 click) \u00d7 pushScale / m"),
+    addField(tr("&Push scale"), m_pushScale, tr("a += (centre \u2212 click) \u00d7 push scale / m"),
              tr("How hard a click pushes; clicking further from the centre pushes harder (negative pulls)."));
 
     m_frameMs = makeSpin("frameMsEdit", 0.1, 10000.0, 1.0, tr(" ms"));
-    addField(tr("Frame i&nterval"), m_frameMs, tr("one frame lasts frameMs ms of real time; the physics counts frames"),
-             tr("Real time between two frames: changes how fast the run plays, not its physics. The time shown "
+    addField(tr("Frame i&nterval"), m_frameMs, tr("at 1\u00d7 speed one frame lasts this many ms of real time (the toolbar's speed divides it); the physics counts frames"),
+             tr("Real time between two frames at 1\u00d7 speed: changes how fast the run plays, not its physics. The time shown "
                 "(t, the plot in seconds) counts every frame at this interval, those before a change too."));
 
     // The models and what only they use.

@@ -405,7 +405,7 @@ PlotDock::PlotDock(QWidget *parent)
     m_frameAxis->setToolTip(tr("Horizontal axis in frames, the physics' own unit of time"));
     m_secondAxis = new QRadioButton(tr("Se&conds"), page);
     m_secondAxis->setObjectName(QStringLiteral("secondAxisButton"));
-    m_secondAxis->setToolTip(tr("Horizontal axis in seconds: t = frame \u00d7 frameMs / 1000; speeds in px/s"));
+    m_secondAxis->setToolTip(tr("Horizontal axis in seconds: t = frame \u00d7 frame interval / 1000; speeds in px/s"));
     m_frameAxis->setChecked(true);
     m_showKinetic = new QCheckBox(tr("&Kinetic energy"), page);
     m_showKinetic->setObjectName(QStringLiteral("kineticCheck"));
@@ -413,7 +413,7 @@ PlotDock::PlotDock(QWidget *parent)
     m_showMomentum = new QCheckBox(tr("Momen&tum"), page);
     m_showMomentum->setObjectName(QStringLiteral("momentumCheck"));
     m_showMomentum->setToolTip(tr("The total momentum \u03a3 m v, its x and y components (their own axis, on the right).\n"
-                                  "Walls, pins and friction change it in every model; hits between marbles keep it\n"
+                                  "Walls, pins, friction, gravity and pushes change it in every model; hits between marbles keep it\n"
                                   "in the exact and impulse models, not in the book's."));
     auto *csvButton = new QPushButton(tr("CSV\u2026"), page);
     csvButton->setObjectName(QStringLiteral("exportCsvButton"));
@@ -2166,26 +2166,26 @@ QString PlotDock::suggestedExportPath(const QString &extension) const
 
 void PlotDock::exportCsvInteractive()
 {
-    const QString path = askFileName(this, FileDialogMode::Save, tr("Export Samples"),
+    const QString path = askFileName(this, FileDialogMode::Save, tr("Export Plot Data (CSV)"),
                                      suggestedExportPath(QStringLiteral("csv")), tr("CSV files (*.csv)"), QStringLiteral("csv"));
     if (path.isEmpty())
         return;
     const QString error = exportCsv(path);
     if (!error.isEmpty())
-        QMessageBox::warning(this, tr("Export Samples"), error);
+        QMessageBox::warning(this, tr("Export Plot Data (CSV)"), error);
     else
         emit exported(path);
 }
 
 void PlotDock::exportPngInteractive()
 {
-    const QString path = askFileName(this, FileDialogMode::Save, tr("Export Chart"),
+    const QString path = askFileName(this, FileDialogMode::Save, tr("Export Plot Image (PNG)"),
                                      suggestedExportPath(QStringLiteral("png")), tr("PNG images (*.png)"), QStringLiteral("png"));
     if (path.isEmpty())
         return;
     const QString error = exportPng(path);
     if (!error.isEmpty())
-        QMessageBox::warning(this, tr("Export Chart"), error);
+        QMessageBox::warning(this, tr("Export Plot Image (PNG)"), error);
     else
         emit exported(path);
 }

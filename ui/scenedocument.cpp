@@ -206,12 +206,12 @@ StepResult SceneDocument::step()
     ++m_frameMoves;
     Q_EMIT frameAdvanced();
     if (result.heldMarbles > 0 && heldMarblesBreakEnergy(m_world.params)) {
-        Q_EMIT marblesHeld(tr("Frame %1: the exact model held %n marble(s) to finish the frame: at rest where a "
-                              "marble has more collisions in one frame than it can follow (near 1e9 px/frame), "
-                              "between two walls where one is wider than the stage. Kinetic energy was not "
-                              "conserved there.",
-                              nullptr, result.heldMarbles)
-                               .arg(m_world.frame));
+        Q_EMIT marblesHeld(tr("Frame %1: the exact model held %2 to finish the frame: at rest where a "
+                              "marble has more collisions in one frame than it can follow (at speeds far beyond a "
+                              "classroom's), between two walls where one is wider than the stage. Kinetic energy was "
+                              "not conserved there.")
+                               .arg(m_world.frame)
+                               .arg(counted(result.heldMarbles, tr("marble"), tr("marbles"))));
     }
     if (!result.finite) {
         const QString name = QString::fromStdString(m_world.info[result.badMarble].name);
@@ -541,7 +541,7 @@ QString SceneDocument::setMarbleMass(int i, double m)
     if (!validMarble(m_world, i))
         return tr("No such marble.");
     if (!(m >= 0.0) || !std::isfinite(m))
-        return tr("A marble's mass must be > 0 (or 0 for massScale * radius).");
+        return tr("A marble's mass must be > 0 (or 0 for mass scale \u00d7 radius).");
     const MarbleState before = MarbleState::of(m_world, i);
     MarbleState after = before;
     after.hasMass = m > 0.0;
@@ -553,7 +553,7 @@ QString SceneDocument::setMarbleMass(int i, double m)
         before.hasMass && after.hasMass ? std::optional(CommandId::EditMarbleMass) : std::nullopt;
     m_undoStack.push(
         new SetMarbleCommand(this, i, before, after, after.hasMass ? tr("Set marble %1's mass to %2").arg(i).arg(shownNumber(m))
-                                                     : tr("Set marble %1's mass to massScale \u00d7 radius").arg(i),
+                                                     : tr("Set marble %1's mass to mass scale \u00d7 radius").arg(i),
                              merge));
     return {};
 }

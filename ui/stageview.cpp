@@ -185,7 +185,8 @@ void StageView::pushAt(int i, Vec2 p, bool byKey)
         text += tr(", with earlier pushes' %1").arg(pair(before));
     if (scripted.x != 0.0 || scripted.y != 0.0)
         text += tr(", with the scene's scripted push %1").arg(pair(scripted));
-    text += tr("; Esc takes the click back"); // a click is not an edit: Ctrl+Z cannot
+    // A click is not an edit: Ctrl+Z cannot take it back. A key's push is no click.
+    text += byKey ? tr("; Esc takes the push back") : tr("; Esc takes the click back");
     m_saidPush = {i, after};
     Q_EMIT frameMessage(text);
     viewport()->update();
@@ -594,11 +595,13 @@ void StageView::noteOutside()
         pins += !stageRect.contains(QPointF(q.x, q.y));
     if (marbles == 0 && pins == 0)
         return;
-    const QString what = marbles > 0 && pins > 0 ? tr("%n marble(s)", nullptr, marbles) + tr(" and ") + tr("%n pin(s)", nullptr, pins)
-                         : marbles > 0          ? tr("%n marble(s)", nullptr, marbles)
-                                                : tr("%n pin(s)", nullptr, pins);
-    noteLater(tr("%1 of this scene lie outside the stage, shown beside it as far as twice its size beyond each "
-                 "edge (zoom out for any further away).")
+    const QString someMarbles = counted(marbles, tr("marble"), tr("marbles"));
+    const QString somePins = counted(pins, tr("pin"), tr("pins"));
+    const QString what = marbles > 0 && pins > 0 ? someMarbles + tr(" and ") + somePins : marbles > 0 ? someMarbles : somePins;
+    noteLater((marbles + pins == 1 ? tr("%1 of this scene lies outside the stage, shown beside it as far as twice its size "
+                                        "beyond each edge (zoom out for any further away).")
+                                   : tr("%1 of this scene lie outside the stage, shown beside it as far as twice its size "
+                                        "beyond each edge (zoom out for any further away)."))
                   .arg(what));
 }
 

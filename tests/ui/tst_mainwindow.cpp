@@ -1694,6 +1694,12 @@ void TestMainWindow::keyboardChoosesAndPushesAMarble()
     QTest::keyClick(view, Qt::Key_Up, Qt::ShiftModifier);
     QCOMPARE_LE(std::abs(w.acceleration[3].y - before.y + kick), 1e-12); // up is -y
     QCOMPARE(w.frame, std::int64_t(0)); // a push, not a step
+    // A key's push is no click (the status bar had said "Esc takes the click back").
+    QVERIFY2(m_window->statusBar()->currentMessage().endsWith(QStringLiteral("; Esc takes the push back")),
+             qPrintable(m_window->statusBar()->currentMessage()));
+    // The counts in the status bar, as English writes them ("4 marble(s), 0 pin(s)").
+    QCOMPARE(m_window->findChild<QLabel *>(QStringLiteral("countLabel"))->text(), QStringLiteral("4 marbles, 0 pins"));
+    QCOMPARE(counted(1, QStringLiteral("pin"), QStringLiteral("pins")), QStringLiteral("1 pin"));
 
     // In a number field Shift and an arrow select text, as in any field: no push.
     auto *friction = m_window->findChild<QDoubleSpinBox *>(QStringLiteral("frictionEdit"));

@@ -882,11 +882,11 @@ void TestParametersDock::everyFieldExplained_data()
     QTest::addColumn<QString>("field");
     QTest::addColumn<QString>("formula"); // a piece of the tooltip
 
-    QTest::addRow("massScale") << "massScaleEdit" << "massScale \u00d7 r";
+    QTest::addRow("massScale") << "massScaleEdit" << "mass scale \u00d7 r";
     QTest::addRow("friction") << "frictionEdit" << "a += \u2212v \u00d7 k";
     QTest::addRow("zeroThreshold") << "zeroThresholdEdit" << "v.x = 0";
-    QTest::addRow("pushScale") << "pushScaleEdit" << "pushScale / m";
-    QTest::addRow("frameMs") << "frameMsEdit" << "frameMs";
+    QTest::addRow("pushScale") << "pushScaleEdit" << "(centre \u2212 click) \u00d7 push scale / m";
+    QTest::addRow("frameMs") << "frameMsEdit" << "at 1\u00d7 speed one frame lasts";
     QTest::addRow("model") << "modelEdit" << "exact:";
     QTest::addRow("gravity") << "gravityEdit" << "a += g";
 }

@@ -893,7 +893,7 @@ void TestSceneDocument::nonFiniteStateStopsWithMessage()
     doc.advance(3);
     QCOMPARE(held.count(), 1);
     QVERIFY2(held.first().first().toString().startsWith(
-                 QStringLiteral("Frame 1: the exact model held 3 marble(s) to finish the frame: at rest where")),
+                 QStringLiteral("Frame 1: the exact model held 3 marbles to finish the frame: at rest where")),
              qPrintable(held.first().first().toString()));
     doc.resetScene(preset("pachinko"));
     doc.setParam(QStringLiteral("model"), QStringLiteral("exact"));

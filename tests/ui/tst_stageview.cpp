@@ -259,7 +259,7 @@ void TestStageView::fitShowsWhatLiesBesideTheStage()
     QVERIFY(!inside.contains(m_view->viewportPoint({1e7, 300})));
     QTRY_VERIFY(!messages.isEmpty());
     const QString said = messages.last().at(0).toString();
-    QVERIFY2(said.startsWith(QStringLiteral("3 marble(s) and 1 pin(s) of this scene lie outside the stage")), qPrintable(said));
+    QVERIFY2(said.startsWith(QStringLiteral("3 marbles and 1 pin of this scene lie outside the stage")), qPrintable(said));
 
     // The stage alone: fitted as before, and nothing said.
     messages.clear();
