@@ -162,6 +162,7 @@ protected:
     void mousePressEvent(QMouseEvent *event) override;
     void mouseMoveEvent(QMouseEvent *event) override;
     void mouseReleaseEvent(QMouseEvent *event) override;
+    bool event(QEvent *event) override;
     void mouseDoubleClickEvent(QMouseEvent *event) override;
     bool viewportEvent(QEvent *event) override;
     void wheelEvent(QWheelEvent *event) override;
@@ -177,6 +178,8 @@ private:
     /// The chapter's click on marble i at p (or the keys' stand-in for one): the push, its arrow
     /// and its status message.
     void pushAt(int i, Vec2 p, bool byKey);
+    /// Drops the marble or pin being dragged at `target` (the end of a drag), or does nothing.
+    void dropDragged(Vec2 target);
     /// Marble i's colour as drawn: its own, else its tint, else none (the stage's blue).
     QColor drawnColor(const World &world, int i) const;
     /// Hands the tints to the field item (batched marbles).
@@ -235,6 +238,7 @@ private:
     // pressed, carried along with the marble.
     QPointF m_pressGlobal;
     Vec2 m_grabOffset;
+    Vec2 m_dragTarget; // where the body dragged is (the mouse plus the grab offset)
 
     Vec2 m_contextPoint;
     QList<int> m_pushed; // marbles clicked since the last frame (pendingPushes() filters them)
