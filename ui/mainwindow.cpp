@@ -1538,6 +1538,12 @@ bool MainWindow::eventFilter(QObject *watched, QEvent *event)
         // Esc in a number field puts back the number it holds and the keys on the stage (it
         // cleared the stage's selection, the Inspector's marble going with it, and left the
         // keys in the field: ] typed into it and 14 Tabs led back to the stage).
+        // Esc in an open drop-down list (or any popup) closes it, and that only: it cleared the
+        // stage's selection too, through Edit > Clear Selection (a re-tester's finding).
+        if (key->key() == Qt::Key_Escape && QApplication::activePopupWidget()) {
+            event->accept();
+            return true;
+        }
         if (key->key() == Qt::Key_Escape && key->modifiers() == Qt::NoModifier) {
             auto *widget = qobject_cast<QWidget *>(watched);
             QAbstractSpinBox *field = nullptr;

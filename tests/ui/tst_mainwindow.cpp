@@ -1890,6 +1890,17 @@ void TestMainWindow::undoKeysReachTheSceneFromANumberField()
         QVERIFY2(m_window->stageView()->hasFocus(), qPrintable(name));
         QCOMPARE(m_window->stageView()->selectedMarble(), 1);
     }
+    // Esc in a drop-down's open list closes the list, and that only (a re-tester saw it clear
+    // the selection too).
+    auto *model = m_window->findChild<QComboBox *>(QStringLiteral("modelEdit"));
+    model->setFocus();
+    model->showPopup();
+    QTRY_VERIFY(QApplication::activePopupWidget());
+    QTest::keyClick(QApplication::activePopupWidget()->focusWidget() ? QApplication::activePopupWidget()->focusWidget()
+                                                                     : QApplication::activePopupWidget(),
+                    Qt::Key_Escape);
+    QTRY_VERIFY(!QApplication::activePopupWidget());
+    QCOMPARE(m_window->stageView()->selectedMarble(), 1);
     QCOMPARE(doc->undoStack()->index(), 1);
 }
 
