@@ -972,8 +972,11 @@ std::string plainSyntaxError(const std::string &detail)
     // What the parser met, in words: "string literal" is a text in double quotes.
     const auto met = [&problem] {
         std::string token = problem.substr(11, problem.find(';') - 11); // after "unexpected "
-        return token == "string literal" ? std::string("a text in double quotes")
+        return token == "string literal"  ? std::string("a text in double quotes")
                : token == "number literal" ? std::string("a number")
+               : token == "true literal"   ? std::string("true")
+               : token == "false literal"  ? std::string("false")
+               : token == "null literal"   ? std::string("null")
                                            : token;
     };
     // The parser stops at the first '/' it reads outside a text: a comment's start.
@@ -1093,6 +1096,10 @@ std::string likelyMeant(std::string_view text, std::size_t offset, bool keyExpec
         return "a number that stops short (" + shown + "): digits must follow its point, its e and its sign";
     const bool letter = (word.front() >= 'a' && word.front() <= 'z') || (word.front() >= 'A' && word.front() <= 'Z')
         || static_cast<unsigned char>(word.front()) >= 0x80;
+    // A byte that is not UTF-8 in it: quoted, it would still be refused for that.
+    if (letter && firstNonUtf8(word) != std::string_view::npos)
+        return "a text without its double quotes, with a byte that is not UTF-8 in it (" + shown
+            + "): put it in double quotes, and save the file as UTF-8 (was it saved as Latin-1 or Windows-1252?)";
     // After a value: a key that follows it without its comma ("exact" massScale: 2), even quoted.
     if (closer != 0 && letter)
         return "a word (" + shown + ") where a ',' or the '" + closer + "' should come (a comma missing?)";
@@ -1307,7 +1314,20 @@ std::string parseInto(std::string_view text, World &world, UnknownKeys &unknown)
                 !meant.empty())
                 return lineColumn(text, at) + ": not valid JSON: " + meant;
         }
-        return lineColumn(text, offset) + ": not valid JSON: " + parserDetail(what);
+        // A value where a ',' should come is placed where it starts (a text's opening quote, a
+        // number's first digit), as the words after a value are: it was placed on its end.
+        std::size_t at = offset;
+        if (what.find("; expected '}'") != std::string::npos || what.find("; expected ']'") != std::string::npos) {
+            if ((what.find("unexpected string literal") != std::string::npos
+                 || what.find("unexpected number literal") != std::string::npos)
+                && !token.empty() && builder.position() >= token.size())
+                at = builder.position() - token.size();
+            else if (what.find("unexpected true literal") != std::string::npos || what.find("unexpected false literal") != std::string::npos
+                     || what.find("unexpected null literal") != std::string::npos)
+                while (at > 0 && at <= text.size() && text[at - 1] >= 'a' && text[at - 1] <= 'z')
+                    --at;
+        }
+        return lineColumn(text, at) + ": not valid JSON: " + parserDetail(what);
     }
 
     try {

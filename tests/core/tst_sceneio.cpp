@@ -481,7 +481,7 @@ void TestSceneIo::placeOfSyntaxError_data()
         << R"(demo.marbles.json: line 3, column 14: not valid JSON: a text without its double quotes (x): write "x")";
     QTest::addRow("missing comma on line 2")
         << QByteArray("{\"format\": \"marbles-scene\"\n \"version\": 1}")
-        << R"(demo.marbles.json: line 2, column 10: not valid JSON: a text in double quotes where a ',' or the '}' should come (a comma missing?))";
+        << R"(demo.marbles.json: line 2, column 2: not valid JSON: a text in double quotes where a ',' or the '}' should come (a comma missing?))";
     QTest::addRow("unterminated string")
         << QByteArray("{\"format\": \"marbles-scene")
         << R"(demo.marbles.json: line 1, column 26: not valid JSON: a text without its closing double quote (last read: '"marbles-scene'))";
@@ -583,6 +583,18 @@ void TestSceneIo::placeOfSyntaxError_data()
     QTest::addRow("cut short in a word")
         << QByteArray("{\"stage\": {\"walls\": tr")
         << R"(demo.marbles.json: line 1, column 21: not valid JSON: the text ends too soon, in tr (cut short?))";
+    // A value after a value, its comma missing: placed where it starts, named as the file has it
+    // (it was placed on its last character, and "false literal" was the parser's word).
+    QTest::addRow("a comma missing before false")
+        << QByteArray("{\"stage\": {\"walls\": true false}}")
+        << R"(demo.marbles.json: line 1, column 26: not valid JSON: false where a ',' or the '}' should come (a comma missing?))";
+    QTest::addRow("a comma missing before a number")
+        << QByteArray("{\"friction\": 0.1 0.25}")
+        << R"(demo.marbles.json: line 1, column 18: not valid JSON: a number where a ',' or the '}' should come (a comma missing?))";
+    // Quoted, a Latin-1 word would still be refused: both are said.
+    QTest::addRow("Latin-1 without quotes")
+        << QByteArray("{\"marbles\": [{\"name\": Caf\xE9}]}")
+        << R"(demo.marbles.json: line 1, column 23: not valid JSON: a text without its double quotes, with a byte that is not UTF-8 in it (Caf?): put it in double quotes, and save the file as UTF-8 (was it saved as Latin-1 or Windows-1252?))";
     // As an editor counts: an old Mac's lone CR ends a line, a character is one column whatever
     // its bytes (the file had been all "line 1", and "Stoß" took two columns).
     QTest::addRow("lines ended by CR")
