@@ -11,9 +11,13 @@
 #include <QFileInfo>
 #include <QLockFile>
 #include <QStandardPaths>
+#include <QSysInfo>
 
+#include <cerrno>
 #include <chrono>
 #include <system_error>
+
+#include <signal.h>
 
 namespace marbles {
 
@@ -25,6 +29,9 @@ AutoSaver::AutoSaver(SceneDocument *document, const QString &directory, QObject 
 {
     m_lock = std::make_unique<QLockFile>(QDir(m_directory).filePath(QStringLiteral("autosave.lock")));
     takeLock();
+    // An autosave no other window keeps waits for the teacher's answer, whether or not this
+    // window could take the lock: with the disk full at start it was not offered, and once there
+    // was room the first save found the new window unmodified and deleted it (a helper's finding).
     m_recoveryPending = hasRecovery();
     connect(&m_timer, &QTimer::timeout, this, &AutoSaver::saveInBackground);
 }
@@ -37,8 +44,22 @@ bool AutoSaver::takeLock()
         return m_active;
     QDir().mkpath(m_directory);
     m_active = m_lock->tryLock(0);
-    m_heldElsewhere = !m_active && m_lock->error() == QLockFile::LockFailedError;
+    m_heldElsewhere = !m_active && m_lock->error() == QLockFile::LockFailedError && lockOwnerRuns();
     return m_active;
+}
+
+bool AutoSaver::lockOwnerRuns() const
+{
+    // A lock left by a window that crashed, which could not be replaced (the disk full), had the
+    // window say that another one kept the autosave, and never try again (a helper's finding).
+    qint64 pid = 0;
+    QString host;
+    QString application;
+    if (!m_lock->getLockInfo(&pid, &host, &application))
+        return false; // unreadable: not another window's to respect; tried again at each save
+    if (pid <= 0 || host != QSysInfo::machineHostName())
+        return true; // another machine's (a shared home): assume it runs
+    return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
 }
 
 AutoSaver::~AutoSaver()
@@ -153,7 +174,7 @@ bool AutoSaver::waitForBackgroundSave()
 
 bool AutoSaver::hasRecovery() const
 {
-    return m_active && QFile::exists(scenePath());
+    return !m_heldElsewhere && QFile::exists(scenePath());
 }
 
 QString AutoSaver::recoverySource() const
@@ -210,9 +231,9 @@ QString AutoSaver::setAside()
 
 void AutoSaver::discard()
 {
+    m_recoveryPending = false; // answered (without the lock, the first save that takes it deletes it)
     if (!m_active)
         return;
-    m_recoveryPending = false;
     waitForBackgroundSave();
     QFile::remove(scenePath());
     QFile::remove(sourcePath());

@@ -80,6 +80,9 @@ Q_SIGNALS:
 private:
     /// Takes the lock if no other instance holds it; whether this instance holds it.
     bool takeLock();
+    /// Whether the process that holds the lock (by its file) still runs; false where the file
+    /// cannot be read.
+    bool lockOwnerRuns() const;
     /// takeLock() for a save; failed() where it could not be taken and the scene has changes.
     bool lockForSaving();
     QString sourcePath() const;

@@ -52,6 +52,7 @@
 #include <QStandardItemModel>
 #include <QStatusBar>
 #include <QTemporaryDir>
+#include <QSysInfo>
 #include <QTest>
 #include <QToolBar>
 
@@ -211,6 +212,7 @@ private Q_SLOTS:
     void autosaveWaitsForTheRecoveryAnswer();
     void failedAutosaveIsSaid();
     void autosaveFolderUnwritableAtStartIsTriedAgain();
+    void autosaveWithoutItsLockIsStillOffered();
     void secondWindowSaysItIsNotAutosaved();
     void autosaveWritesInTheBackground();
     void layoutIsRestored();
@@ -2800,6 +2802,49 @@ void TestMainWindow::autosaveFolderUnwritableAtStartIsTriedAgain()
     QVERIFY(saver.isActive());
     QVERIFY(QFile::exists(saver.scenePath()));
     saver.discard();
+}
+
+void TestMainWindow::autosaveWithoutItsLockIsStillOffered()
+{
+    // A helper's finding: a crash's autosave, and a start with the disk full (the lock could not
+    // be written): no recovery question, and once there was room the first save found the new
+    // window unmodified and deleted the autosave. Here the lock cannot be made (a folder has its
+    // name), and a lock left by a process that no longer runs is not another window's.
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    const QString folder = dir.path();
+    World scene;
+    QVERIFY(makePreset("pins", scene));
+    const std::string saved = sceneToJson(scene);
+    QFile file(QDir(folder).filePath(QStringLiteral("autosave.marbles.json")));
+    QVERIFY(file.open(QIODevice::WriteOnly));
+    QVERIFY(file.write(saved.data(), static_cast<qint64>(saved.size())) == static_cast<qint64>(saved.size()));
+    file.close();
+    QVERIFY(QDir(folder).mkdir(QStringLiteral("autosave.lock")));
+    SceneDocument doc;
+    {
+        AutoSaver saver(&doc, folder);
+        QVERIFY(!saver.isActive());
+        QVERIFY(!saver.heldElsewhere());
+        QVERIFY(saver.hasRecovery());
+        QVERIFY(QDir(folder).rmdir(QStringLiteral("autosave.lock"))); // room again
+        QVERIFY(!saver.saveNow());                                 // unanswered: nothing written or deleted
+        QVERIFY(file.exists());
+        QString error;
+        QVERIFY2(saver.recover(&error), qPrintable(error));
+        QCOMPARE(sceneToJson(doc.world()), saved);
+        QVERIFY(saver.saveNow());
+        QVERIFY(saver.isActive());
+    }
+    // A lock whose process has ended (a crash): not another window's; this one takes it.
+    QFile lock(QDir(folder).filePath(QStringLiteral("autosave.lock")));
+    QVERIFY(lock.open(QIODevice::WriteOnly));
+    lock.write(QByteArray::number(std::numeric_limits<int>::max()) + "\nmarbles\n" + QSysInfo::machineHostName().toUtf8() + "\n");
+    lock.close();
+    AutoSaver again(&doc, folder);
+    QVERIFY(!again.heldElsewhere());
+    QVERIFY(again.isActive());
+    again.discard();
 }
 
 void TestMainWindow::secondWindowSaysItIsNotAutosaved()
