@@ -187,7 +187,11 @@ MainWindow::MainWindow(QWidget *parent)
     m_autoSaver = new AutoSaver(m_document, QString(), this);
     m_autoSaver->start();
     connect(m_autoSaver, &AutoSaver::failed, this, [this] {
-        showStatus(tr("The autosave could not be written (is the disk full?): save your changes with Ctrl+S."));
+        // Its folder named, and both causes: it had asked "is the disk full?" of a folder that
+        // was read-only (a helper's finding).
+        showStatus(tr("The autosave could not be written in %1 (the disk full, or the folder read-only): save your "
+                      "changes with Ctrl+S.")
+                       .arg(QDir::toNativeSeparators(QFileInfo(m_autoSaver->scenePath()).absolutePath())));
     });
     // A second window cannot keep an autosave (the first one holds it): its first unsaved change
     // says so, rather than a crash losing it unannounced. (A lock that could not be written is
