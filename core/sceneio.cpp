@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -246,9 +247,20 @@ std::string ruleFrictionForModel(double friction, ModelKind model)
     return {};
 }
 
+bool isDigit(char c)
+{
+    return c >= '0' && c <= '9';
+}
+
 bool isHexDigit(char c)
 {
-    return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
+    return isDigit(c) || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
+}
+
+/// `c` in small letters, for ASCII's capitals (the scene's keys and JSON's words are ASCII).
+char asciiLower(char c)
+{
+    return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c;
 }
 
 bool isColor(std::string_view s)
@@ -275,19 +287,22 @@ bool isSceneKey(std::string_view key)
 /// compared without case; `limit` + 1 for any number above `limit`.
 std::size_t keyDistance(std::string_view a, std::string_view b, std::size_t limit)
 {
-    const auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; };
     const std::size_t over = limit + 1;
     if ((a.size() > b.size() ? a.size() - b.size() : b.size() - a.size()) > limit)
         return over;
-    // Rows of the optimal string alignment table: before last, last, current.
-    std::vector<std::size_t> before(b.size() + 1), last(b.size() + 1), row(b.size() + 1);
-    std::iota(last.begin(), last.end(), std::size_t{0});
+    // Rows of the optimal string alignment table: before last, last, current. `b` is a known key
+    // (13 letters at most): the rows fit on the stack (a note's keys are measured against every
+    // known key, for every unknown key of a 100k-marble file).
+    constexpr std::size_t kLongest = 15;
+    assert(b.size() <= kLongest);
+    std::array<std::size_t, kLongest + 1> before{}, last{}, row{};
+    std::iota(last.begin(), last.begin() + static_cast<std::ptrdiff_t>(b.size()) + 1, std::size_t{0});
     for (std::size_t i = 1; i <= a.size(); ++i) {
         row[0] = i;
         for (std::size_t j = 1; j <= b.size(); ++j) {
-            const std::size_t change = lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1;
+            const std::size_t change = asciiLower(a[i - 1]) == asciiLower(b[j - 1]) ? 0 : 1;
             row[j] = std::min({last[j] + 1, row[j - 1] + 1, last[j - 1] + change});
-            if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) && lower(a[i - 2]) == lower(b[j - 1]))
+            if (i > 1 && j > 1 && asciiLower(a[i - 1]) == asciiLower(b[j - 2]) && asciiLower(a[i - 2]) == asciiLower(b[j - 1]))
                 row[j] = std::min(row[j], before[j - 2] + 1);
         }
         std::swap(before, last);
@@ -1034,9 +1049,8 @@ std::string likelyMeant(std::string_view text, std::size_t offset, bool keyExpec
     if (text.empty())
         return {};
     offset = std::min(offset, text.size() - 1); // (a number cut short by the text's end: "0.")
-    const auto digit = [](char c) { return c >= '0' && c <= '9'; };
     const auto wordChar = [&](char c) {
-        return digit(c) || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == '.' || c == '+' || c == '-'
+        return isDigit(c) || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == '.' || c == '+' || c == '-'
             || static_cast<unsigned char>(c) >= 0x80; // a letter beyond ASCII ("Stoß")
     };
     if (text[offset] == '\'')
@@ -1057,7 +1071,7 @@ std::string likelyMeant(std::string_view text, std::size_t offset, bool keyExpec
     const std::string_view word = text.substr(from, to - from);
     const std::string shown = printable(word);
     std::string lower(word);
-    std::transform(lower.begin(), lower.end(), lower.begin(), [](char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; });
+    std::transform(lower.begin(), lower.end(), lower.begin(), asciiLower);
     const std::string_view unsigned_ = std::string_view(lower).substr(!lower.empty() && (lower[0] == '+' || lower[0] == '-') ? 1 : 0);
     start = from;
     if (to == text.size())
@@ -1066,32 +1080,32 @@ std::string likelyMeant(std::string_view text, std::size_t offset, bool keyExpec
     // whole number before the comma: 1.250,5 (German for 1250.5) or 1e5,25 would be "250.5" and
     // "5.25", a valid file with the wrong number.
     std::size_t number = from >= 2 ? from - 1 : 0;
-    while (number > 0 && digit(text[number - 1]))
+    while (number > 0 && isDigit(text[number - 1]))
         --number;
     if (number > 0 && text[number - 1] == '-')
         --number;
     const bool wholeBefore = number == 0 || std::string_view(".eE+-").find(text[number - 1]) == std::string_view::npos;
-    if (keyExpected && digit(word.front()) && from >= 2 && text[from - 1] == ',' && digit(text[from - 2]) && wholeBefore) {
+    if (keyExpected && isDigit(word.front()) && from >= 2 && text[from - 1] == ',' && isDigit(text[from - 2]) && wholeBefore) {
         start = number;
         const std::string whole = printable(text.substr(number, from - 1 - number));
         const std::string part = printable(word.substr(0, static_cast<std::size_t>(
-                                                              std::find_if_not(word.begin(), word.end(), digit) - word.begin())));
+                                                              std::find_if_not(word.begin(), word.end(), isDigit) - word.begin())));
         // "gravity": 0,5 is more likely a pair without its brackets than 0.5.
         if (pair)
             return "two numbers (" + whole + "," + part + ") where a pair goes in brackets: write [" + whole + ", " + part + "]";
         return "a decimal comma (" + whole + "," + part + "): JSON writes a number with a point, " + whole + "." + part;
     }
-    if (keyExpected && !digit(word.front()) && word.front() != '+' && word.front() != '-' && word.front() != '.')
+    if (keyExpected && !isDigit(word.front()) && word.front() != '+' && word.front() != '-' && word.front() != '.')
         return "a key without its double quotes (" + shown + "): write \"" + shown + "\"";
     if (unsigned_ == "nan" || unsigned_ == "infinity" || unsigned_ == "inf")
         return shown + " is not a number a scene can hold: every number must be finite";
     if (unsigned_.substr(0, 2) == "0x")
         return "a hexadecimal number (" + shown + "), which JSON does not allow: write it in decimal";
-    if (word.front() == '+' && word.size() > 1 && (digit(word[1]) || word[1] == '.'))
+    if (word.front() == '+' && word.size() > 1 && (isDigit(word[1]) || word[1] == '.'))
         return "a number with a '+' sign (" + shown + "), which JSON does not allow: write it without the sign";
-    if (!unsigned_.empty() && unsigned_.front() == '.' && unsigned_.size() > 1 && digit(unsigned_[1]))
+    if (!unsigned_.empty() && unsigned_.front() == '.' && unsigned_.size() > 1 && isDigit(unsigned_[1]))
         return "a number without a digit before its point (" + shown + "): write a 0 before the point";
-    if (std::any_of(word.begin(), word.end(), digit) && std::string_view(".eE+-").find(word.back()) != std::string_view::npos
+    if (std::any_of(word.begin(), word.end(), isDigit) && std::string_view(".eE+-").find(word.back()) != std::string_view::npos
         && to == offset + 1)
         return "a number that stops short (" + shown + "): digits must follow its point, its e and its sign";
     const bool letter = (word.front() >= 'a' && word.front() <= 'z') || (word.front() >= 'A' && word.front() <= 'Z')
@@ -1134,7 +1148,7 @@ bool mayStandOutsideString(char c)
     case 't': case 'r': case 'u': case 'f': case 'a': case 'l': case 's': case 'n':
         return true;
     default:
-        return c >= '0' && c <= '9';
+        return isDigit(c);
     }
 }
 
@@ -1274,17 +1288,16 @@ std::string parseInto(std::string_view text, World &world, UnknownKeys &unknown)
         // the message said ("a comma missing?", a helper's finding): a leading zero is named.
         const std::string &token = builder.lastToken();
         const std::size_t start = builder.position() >= token.size() ? builder.position() - token.size() : 0;
-        const auto digit = [](char c) { return c >= '0' && c <= '9'; };
-        // Only where the parser met a number right after the zero: a text cut short after one
+            // Only where the parser met a number right after the zero: a text cut short after one
         // ("x": 0.0087, 0. or 0.5e- cut there) ends too soon, or in a number without its digits,
         // as said below (a helper's finding).
         const bool numberAfterNumber = builder.what().find("unexpected number literal") != std::string::npos;
-        if (numberAfterNumber && !token.empty() && digit(token.front()) && start >= 1 && start <= text.size() && text[start - 1] == '0'
-            && (start < 2 || !(digit(text[start - 2]) || text[start - 2] == '.' || text[start - 2] == 'e' || text[start - 2] == 'E'))) {
+        if (numberAfterNumber && !token.empty() && isDigit(token.front()) && start >= 1 && start <= text.size() && text[start - 1] == '0'
+            && (start < 2 || !(isDigit(text[start - 2]) || text[start - 2] == '.' || text[start - 2] == 'e' || text[start - 2] == 'E'))) {
             // The number as written: from its sign or zero to where number characters end.
             const std::size_t from = start >= 2 && text[start - 2] == '-' ? start - 2 : start - 1;
             std::size_t to = start;
-            while (to < text.size() && (digit(text[to]) || std::string_view(".eE+-").find(text[to]) != std::string_view::npos))
+            while (to < text.size() && (isDigit(text[to]) || std::string_view(".eE+-").find(text[to]) != std::string_view::npos))
                 ++to;
             const std::string written = printable(text.substr(from, to - from));
             return lineColumn(text, start - 1) + ": not valid JSON: a number with a leading zero (" + written
@@ -1301,14 +1314,15 @@ std::string parseInto(std::string_view text, World &world, UnknownKeys &unknown)
                     return lineColumn(text, opening + 1 + bad) + ": not valid JSON: " + parserDetail(what);
             }
         }
+        // After a value: where a ',' or this '}' or ']' should have come, else 0.
+        const char closer = what.find("; expected '}'") != std::string::npos   ? '}'
+                            : what.find("; expected ']'") != std::string::npos ? ']'
+                                                                                 : '\0';
         // Not past the scene's end: "} xyz" is text after it, whatever that text is.
         if ((what.find("invalid literal") != std::string::npos || what.find("invalid number") != std::string::npos
              || what.find("unexpected number literal") != std::string::npos)
             && what.find("expected end of input") == std::string::npos) {
             std::size_t at = offset;
-            const char closer = what.find("expected '}'") != std::string::npos   ? '}'
-                                : what.find("expected ']'") != std::string::npos ? ']'
-                                                                                   : '\0';
             const bool pair = builder.failedPath() == "params.gravity";
             if (const std::string meant = likelyMeant(text, offset, what.find("parsing object key") != std::string::npos, closer, pair, at);
                 !meant.empty())
@@ -1317,7 +1331,7 @@ std::string parseInto(std::string_view text, World &world, UnknownKeys &unknown)
         // A value where a ',' should come is placed where it starts (a text's opening quote, a
         // number's first digit), as the words after a value are: it was placed on its end.
         std::size_t at = offset;
-        if (what.find("; expected '}'") != std::string::npos || what.find("; expected ']'") != std::string::npos) {
+        if (closer != '\0') {
             if ((what.find("unexpected string literal") != std::string::npos
                  || what.find("unexpected number literal") != std::string::npos)
                 && !token.empty() && builder.position() >= token.size())
@@ -1715,7 +1729,7 @@ std::string parseDouble(std::string_view text, double &out)
             const std::string_view part = text.substr(comma + 1);
             const std::string_view magnitude = !whole.empty() && (whole[0] == '-' || whole[0] == '+') ? whole.substr(1) : whole;
             const auto digits = [](std::string_view s) {
-                return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+                return !s.empty() && std::all_of(s.begin(), s.end(), isDigit);
             };
             if (digits(magnitude) && magnitude.size() <= 3 && magnitude[0] != '0' && digits(part) && part.size() == 3)
                 return "must be a number written without group separators (" + std::string(text) + " can be read two ways: "
