@@ -65,7 +65,7 @@ InspectorDock::InspectorDock(SceneDocument *document, QWidget *parent)
     auto *form = new QFormLayout(m_form);
     form->setContentsMargins(0, 0, 0, 0);
     m_radius = makeBox(0.5, 5000.0, 2, tr(" px"), tr("Radius r, px. The mass follows as mass scale \u00d7 r unless the marble has its own."));
-    m_mass = makeBox(0.001, 1.0e9, 3, QString(), tr("Mass m (the book: mass scale \u00d7 r)."));
+    m_mass = makeBox(0.001, 1.0e9, 3, QString(), massTip(true));
     m_autoMass = new QCheckBox(tr("mass scale × radius"), m_form);
     m_autoMass->setToolTip(tr("Checked: the mass is the mass scale (Parameters) times the radius, as in the book; "
                               "unchecked: the marble has a mass of its own."));
@@ -268,15 +268,20 @@ void InspectorDock::showMassEditable(bool editable)
     // grey on light grey (about 1.9:1, hard to read on a projector), and Tab and a screen reader
     // passed it by. Read-only, it keeps the text's colour on the window's background, without
     // arrows, so that it does not look like a field to type in.
-    m_mass->setToolTip(editable ? tr("Mass m, the marble's own; ticking \"mass scale × radius\" gives it the book's "
-                                     "mass scale × r.")
-                                : tr("Mass m = mass scale (Parameters) × radius, as in the book; untick "
-                                     "\"mass scale × radius\" to give the marble a mass of its own."));
+    // (Shown at every frame of a run: only a switch changes anything.)
     if (m_mass->isReadOnly() != editable)
         return;
+    m_mass->setToolTip(massTip(editable));
     m_mass->setReadOnly(!editable);
     m_mass->setButtonSymbols(editable ? QAbstractSpinBox::UpDownArrows : QAbstractSpinBox::NoButtons);
     paintMassField();
+}
+
+QString InspectorDock::massTip(bool editable)
+{
+    return editable ? tr("Mass m, the marble's own; ticking \"mass scale × radius\" gives it the book's mass scale × r.")
+                    : tr("Mass m = mass scale (Parameters) × radius, as in the book; untick \"mass scale × radius\" to "
+                         "give the marble a mass of its own.");
 }
 
 void InspectorDock::paintMassField()

@@ -65,6 +65,8 @@ private:
     /// Shows (or hides) the marble's place and velocity in the comparison's world.
     void showCompared();
     void showMassEditable(bool editable);
+    /// The mass field's tooltip, for a mass of the marble's own or one worked out from its radius.
+    static QString massTip(bool editable);
     /// The mass field's background: the window's while it is read-only, a field's otherwise.
     void paintMassField();
     void onRadius(double value);

@@ -760,9 +760,8 @@ void StageView::mouseMoveEvent(QMouseEvent *event)
     event->accept();
 }
 
-void StageView::dropDragged(Vec2 target)
+void StageView::dropDragged(Gesture gesture, Vec2 target)
 {
-    const Gesture gesture = std::exchange(m_gesture, Gesture::None);
     if (gesture == Gesture::DragMarble)
         report(m_document->endHold(target));
     else if (gesture == Gesture::DragPin)
@@ -778,7 +777,7 @@ bool StageView::event(QEvent *event)
     // likewise). Dropped first, Ctrl+Z takes the move back.
     if ((event->type() == QEvent::ShortcutOverride || event->type() == QEvent::KeyPress)
         && (m_gesture == Gesture::DragMarble || m_gesture == Gesture::DragPin))
-        dropDragged(m_dragTarget);
+        dropDragged(std::exchange(m_gesture, Gesture::None), m_dragTarget);
     return QGraphicsView::event(event);
 }
 
@@ -815,8 +814,7 @@ void StageView::mouseReleaseEvent(QMouseEvent *event)
     }
     case Gesture::DragMarble:
     case Gesture::DragPin:
-        m_gesture = gesture;
-        dropDragged(target);
+        dropDragged(gesture, target);
         break;
     case Gesture::PressPin:
     case Gesture::None:

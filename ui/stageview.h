@@ -173,13 +173,17 @@ protected:
     void focusOutEvent(QFocusEvent *event) override;
 
 private:
+    /// What the left button is doing on the stage.
+    enum class Gesture { None, PressMarble, DragMarble, PressPin, DragPin };
+
     void rebuild();
     void rebuildMarbleItems(const World &world, int n);
     /// The chapter's click on marble i at p (or the keys' stand-in for one): the push, its arrow
     /// and its status message.
     void pushAt(int i, Vec2 p, bool byKey);
-    /// Drops the marble or pin being dragged at `target` (the end of a drag), or does nothing.
-    void dropDragged(Vec2 target);
+    /// Drops the marble or pin a drag `gesture` held at `target` (the drag has ended); does nothing
+    /// for another gesture.
+    void dropDragged(Gesture gesture, Vec2 target);
     /// Marble i's colour as drawn: its own, else its tint, else none (the stage's blue).
     QColor drawnColor(const World &world, int i) const;
     /// Hands the tints to the field item (batched marbles).
@@ -228,7 +232,6 @@ private:
     bool m_autoFit = true;
 
     // Mouse gesture in progress.
-    enum class Gesture { None, PressMarble, DragMarble, PressPin, DragPin };
     Gesture m_gesture = Gesture::None;
     int m_gestureIndex = -1;
     // The press, where it was on the screen (a drag is told from a click by the mouse's travel on
